@@ -1,0 +1,197 @@
+//! Axis-aligned boxes and the scene bounds a setup is computed from.
+
+use glam::DVec3;
+
+use crate::error::{SetupError, check_vec};
+
+/// An axis-aligned box in world space, `min <= max` on every axis.
+///
+/// A box may be flat (zero size along one or two axes: a ground quad, a wall) but not a
+/// point. Construct with [`Aabb::new`], which validates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    min: DVec3,
+    max: DVec3,
+}
+
+impl Aabb {
+    /// A box from its minimum and maximum corners.
+    ///
+    /// Errors: non-finite or out-of-range coordinates, `min > max` on any axis
+    /// ([`SetupError::InvertedBox`]), or `min == max` (a point, [`SetupError::EmptyBox`]).
+    pub fn new(min: DVec3, max: DVec3) -> Result<Self, SetupError> {
+        check_vec("box corner", min)?;
+        check_vec("box corner", max)?;
+        if min.cmpgt(max).any() {
+            return Err(SetupError::InvertedBox { min, max });
+        }
+        if min == max {
+            return Err(SetupError::EmptyBox { at: min });
+        }
+        Ok(Self { min, max })
+    }
+
+    /// A box from its centre and half extents (each `>= 0`, not all zero).
+    pub fn from_center_half_extents(center: DVec3, half_extents: DVec3) -> Result<Self, SetupError> {
+        check_vec("box centre", center)?;
+        check_vec("box half extents", half_extents)?;
+        Self::new(center - half_extents, center + half_extents)
+    }
+
+    /// The minimum corner.
+    pub fn min(&self) -> DVec3 {
+        self.min
+    }
+
+    /// The maximum corner.
+    pub fn max(&self) -> DVec3 {
+        self.max
+    }
+
+    /// The centre.
+    pub fn center(&self) -> DVec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    /// Half the size along each axis.
+    pub fn half_extents(&self) -> DVec3 {
+        0.5 * (self.max - self.min)
+    }
+
+    /// The length of the diagonal.
+    pub fn diagonal(&self) -> f64 {
+        (self.max - self.min).length()
+    }
+
+    /// The eight corners; bit 0 of the index selects max x, bit 1 max y, bit 2 max z.
+    pub fn corners(&self) -> [DVec3; 8] {
+        std::array::from_fn(|i| {
+            DVec3::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            )
+        })
+    }
+
+    /// The smallest box holding both.
+    pub fn union(&self, other: &Aabb) -> Aabb {
+        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
+    }
+
+    /// Whether `other` lies inside this box.
+    pub fn contains_box(&self, other: &Aabb) -> bool {
+        self.min.cmple(other.min).all() && self.max.cmpge(other.max).all()
+    }
+
+    /// Whether `p` lies inside this box grown by `tolerance` on every side.
+    pub fn contains_point(&self, p: DVec3, tolerance: f64) -> bool {
+        (self.min - tolerance).cmple(p).all() && (self.max + tolerance).cmpge(p).all()
+    }
+
+    /// The box grown by `margin` on every side (`margin >= 0`).
+    pub(crate) fn grown(&self, margin: DVec3) -> Aabb {
+        Aabb { min: self.min - margin, max: self.max + margin }
+    }
+}
+
+/// What a shadow setup knows of the scene: boxes around the objects that cast shadows,
+/// boxes around the objects that receive them, and the scene box that encloses it all.
+///
+/// The scene box bounds the convex body B (LiSPSM paper, section 3.3). If the given scene
+/// box does not enclose every caster and receiver box it is grown to do so (and
+/// [`SceneBounds::scene_box_grown`] says so); a box that is flat along some axis is thickened
+/// by a millionth of its diagonal so that B is never a flat body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneBounds {
+    casters: Vec<Aabb>,
+    receivers: Vec<Aabb>,
+    scene_box: Aabb,
+    scene_box_grown: bool,
+}
+
+impl SceneBounds {
+    /// Scene bounds from caster boxes, receiver boxes and an optional scene box.
+    ///
+    /// Without a scene box, the union of all boxes is used. Errors with
+    /// [`SetupError::EmptyScene`] when there is neither a scene box nor any box.
+    pub fn new(
+        casters: Vec<Aabb>,
+        receivers: Vec<Aabb>,
+        scene_box: Option<Aabb>,
+    ) -> Result<Self, SetupError> {
+        let union = casters.iter().chain(receivers.iter()).copied().reduce(|a, b| a.union(&b));
+        let (scene_box, grown) = match (scene_box, union) {
+            (Some(s), Some(u)) => {
+                let grown = !s.contains_box(&u);
+                (s.union(&u), grown)
+            }
+            (Some(s), None) => (s, false),
+            (None, Some(u)) => (u, false),
+            (None, None) => return Err(SetupError::EmptyScene),
+        };
+        let size = scene_box.max - scene_box.min;
+        let thickness = 1e-6 * size.length();
+        let pad = DVec3::select(size.cmplt(DVec3::splat(thickness)), DVec3::splat(thickness), DVec3::ZERO);
+        Ok(Self { casters, receivers, scene_box: scene_box.grown(pad), scene_box_grown: grown })
+    }
+
+    /// Boxes around the shadow casters.
+    pub fn casters(&self) -> &[Aabb] {
+        &self.casters
+    }
+
+    /// Boxes around the shadow receivers.
+    pub fn receivers(&self) -> &[Aabb] {
+        &self.receivers
+    }
+
+    /// The scene box: the given one, grown to hold every box and thickened if flat.
+    pub fn scene_box(&self) -> Aabb {
+        self.scene_box
+    }
+
+    /// Whether the given scene box had to grow to hold every caster and receiver box.
+    pub fn scene_box_grown(&self) -> bool {
+        self.scene_box_grown
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_bad_boxes() {
+        assert!(matches!(
+            Aabb::new(DVec3::ONE, DVec3::ZERO),
+            Err(SetupError::InvertedBox { .. })
+        ));
+        assert!(matches!(Aabb::new(DVec3::ONE, DVec3::ONE), Err(SetupError::EmptyBox { .. })));
+        assert!(matches!(
+            Aabb::new(DVec3::new(f64::NAN, 0.0, 0.0), DVec3::ONE),
+            Err(SetupError::NonFinite { .. })
+        ));
+        assert!(matches!(
+            Aabb::new(DVec3::ZERO, DVec3::new(f64::INFINITY, 1.0, 1.0)),
+            Err(SetupError::NonFinite { .. })
+        ));
+        // A flat box is a valid receiver (a ground quad).
+        assert!(Aabb::new(DVec3::ZERO, DVec3::new(1.0, 0.0, 1.0)).is_ok());
+    }
+
+    #[test]
+    fn scene_box_grows_and_thickens() {
+        let ground = Aabb::new(DVec3::new(-10.0, 0.0, -10.0), DVec3::new(10.0, 0.0, 10.0)).unwrap();
+        let post = Aabb::new(DVec3::new(0.0, 0.0, 0.0), DVec3::new(1.0, 5.0, 1.0)).unwrap();
+        let small = Aabb::new(DVec3::ZERO, DVec3::ONE).unwrap();
+        let scene = SceneBounds::new(vec![post], vec![ground], Some(small)).unwrap();
+        assert!(scene.scene_box_grown());
+        assert!(scene.scene_box().contains_box(&ground));
+        assert!(scene.scene_box().contains_box(&post));
+        let flat = SceneBounds::new(vec![], vec![ground], None).unwrap();
+        assert!(!flat.scene_box_grown());
+        assert!(flat.scene_box().max().y > 0.0 && flat.scene_box().min().y < 0.0);
+        assert_eq!(SceneBounds::new(vec![], vec![], None), Err(SetupError::EmptyScene));
+    }
+}

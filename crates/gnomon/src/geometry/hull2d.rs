@@ -1,0 +1,61 @@
+use glam::DVec2;
+
+/// The convex hull of 2D points (Andrew's monotone chain), as indices into `points` in
+/// counter-clockwise order, without collinear points. Fewer than three indices come back
+/// when the points are collinear or coincide.
+pub fn convex_hull_2d(points: &[DVec2]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (p, q) = (points[a], points[b]);
+        p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y))
+    });
+    order.dedup_by(|a, b| points[*a] == points[*b]);
+    if order.len() < 3 {
+        return order;
+    }
+    let cross = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
+    let mut hull: Vec<usize> = Vec::with_capacity(order.len() + 1);
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &usize>> =
+            if pass == 0 { Box::new(order.iter()) } else { Box::new(order.iter().rev()) };
+        for &i in iter {
+            while hull.len() >= start + 2
+                && cross(points[hull[hull.len() - 2]], points[hull[hull.len() - 1]], points[i]) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(i);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn square_with_interior_and_collinear_points() {
+        let pts = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(0.5, 0.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(0.0, 1.0),
+            DVec2::new(0.5, 0.5),
+            DVec2::new(1.0, 1.0),
+        ];
+        let hull = convex_hull_2d(&pts);
+        assert_eq!(hull.len(), 4);
+        let area: f64 = (0..4).map(|i| pts[hull[i]].perp_dot(pts[hull[(i + 1) % 4]])).sum::<f64>() / 2.0;
+        assert!((area - 1.0).abs() < 1e-12, "counter-clockwise unit square, got area {area}");
+    }
+
+    #[test]
+    fn collinear_points_give_a_segment() {
+        let pts = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(2.0, 2.0)];
+        assert!(convex_hull_2d(&pts).len() < 3);
+    }
+}

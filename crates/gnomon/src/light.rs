@@ -1,0 +1,165 @@
+//! Lights that cast the shadows: directional and spot.
+
+use glam::DVec3;
+
+use crate::error::{SetupError, check_direction, check_scalar, check_vec};
+use crate::geometry::Plane;
+
+/// The fraction of a spot light's range at which its near plane lies. Casters closer than
+/// this to the light are clipped; [`crate::Diagnostics::casters_clipped_by_light_near`]
+/// counts them.
+pub const SPOT_NEAR_FRACTION: f64 = 1e-3;
+
+/// A light at infinity: parallel rays travelling along one direction (the sun).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DirectionalLight {
+    direction: DVec3,
+}
+
+impl DirectionalLight {
+    /// A directional light whose rays travel along `direction` (need not be normalised).
+    pub fn new(direction: DVec3) -> Result<Self, SetupError> {
+        Ok(Self { direction: check_direction("light direction", direction)? })
+    }
+
+    /// The unit direction the light travels.
+    pub fn direction(&self) -> DVec3 {
+        self.direction
+    }
+}
+
+/// A spot light: a point light limited to a cone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpotLight {
+    position: DVec3,
+    direction: DVec3,
+    half_angle: f64,
+    range: f64,
+}
+
+impl SpotLight {
+    /// A spot light at `position` shining along `direction`, with the cone's half-angle in
+    /// degrees (in (0, 89]) and its range (> 0).
+    pub fn new(
+        position: DVec3,
+        direction: DVec3,
+        half_angle_degrees: f64,
+        range: f64,
+    ) -> Result<Self, SetupError> {
+        let position = check_vec("spot light position", position)?;
+        let direction = check_direction("spot light direction", direction)?;
+        if !half_angle_degrees.is_finite() {
+            return Err(SetupError::NonFinite { what: "spot light half-angle" });
+        }
+        if !(half_angle_degrees > 0.0 && half_angle_degrees <= 89.0) {
+            return Err(SetupError::InvalidSpotAngle { degrees: half_angle_degrees });
+        }
+        check_scalar("spot light range", range)?;
+        if !(range > 0.0) {
+            return Err(SetupError::InvalidRange { range });
+        }
+        Ok(Self { position, direction, half_angle: half_angle_degrees.to_radians(), range })
+    }
+
+    /// Where the light is.
+    pub fn position(&self) -> DVec3 {
+        self.position
+    }
+
+    /// The unit direction of the cone's axis.
+    pub fn direction(&self) -> DVec3 {
+        self.direction
+    }
+
+    /// The cone's half-angle in radians.
+    pub fn half_angle(&self) -> f64 {
+        self.half_angle
+    }
+
+    /// How far the light reaches.
+    pub fn range(&self) -> f64 {
+        self.range
+    }
+
+    /// The distance of the light frustum's near plane ([`SPOT_NEAR_FRACTION`] of the range).
+    pub fn near(&self) -> f64 {
+        self.range * SPOT_NEAR_FRACTION
+    }
+
+    /// The light frustum's planes, normals inward: a square pyramid around the cone (the cone
+    /// is inscribed), from [`SpotLight::near`] to the range. `up` is the frustum's up axis
+    /// (perpendicular to the direction).
+    pub(crate) fn frustum_planes(&self, up: DVec3) -> [Plane; 6] {
+        let d = self.direction;
+        let right = d.cross(up).normalize();
+        let up = right.cross(d);
+        let t = self.half_angle.tan();
+        let side = |axis: DVec3, sign: f64| {
+            Plane::through_point(self.position, (t * d - sign * axis).normalize())
+        };
+        [
+            Plane::through_point(self.position + self.near() * d, d),
+            Plane::through_point(self.position + self.range * d, -d),
+            side(right, -1.0),
+            side(right, 1.0),
+            side(up, -1.0),
+            side(up, 1.0),
+        ]
+    }
+}
+
+/// The light whose shadows are computed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Light {
+    /// A light at infinity.
+    Directional(DirectionalLight),
+    /// A spot light.
+    Spot(SpotLight),
+}
+
+impl Light {
+    /// The light's main direction: the direction of travel for a directional light, the
+    /// cone's axis for a spot light.
+    pub fn direction(&self) -> DVec3 {
+        match self {
+            Light::Directional(l) => l.direction(),
+            Light::Spot(s) => s.direction(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_bad_lights() {
+        assert!(matches!(DirectionalLight::new(DVec3::ZERO), Err(SetupError::ZeroDirection { .. })));
+        assert!(matches!(
+            DirectionalLight::new(DVec3::new(f64::NAN, 1.0, 0.0)),
+            Err(SetupError::NonFinite { .. })
+        ));
+        let p = DVec3::ZERO;
+        let d = -DVec3::Y;
+        assert!(SpotLight::new(p, d, 30.0, 10.0).is_ok());
+        assert!(matches!(SpotLight::new(p, d, 0.0, 10.0), Err(SetupError::InvalidSpotAngle { .. })));
+        assert!(matches!(SpotLight::new(p, d, 90.0, 10.0), Err(SetupError::InvalidSpotAngle { .. })));
+        assert!(matches!(SpotLight::new(p, d, 30.0, 0.0), Err(SetupError::InvalidRange { .. })));
+        assert!(matches!(SpotLight::new(p, DVec3::ZERO, 30.0, 1.0), Err(SetupError::ZeroDirection { .. })));
+    }
+
+    #[test]
+    fn spot_frustum_contains_its_cone() {
+        let s = SpotLight::new(DVec3::new(1.0, 5.0, 2.0), DVec3::new(0.2, -1.0, 0.1), 40.0, 20.0).unwrap();
+        let up = s.direction().any_orthonormal_vector();
+        let planes = s.frustum_planes(up);
+        let a = s.direction().any_orthonormal_pair();
+        for k in 0..32 {
+            let phi = k as f64 / 32.0 * std::f64::consts::TAU;
+            let ray = s.direction() + 0.999 * s.half_angle().tan() * (phi.cos() * a.0 + phi.sin() * a.1);
+            let p = s.position() + 10.0 * ray;
+            assert!(planes.iter().all(|pl| pl.distance(p) >= 0.0));
+        }
+        assert!(planes[0].distance(s.position()) < 0.0);
+    }
+}

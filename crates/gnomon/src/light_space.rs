@@ -1,0 +1,210 @@
+//! Light space: the frame a shadow map is built in, projecting world points into it, extents
+//! there, and turning extents into a map's matrices.
+
+use glam::{DMat4, DVec2, DVec3, DVec4};
+
+use crate::bounds::Aabb;
+use crate::geometry::Plane;
+use crate::setup::{MapProjection, MapSettings, ShadowMap};
+
+/// Below this sin(gamma) the view direction counts as parallel to the light.
+pub(crate) const PARALLEL_SIN_GAMMA: f64 = 1e-3;
+
+/// An orthonormal frame looking along a light direction: `right = forward x up`, so that
+/// a map built in it has the handedness of an ordinary camera's clip space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct LightFrame {
+    pub right: DVec3,
+    pub up: DVec3,
+    /// The direction the light travels (the map's depth axis).
+    pub forward: DVec3,
+}
+
+impl LightFrame {
+    /// The frame fixed by the light direction alone: `up` is world +Y (or +Z when the light is
+    /// nearly vertical) made perpendicular to `forward`.
+    pub fn fixed(forward: DVec3) -> Self {
+        let hint = if forward.y.abs() < 0.9 { DVec3::Y } else { DVec3::Z };
+        Self::from_up_hint(forward, hint)
+    }
+
+    /// The LiSPSM paper's light space (section 3.4): up is the view direction made
+    /// perpendicular to the light. `None` when they are parallel.
+    pub fn view_aligned(forward: DVec3, view_direction: DVec3) -> Option<Self> {
+        let up = view_direction - forward * forward.dot(view_direction);
+        (up.length() >= PARALLEL_SIN_GAMMA).then(|| Self::from_up_hint(forward, up))
+    }
+
+    fn from_up_hint(forward: DVec3, hint: DVec3) -> Self {
+        let right = forward.cross(hint).normalize();
+        let up = right.cross(forward);
+        Self { right, up, forward }
+    }
+}
+
+/// How world points are projected into a map's plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Projector {
+    /// Orthographic along the frame's forward: (right . p, up . p, forward . p).
+    Parallel(LightFrame),
+    /// Perspective from `position`: with X, Y, d the frame coordinates of `p - position`,
+    /// (X / d, Y / d, d). Only for points with d > 0.
+    Point { frame: LightFrame, position: DVec3 },
+}
+
+impl Projector {
+    pub fn frame(&self) -> &LightFrame {
+        match self {
+            Projector::Parallel(f) => f,
+            Projector::Point { frame, .. } => frame,
+        }
+    }
+
+    /// (x, y, depth) of a world point; see the variants.
+    #[inline]
+    pub fn project(&self, p: DVec3) -> DVec3 {
+        match self {
+            Projector::Parallel(f) => DVec3::new(f.right.dot(p), f.up.dot(p), f.forward.dot(p)),
+            Projector::Point { frame: f, position } => {
+                let q = p - *position;
+                let d = f.forward.dot(q);
+                DVec3::new(f.right.dot(q) / d, f.up.dot(q) / d, d)
+            }
+        }
+    }
+
+    /// The extents of a box. For a point projector every corner must be in front (d > 0).
+    pub fn box_extents(&self, aabb: &Aabb) -> Extents {
+        match self {
+            Projector::Parallel(f) => {
+                // The image of a box under a rotation: centre plus |R| times the half extents.
+                let c = self.project(aabb.center());
+                let e = aabb.half_extents();
+                let h = DVec3::new(f.right.abs().dot(e), f.up.abs().dot(e), f.forward.abs().dot(e));
+                Extents { min: c - h, max: c + h }
+            }
+            Projector::Point { .. } => {
+                let mut ext = Extents::EMPTY;
+                for c in aabb.corners() {
+                    ext.add(self.project(c));
+                }
+                ext
+            }
+        }
+    }
+
+    /// The world plane of the rays through the 2D line `n2 . (x, y) + c2 = 0` of the map plane,
+    /// its inside where `n2 . (x, y) + c2 >= 0`.
+    pub fn plane_from_line(&self, n2: DVec2, c2: f64) -> Option<Plane> {
+        let f = self.frame();
+        let (normal, offset) = match self {
+            Projector::Parallel(_) => (n2.x * f.right + n2.y * f.up, c2),
+            Projector::Point { position, .. } => {
+                let n = n2.x * f.right + n2.y * f.up + c2 * f.forward;
+                (n, -n.dot(*position))
+            }
+        };
+        let len = normal.length();
+        (len > 0.0 && len.is_finite()).then(|| Plane { normal: normal / len, offset: offset / len })
+    }
+}
+
+/// An axis-aligned box in a projector's (x, y, depth) space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Extents {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Extents {
+    pub const EMPTY: Extents = Extents { min: DVec3::INFINITY, max: DVec3::NEG_INFINITY };
+
+    #[inline]
+    pub fn add(&mut self, p: DVec3) {
+        self.min = self.min.min(p);
+        self.max = self.max.max(p);
+    }
+
+    #[inline]
+    pub fn union(&self, o: &Extents) -> Extents {
+        Extents { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    /// Area of the xy rectangle (0 when empty).
+    pub fn xy_area(&self) -> f64 {
+        let s = (self.max - self.min).truncate().max(DVec2::ZERO);
+        s.x * s.y
+    }
+
+    /// Whether the xy rectangles overlap (touching counts), `slack` added around `self`.
+    #[inline]
+    pub fn xy_overlaps(&self, o: &Extents, slack: f64) -> bool {
+        self.min.x - slack <= o.max.x
+            && o.min.x <= self.max.x + slack
+            && self.min.y - slack <= o.max.y
+            && o.min.y <= self.max.y + slack
+    }
+}
+
+/// Grows `[lo, hi]` by a millionth of its width plus `absolute` on each side, so that points
+/// on the boundary stay inside after rounding and an interval of zero width gets a size.
+pub(crate) fn pad(lo: f64, hi: f64, absolute: f64) -> (f64, f64) {
+    let m = 1e-6 * (hi - lo) + absolute;
+    (lo - m, hi + m)
+}
+
+/// Builds a shadow map from a projector and the region to cover: `xy` the rectangle in the
+/// projector's (x, y), `depth` the interval along the light. The region is padded slightly
+/// (see [`pad`]), mapped to the inset square, and depth [near, far] to [0, 1].
+pub(crate) fn build_map(
+    projector: &Projector,
+    region: &Extents,
+    settings: MapSettings,
+    xy_padding: f64,
+    depth_padding: f64,
+) -> ShadowMap {
+    let (x0, x1) = pad(region.min.x, region.max.x, xy_padding);
+    let (y0, y1) = pad(region.min.y, region.max.y, xy_padding);
+    let (mut z0, z1) = pad(region.min.z, region.max.z, depth_padding);
+    let s = settings.inset_ndc();
+    let (ax, bx) = (2.0 * s / (x1 - x0), -s * (x1 + x0) / (x1 - x0));
+    let (ay, by) = (2.0 * s / (y1 - y0), -s * (y1 + y0) / (y1 - y0));
+    let f = projector.frame();
+    // Rows of clip_from_world, the linear depth row, and the projection kind.
+    let (rows, depth_from_world, projection) = match projector {
+        Projector::Parallel(_) => {
+            let dz = z1 - z0;
+            let depth = (f.forward / dz).extend(-z0 / dz);
+            let rows = [(ax * f.right).extend(bx), (ay * f.up).extend(by), depth, DVec4::W];
+            (rows, depth, MapProjection::Orthographic)
+        }
+        Projector::Point { position, .. } => {
+            // The near plane must stay in front of the light.
+            if z0 <= 0.0 {
+                z0 = 0.5 * region.min.z;
+            }
+            let dz = z1 - z0;
+            // With X, Y, d the frame coordinates of p - position:
+            // clip = (ax X + bx d, ay Y + by d, z1 (d - z0) / dz, d).
+            let row = |v: DVec3, c: f64| v.extend(c - v.dot(*position));
+            let rows = [
+                row(ax * f.right + bx * f.forward, 0.0),
+                row(ay * f.up + by * f.forward, 0.0),
+                row(f.forward * (z1 / dz), -z1 * z0 / dz),
+                row(f.forward, 0.0),
+            ];
+            (rows, row(f.forward / dz, -z0 / dz), MapProjection::Perspective)
+        }
+    };
+    ShadowMap {
+        clip_from_world: DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose(),
+        depth_from_world,
+        resolution: settings.resolution,
+        viewport_inset: settings.viewport_inset,
+        projection,
+    }
+}

@@ -1,0 +1,385 @@
+//! What a shadow setup returns, and the interface every technique implements.
+
+use std::fmt;
+use std::str::FromStr;
+
+use glam::{DMat4, DVec3, DVec4};
+
+use crate::bounds::SceneBounds;
+use crate::camera::Camera;
+use crate::error::SetupError;
+use crate::light::Light;
+use crate::techniques::{Focused, Uniform};
+
+/// Smallest supported shadow-map resolution, in texels.
+pub const MIN_RESOLUTION: u32 = 8;
+/// Largest supported shadow-map resolution, in texels.
+pub const MAX_RESOLUTION: u32 = 32768;
+
+/// Size of the shadow map(s) to set up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MapSettings {
+    /// Width and height of each square shadow map, in texels.
+    pub resolution: u32,
+    /// Texels kept free on each side of the map: the focus region maps inside them, and the
+    /// renderer keeps them cleared to the far depth, so that lookups outside the focus region
+    /// (clamped to the edge) read as lit. The unit cube clipping blog post's border trick.
+    pub viewport_inset: u32,
+}
+
+impl Default for MapSettings {
+    /// 1024 x 1024 with a one-texel border.
+    fn default() -> Self {
+        Self { resolution: 1024, viewport_inset: 1 }
+    }
+}
+
+impl MapSettings {
+    /// A square map of `resolution` texels with the default one-texel border.
+    pub fn with_resolution(resolution: u32) -> Self {
+        Self { resolution, ..Self::default() }
+    }
+
+    pub(crate) fn validate(&self) -> Result<(), SetupError> {
+        let ok = (MIN_RESOLUTION..=MAX_RESOLUTION).contains(&self.resolution)
+            && self.viewport_inset < self.resolution / 4;
+        if ok {
+            Ok(())
+        } else {
+            Err(SetupError::InvalidResolution {
+                resolution: self.resolution,
+                viewport_inset: self.viewport_inset,
+            })
+        }
+    }
+
+    /// Half-size of the inset square in normalised device coordinates: points of the focus
+    /// region land in `[-s, s]^2` with `s = 1 - 2 inset / resolution`.
+    pub fn inset_ndc(&self) -> f64 {
+        1.0 - 2.0 * self.viewport_inset as f64 / self.resolution as f64
+    }
+}
+
+/// How a shadow map projects: parallel rays or rays from a point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MapProjection {
+    /// `w = 1` everywhere (directional lights, uniform and focused maps).
+    Orthographic,
+    /// `w` is the distance along the light's axis (spot lights) or a warp.
+    Perspective,
+}
+
+/// One shadow map: where world points land in it and how deep they are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadowMap {
+    /// World to the map's clip space. After the divide by `w`, x and y in [-1, 1] cover the
+    /// whole map (+y up, so texture v = 0.5 - 0.5 y); the focus region lands inside the inset
+    /// square `[-s, s]^2` (see [`MapSettings::inset_ndc`]); z in [0, 1] from the near to the far
+    /// plane of the focus region.
+    pub clip_from_world: DMat4,
+    /// A row taking a world point (x, y, z, 1) to a depth that is linear along the light, 0 at
+    /// the focus region's near plane and 1 at its far plane. A depth bias of `b` world units is
+    /// `b * depth_from_world.xyz().length()` in these units, whatever the warp.
+    pub depth_from_world: DVec4,
+    /// Width and height in texels.
+    pub resolution: u32,
+    /// Texels kept free on each side.
+    pub viewport_inset: u32,
+    /// Orthographic or perspective.
+    pub projection: MapProjection,
+}
+
+impl ShadowMap {
+    /// Where `p` lands: normalised device coordinates (x, y in [-1, 1] across the map; z the
+    /// clip-space depth). Points behind a perspective map's centre (w <= 0) give `None`.
+    pub fn project(&self, p: DVec3) -> Option<DVec3> {
+        let clip = self.clip_from_world * p.extend(1.0);
+        (clip.w > 0.0).then(|| clip.truncate() / clip.w)
+    }
+
+    /// The linear depth of `p` (see [`ShadowMap::depth_from_world`]).
+    pub fn linear_depth(&self, p: DVec3) -> f64 {
+        self.depth_from_world.dot(p.extend(1.0))
+    }
+
+    /// World units per unit of linear depth.
+    pub fn depth_range_world(&self) -> f64 {
+        1.0 / self.depth_from_world.truncate().length()
+    }
+
+    /// Half-size of the inset square in normalised device coordinates.
+    pub fn inset_ndc(&self) -> f64 {
+        MapSettings { resolution: self.resolution, viewport_inset: self.viewport_inset }.inset_ndc()
+    }
+
+    /// Whether every entry is finite.
+    pub fn is_finite(&self) -> bool {
+        self.clip_from_world.is_finite() && self.depth_from_world.is_finite()
+    }
+}
+
+/// How a pixel picks the map it reads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MapSelection {
+    /// There is one map.
+    Single,
+}
+
+impl MapSelection {
+    /// The name used in JSON output.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            MapSelection::Single => "single",
+        }
+    }
+}
+
+/// A degenerate but valid configuration and what the technique did about it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fallback {
+    /// No receiver box has a visible part (inside the view frustum and, for a spot light, the
+    /// light frustum). Nothing visible can be shadowed; the uniform map is returned.
+    NoVisibleReceiver,
+    /// The view direction is (anti)parallel to the light direction, so the view-aligned
+    /// light frame is undefined; the frame fixed by the light direction alone is used.
+    LightParallelToView,
+    /// The spot light's frustum does not meet the view frustum inside the scene box: nothing
+    /// visible is lit by it; the uniform map is returned.
+    SpotLightMissesView,
+    /// The spot light's frustum does not meet the scene box: the map covers the whole cone.
+    SpotLightMissesScene,
+    /// No caster overlaps the visible receivers as seen from the light: nothing visible can
+    /// be shadowed; the map is fitted to the visible receivers alone.
+    NoCasterForReceivers,
+    /// The convex body B came out empty or flat (the view frustum only grazes the scene box);
+    /// the depth range is taken from the casters alone.
+    DegenerateFocusBody,
+}
+
+impl Fallback {
+    /// A short snake_case name, for JSON and logs.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Fallback::NoVisibleReceiver => "no_visible_receiver",
+            Fallback::LightParallelToView => "light_parallel_to_view",
+            Fallback::SpotLightMissesView => "spot_light_misses_view",
+            Fallback::SpotLightMissesScene => "spot_light_misses_scene",
+            Fallback::NoCasterForReceivers => "no_caster_for_receivers",
+            Fallback::DegenerateFocusBody => "degenerate_focus_body",
+        }
+    }
+
+    /// What happened and what was done, in a sentence.
+    pub fn reason(&self) -> &'static str {
+        match self {
+            Fallback::NoVisibleReceiver => {
+                "no receiver is visible; the map covers the whole scene (uniform map)"
+            }
+            Fallback::LightParallelToView => {
+                "the view direction is parallel to the light; the light frame is fixed by the light direction alone"
+            }
+            Fallback::SpotLightMissesView => {
+                "the spot light cannot see the view frustum; the map covers the whole scene (uniform map)"
+            }
+            Fallback::SpotLightMissesScene => {
+                "the spot light's frustum misses the scene box; the map covers the whole cone"
+            }
+            Fallback::NoCasterForReceivers => {
+                "no caster can shadow a visible receiver; the map is fitted to the visible receivers"
+            }
+            Fallback::DegenerateFocusBody => {
+                "the focus body B is empty or flat; the depth range comes from the casters alone"
+            }
+        }
+    }
+}
+
+impl fmt::Display for Fallback {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.name(), self.reason())
+    }
+}
+
+/// Which rotation about the light direction a map uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LightFrameKind {
+    /// Fixed by the light direction alone (does not move with the camera).
+    Fixed,
+    /// The map's +y is the view direction projected onto the shadow-map plane (LiSPSM paper,
+    /// section 3.4).
+    ViewAligned,
+}
+
+impl LightFrameKind {
+    /// A short snake_case name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            LightFrameKind::Fixed => "fixed",
+            LightFrameKind::ViewAligned => "view_aligned",
+        }
+    }
+}
+
+/// What a technique saw and did, beyond the matrices.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Diagnostics {
+    /// Every fallback that fired, in order.
+    pub fallbacks: Vec<Fallback>,
+    /// The light frame the map(s) use.
+    pub light_frame: LightFrameKind,
+    /// The angle gamma between the view direction and the light direction, in degrees
+    /// (LiSPSM paper, section 4.4): 90 is the ideal case, 0 and 180 the miner's lamp and
+    /// dueling frusta.
+    pub gamma_degrees: f64,
+    /// Receiver boxes with a visible part.
+    pub visible_receivers: usize,
+    /// Caster boxes that can shadow a visible receiver (after culling in light space).
+    pub relevant_casters: usize,
+    /// Caster boxes culled: outside the light frustum, beside the visible receivers as seen
+    /// from the light, or behind them all.
+    pub culled_casters: usize,
+    /// Relevant casters that reach in front of a spot light's near plane and are clipped
+    /// there (their part within [`crate::SPOT_NEAR_FRACTION`] of the range casts no shadow).
+    pub casters_clipped_by_light_near: usize,
+    /// Number of vertices of the convex body B (0 when not computed or empty).
+    pub focus_body_vertices: usize,
+    /// Whether the scene box had to grow to hold every box.
+    pub scene_box_grown: bool,
+}
+
+impl Diagnostics {
+    pub(crate) fn new(camera: &Camera, light: &Light, scene: &SceneBounds) -> Self {
+        let cos = camera.forward().dot(light.direction()).clamp(-1.0, 1.0);
+        Self {
+            fallbacks: Vec::new(),
+            light_frame: LightFrameKind::Fixed,
+            gamma_degrees: cos.acos().to_degrees(),
+            visible_receivers: 0,
+            relevant_casters: 0,
+            culled_casters: 0,
+            casters_clipped_by_light_near: 0,
+            focus_body_vertices: 0,
+            scene_box_grown: scene.scene_box_grown(),
+        }
+    }
+}
+
+/// The result of a setup: the shadow maps, how a pixel picks one, and diagnostics.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShadowSetup {
+    /// The technique's name.
+    pub technique: &'static str,
+    /// The shadow maps.
+    pub maps: Vec<ShadowMap>,
+    /// How a pixel picks its map.
+    pub selection: MapSelection,
+    /// What the technique saw and did.
+    pub diagnostics: Diagnostics,
+}
+
+impl ShadowSetup {
+    /// The first fallback that fired, if any.
+    pub fn fallback(&self) -> Option<Fallback> {
+        self.diagnostics.fallbacks.first().copied()
+    }
+}
+
+/// Everything a technique needs: borrowed, so a setup per frame allocates little.
+#[derive(Debug, Clone, Copy)]
+pub struct SetupInput<'a> {
+    /// The camera.
+    pub camera: &'a Camera,
+    /// The light.
+    pub light: &'a Light,
+    /// The scene's bounds.
+    pub scene: &'a SceneBounds,
+    /// The map size.
+    pub map: MapSettings,
+}
+
+/// A shadow-map technique: camera, light and scene bounds in, shadow maps out.
+pub trait ShadowTechnique {
+    /// The technique's name (`uniform`, `focused`, ...).
+    fn name(&self) -> &'static str;
+
+    /// Computes the shadow maps for one frame.
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError>;
+}
+
+/// Every technique gnomon has, by name, for command lines and configuration files.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Technique {
+    /// Uniform shadow map (SSM).
+    Uniform(Uniform),
+    /// Focused shadow map with unit cube clipping (FSM).
+    Focused(Focused),
+}
+
+impl Technique {
+    /// The names [`Technique::from_str`] accepts.
+    pub const NAMES: &'static [&'static str] = &["uniform", "focused"];
+
+    /// Each technique with default parameters.
+    pub fn all() -> Vec<Technique> {
+        Self::NAMES.iter().map(|n| n.parse().expect("every listed name parses")).collect()
+    }
+
+    fn as_dyn(&self) -> &dyn ShadowTechnique {
+        match self {
+            Technique::Uniform(t) => t,
+            Technique::Focused(t) => t,
+        }
+    }
+}
+
+impl ShadowTechnique for Technique {
+    fn name(&self) -> &'static str {
+        self.as_dyn().name()
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        self.as_dyn().setup(input)
+    }
+}
+
+/// The error for an unknown technique name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UnknownTechnique(pub String);
+
+impl fmt::Display for UnknownTechnique {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "unknown technique '{}' (known: {})", self.0, Technique::NAMES.join(", "))
+    }
+}
+
+impl std::error::Error for UnknownTechnique {}
+
+impl FromStr for Technique {
+    type Err = UnknownTechnique;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "uniform" | "ssm" => Ok(Technique::Uniform(Uniform)),
+            "focused" | "fsm" => Ok(Technique::Focused(Focused)),
+            _ => Err(UnknownTechnique(s.to_string())),
+        }
+    }
+}
+
+/// Computes a setup with `technique`: validates the map settings, runs the technique and
+/// checks that every matrix is finite.
+pub fn compute_setup(
+    technique: &dyn ShadowTechnique,
+    camera: &Camera,
+    light: &Light,
+    scene: &SceneBounds,
+    map: MapSettings,
+) -> Result<ShadowSetup, SetupError> {
+    map.validate()?;
+    let setup = technique.setup(&SetupInput { camera, light, scene, map })?;
+    if setup.maps.iter().all(ShadowMap::is_finite) {
+        Ok(setup)
+    } else {
+        Err(SetupError::NumericalFailure { technique: technique.name() })
+    }
+}

@@ -1,0 +1,169 @@
+//! Focused shadow map (FSM) with unit cube clipping.
+//!
+//! Focusing: Brabec, Annen and Seidel, "Practical shadow mapping" (JGT 2002), and the convex
+//! body B of Wimmer, Scherzer and Purgathofer, "Light Space Perspective Shadow Maps" (EGSR
+//! 2004, section 3.3). Unit cube clipping: the blog post on robust unit cube clipping (see
+//! `shared/papers/unit-cube-clipping-blog-post.txt`).
+
+use crate::body::focus_body;
+use crate::error::SetupError;
+use crate::focus::{VisibleScene, caster_extents, unit_cube_clip};
+use crate::geometry::{ConvexPolyhedron, Plane};
+use crate::light::Light;
+use crate::light_space::{Extents, LightFrame, Projector, build_map};
+use crate::setup::{
+    Diagnostics, Fallback, LightFrameKind, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
+};
+use crate::techniques::uniform::{fixed_projector, uniform_map};
+use crate::techniques::{ANGULAR_PADDING, tolerance};
+
+/// Focused shadow map (FSM): the light's projection (orthographic for a directional light,
+/// the spot light's perspective for a spot light) fitted to what the camera sees, by unit
+/// cube clipping: XY = the intersection of the relevant casters' and the visible receivers'
+/// extents, near = the casters' minimum depth (raised to the convex body B's nearest point),
+/// far = the receivers' maximum depth; a one-texel border (the viewport inset) stays clear so
+/// that lookups outside the focus region read as lit.
+///
+/// Light frame (directional light): the LiSPSM paper's light space (map +y = the view
+/// direction projected onto the map plane) when that covers the visible receivers with a
+/// smaller rectangle than the frame fixed by the light alone, else the fixed frame; so the
+/// map is never coarser than the uniform map. Spot lights use the fixed frame.
+///
+/// Degenerate cases, each named in the diagnostics:
+/// - view parallel to the light: the fixed frame ([`Fallback::LightParallelToView`]);
+/// - no visible receiver, or a spot light that cannot see the view frustum: the uniform map
+///   ([`Fallback::NoVisibleReceiver`], [`Fallback::SpotLightMissesView`]);
+/// - no caster that can shadow a visible receiver: the map is fitted to the receivers alone
+///   ([`Fallback::NoCasterForReceivers`]);
+/// - B empty or flat: the near plane is the casters' minimum alone
+///   ([`Fallback::DegenerateFocusBody`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Focused;
+
+impl ShadowTechnique for Focused {
+    fn name(&self) -> &'static str {
+        "focused"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
+        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
+        let map = match focus(input, tolerance, &mut diagnostics) {
+            Some((projector, region)) => {
+                let xy_padding = match projector {
+                    Projector::Parallel(_) => tolerance,
+                    Projector::Point { .. } => ANGULAR_PADDING,
+                };
+                build_map(&projector, &region, input.map, xy_padding, tolerance)
+            }
+            None => uniform_map(input.light, input.scene, input.map, tolerance, &mut diagnostics),
+        };
+        Ok(ShadowSetup { technique: self.name(), maps: vec![map], selection: MapSelection::Single, diagnostics })
+    }
+}
+
+/// The focused projector and region, or `None` when the uniform map is the fallback.
+pub(crate) fn focus(
+    input: &SetupInput<'_>,
+    tolerance: f64,
+    diagnostics: &mut Diagnostics,
+) -> Option<(Projector, Extents)> {
+    let scene_box = input.scene.scene_box();
+    let (light_planes, fixed) = match input.light {
+        Light::Directional(_) => (None, fixed_projector(input.light)),
+        Light::Spot(spot) => {
+            let projector = fixed_projector(input.light);
+            (Some(spot.frustum_planes(projector.frame().up)), projector)
+        }
+    };
+    let visible = VisibleScene::new(input.camera, input.scene, light_planes.as_ref(), tolerance);
+    diagnostics.visible_receivers = visible.visible_receivers();
+    if let Light::Directional(light) = input.light
+        && LightFrame::view_aligned(light.direction(), input.camera.forward()).is_none()
+    {
+        diagnostics.fallbacks.push(Fallback::LightParallelToView);
+    }
+    if visible.view_body.is_empty() && light_planes.is_some() {
+        diagnostics.fallbacks.push(Fallback::SpotLightMissesView);
+        return None;
+    }
+    if visible.visible_receivers() == 0 {
+        diagnostics.fallbacks.push(Fallback::NoVisibleReceiver);
+        return None;
+    }
+    let (projector, receivers) = choose_frame(input, &visible, fixed, diagnostics);
+
+    let region = match &light_planes {
+        None => ConvexPolyhedron::from_box(&scene_box),
+        Some(planes) => ConvexPolyhedron::from_box(&scene_box).clip_all(planes, tolerance),
+    };
+    let body = focus_body(&visible.view_body, &region, &projector, tolerance);
+    diagnostics.focus_body_vertices = body.vertices(tolerance).len();
+    let body_extents = usable_body_extents(&body, &projector, &receivers, tolerance);
+    if body_extents.is_none() {
+        diagnostics.fallbacks.push(Fallback::DegenerateFocusBody);
+    }
+
+    let casters = caster_extents(
+        input.scene,
+        &projector,
+        &receivers,
+        light_planes.as_ref().map(|p: &[Plane; 6]| p),
+        tolerance,
+        diagnostics,
+    );
+    match unit_cube_clip(&receivers, &casters, body_extents.as_ref()) {
+        Some(region) => Some((projector, region)),
+        None => {
+            diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
+            Some((projector, receivers))
+        }
+    }
+}
+
+/// Picks the light frame: for a directional light the view-aligned frame when it covers the
+/// visible receivers with a rectangle no larger than the fixed frame's; returns the
+/// projector and the receivers' extents under it.
+fn choose_frame(
+    input: &SetupInput<'_>,
+    visible: &VisibleScene,
+    fixed: Projector,
+    diagnostics: &mut Diagnostics,
+) -> (Projector, Extents) {
+    let fixed_receivers = visible.receiver_extents(&fixed);
+    diagnostics.light_frame = LightFrameKind::Fixed;
+    let Light::Directional(light) = input.light else {
+        return (fixed, fixed_receivers);
+    };
+    let Some(frame) = LightFrame::view_aligned(light.direction(), input.camera.forward()) else {
+        return (fixed, fixed_receivers);
+    };
+    let aligned = Projector::Parallel(frame);
+    let aligned_receivers = visible.receiver_extents(&aligned);
+    if aligned_receivers.xy_area() <= fixed_receivers.xy_area() {
+        diagnostics.light_frame = LightFrameKind::ViewAligned;
+        (aligned, aligned_receivers)
+    } else {
+        (fixed, fixed_receivers)
+    }
+}
+
+/// B's extents under `projector`, or `None` when B is empty or does not hold the visible
+/// receivers (a flat or numerically broken body: it is then not used).
+fn usable_body_extents(
+    body: &ConvexPolyhedron,
+    projector: &Projector,
+    receivers: &Extents,
+    tolerance: f64,
+) -> Option<Extents> {
+    if body.is_empty() {
+        return None;
+    }
+    let mut ext = Extents::EMPTY;
+    for p in body.vertices(tolerance) {
+        ext.add(projector.project(p));
+    }
+    let slack = 1e-6 * (receivers.max.z - receivers.min.z) + tolerance;
+    (ext.min.z <= receivers.min.z + slack).then_some(ext)
+}

@@ -1,0 +1,30 @@
+//! The shadow-map techniques, one file each, all behind [`crate::ShadowTechnique`].
+
+mod focused;
+mod uniform;
+
+pub use focused::Focused;
+pub use uniform::Uniform;
+pub(crate) use uniform::fixed_projector;
+
+use crate::bounds::SceneBounds;
+use crate::camera::Camera;
+use crate::light::Light;
+
+/// The world-space tolerance of one setup: a billionth of the distances involved (the scene
+/// box's diagonal plus how far the camera and light are from it).
+pub(crate) fn tolerance(scene: &SceneBounds, camera: Option<&Camera>, light: &Light) -> f64 {
+    let scene_box = scene.scene_box();
+    let center = scene_box.center();
+    let mut scale = scene_box.diagonal();
+    if let Some(camera) = camera {
+        scale += (camera.eye() - center).length();
+    }
+    if let Light::Spot(spot) = light {
+        scale += (spot.position() - center).length() + spot.range();
+    }
+    1e-9 * scale
+}
+
+/// Padding of a perspective map's xy extents (tangent units).
+pub(crate) const ANGULAR_PADDING: f64 = 1e-9;

@@ -1,0 +1,88 @@
+//! Uniform shadow map (SSM): the light's projection covers the whole scene box.
+//!
+//! Williams, "Casting curved shadows on curved surfaces" (SIGGRAPH 1978), the original
+//! shadow map; the LiSPSM paper (Wimmer et al. 2004, section 4) analyses its error as the
+//! n -> infinity end of its family. The map does not depend on the camera, so it never swims,
+//! and spends most of its texels on what the camera does not see.
+
+use crate::error::SetupError;
+use crate::geometry::ConvexPolyhedron;
+use crate::light::{Light, SpotLight};
+use crate::light_space::{Extents, LightFrame, Projector, build_map};
+use crate::setup::{
+    Diagnostics, Fallback, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
+};
+use crate::techniques::{ANGULAR_PADDING, tolerance};
+use crate::bounds::SceneBounds;
+
+use glam::DVec3;
+
+/// Uniform shadow map (SSM): an orthographic projection (directional light) or the spot
+/// light's own perspective, fitted to the whole scene box. Independent of the camera.
+///
+/// Light frame: fixed by the light direction alone (world +Y made perpendicular, or +Z for a
+/// nearly vertical light). Degenerate cases: a spot light whose frustum misses the scene box
+/// gets a map of its whole cone ([`Fallback::SpotLightMissesScene`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Uniform;
+
+impl ShadowTechnique for Uniform {
+    fn name(&self) -> &'static str {
+        "uniform"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
+        let tolerance = tolerance(input.scene, None, input.light);
+        let map = uniform_map(input.light, input.scene, input.map, tolerance, &mut diagnostics);
+        Ok(ShadowSetup { technique: self.name(), maps: vec![map], selection: MapSelection::Single, diagnostics })
+    }
+}
+
+/// The projector a uniform map uses for `light`: the light frame fixed by its direction.
+pub(crate) fn fixed_projector(light: &Light) -> Projector {
+    match light {
+        Light::Directional(l) => Projector::Parallel(LightFrame::fixed(l.direction())),
+        Light::Spot(s) => Projector::Point { frame: LightFrame::fixed(s.direction()), position: s.position() },
+    }
+}
+
+/// The uniform map (also the fallback of the camera-dependent techniques).
+pub(crate) fn uniform_map(
+    light: &Light,
+    scene: &SceneBounds,
+    settings: MapSettings,
+    tolerance: f64,
+    diagnostics: &mut Diagnostics,
+) -> ShadowMap {
+    let projector = fixed_projector(light);
+    let scene_box = scene.scene_box();
+    match light {
+        Light::Directional(_) => {
+            let region = projector.box_extents(&scene_box);
+            build_map(&projector, &region, settings, tolerance, tolerance)
+        }
+        Light::Spot(spot) => {
+            let planes = spot.frustum_planes(projector.frame().up);
+            let lit = ConvexPolyhedron::from_box(&scene_box).clip_all(&planes, tolerance);
+            let region = if lit.is_empty() {
+                diagnostics.fallbacks.push(Fallback::SpotLightMissesScene);
+                whole_cone(spot)
+            } else {
+                let mut ext = Extents::EMPTY;
+                for p in lit.vertices(tolerance) {
+                    ext.add(projector.project(p));
+                }
+                ext
+            };
+            build_map(&projector, &region, settings, ANGULAR_PADDING, tolerance)
+        }
+    }
+}
+
+/// The extents of a spot light's whole frustum (tangent units, depth from near to range).
+fn whole_cone(spot: &SpotLight) -> Extents {
+    let t = spot.half_angle().tan();
+    Extents { min: DVec3::new(-t, -t, spot.near()), max: DVec3::new(t, t, spot.range()) }
+}
