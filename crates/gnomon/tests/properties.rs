@@ -1,0 +1,385 @@
+//! Property tests over twenty thousand of random cameras, lights and scenes, with the hard cases
+//! drawn on purpose: light parallel to the view (miner's lamp), light toward the camera
+//! (dueling frusta), light behind the camera, camera inside a box, grazing light, light
+//! straight down, scenes from 1 m to 100 km.
+//!
+//! For every technique and configuration:
+//! - the setup succeeds and every matrix is finite;
+//! - uniform: every visible receiver point lands inside the inset square with 0 <= z <= 1;
+//! - every visible receiver point that a caster can shadow (a caster point lies on the light
+//!   ray through it, between it and the light) lands inside the inset square with
+//!   0 <= z <= 1, and so does that caster point; no visible receiver point lands beyond the
+//!   far plane (z > 1 would shadow it wrongly);
+//! - the focused map covers the visible receivers at least as tightly as the uniform map
+//!   (its inset square's footprint in the map plane is no larger).
+
+use glam::{DVec3, DVec4};
+use gnomon::{
+    Aabb, Camera, DirectionalLight, Focused, Lens, Light, MapSettings, SceneBounds, ShadowMap, ShadowSetup,
+    SpotLight, Technique, Uniform, compute_setup,
+};
+use proptest::prelude::*;
+use proptest::test_runner::TestRng;
+
+/// One random configuration.
+#[derive(Debug, Clone)]
+struct Config {
+    camera: Camera,
+    light: Light,
+    scene: SceneBounds,
+    /// Which hard case was drawn.
+    case: &'static str,
+}
+
+const CASES: &[&str] = &[
+    "random",
+    "light_parallel_to_view",
+    "light_toward_camera",
+    "light_behind_camera",
+    "camera_inside_box",
+    "grazing_light",
+    "light_straight_down",
+    "spot",
+    "spot_behind_camera",
+];
+
+fn unit_vector(rng: &mut TestRng) -> DVec3 {
+    loop {
+        let v = DVec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+        let l = v.length();
+        if l > 0.1 && l <= 1.0 {
+            return v / l;
+        }
+    }
+}
+
+fn random_box(rng: &mut TestRng, s: f64) -> Aabb {
+    let c = DVec3::new(rng.random_range(-0.5..0.5) * s, 0.0, rng.random_range(-0.5..0.5) * s);
+    let size = DVec3::new(
+        s * 10f64.powf(rng.random_range(-3.0..-0.7)),
+        s * 10f64.powf(rng.random_range(-3.0..-0.7)),
+        s * 10f64.powf(rng.random_range(-3.0..-0.7)),
+    );
+    // Some float above the ground.
+    let lift = if rng.random_bool(0.3) { rng.random_range(0.0..0.2) * s } else { 0.0 };
+    Aabb::new(c + DVec3::new(-size.x, lift, -size.z) * DVec3::new(0.5, 1.0, 0.5), c + DVec3::new(size.x * 0.5, lift + size.y, size.z * 0.5))
+        .unwrap()
+}
+
+fn config(seed: u64) -> Config {
+    let mut rng = TestRng::from_seed(proptest::test_runner::RngAlgorithm::ChaCha, &{
+        let mut bytes = [0u8; 32];
+        bytes[..8].copy_from_slice(&seed.to_le_bytes());
+        bytes
+    });
+    let case = CASES[rng.random_range(0..CASES.len())];
+    // Scene size: 1 m to 100 km.
+    let s = 10f64.powf(rng.random_range(0.0..5.0));
+    let ground = Aabb::new(DVec3::new(-0.5 * s, -0.01 * s, -0.5 * s), DVec3::new(0.5 * s, 0.0, 0.5 * s)).unwrap();
+    let mut casters = Vec::new();
+    let mut receivers = vec![ground];
+    if rng.random_bool(0.3) {
+        casters.push(ground);
+    }
+    for _ in 0..rng.random_range(0..12) {
+        let b = random_box(&mut rng, s);
+        match rng.random_range(0..4) {
+            0 => casters.push(b),
+            1 => receivers.push(b),
+            _ => {
+                casters.push(b);
+                receivers.push(b);
+            }
+        }
+    }
+    let scene_box = match rng.random_range(0..3) {
+        0 => None,
+        1 => Some(Aabb::new(DVec3::splat(-0.6 * s), DVec3::splat(0.6 * s)).unwrap()),
+        // Too small: the scene box must grow.
+        _ => Some(Aabb::new(DVec3::splat(-0.1 * s), DVec3::splat(0.1 * s)).unwrap()),
+    };
+    let scene = SceneBounds::new(casters.clone(), receivers.clone(), scene_box).unwrap();
+
+    let near = s * 10f64.powf(rng.random_range(-5.0..-2.0));
+    let mut far = (near * 10f64.powf(rng.random_range(1.0..5.0))).min(1e8);
+    if rng.random_bool(0.7) {
+        // Mostly a far plane that reaches across the scene.
+        far = far.max(s * rng.random_range(0.3..3.0));
+    }
+    let lens = Lens {
+        fov_y_degrees: rng.random_range(10.0..120.0),
+        aspect: rng.random_range(0.5..2.5),
+        near,
+        far: far.max(near * 2.0),
+    };
+    let mut eye = DVec3::new(
+        rng.random_range(-0.7..0.7) * s,
+        rng.random_range(0.001..0.3) * s,
+        rng.random_range(-0.7..0.7) * s,
+    );
+    if case == "camera_inside_box" {
+        let all: Vec<Aabb> = casters.iter().chain(receivers.iter()).copied().collect();
+        let b = all[rng.random_range(0..all.len())];
+        eye = b.min() + (b.max() - b.min()) * DVec3::new(rng.random_range(0.0..1.0), rng.random_range(0.0..1.0), rng.random_range(0.0..1.0));
+    }
+    let mut view = unit_vector(&mut rng);
+    if rng.random_bool(0.7) {
+        // Mostly look toward the scene.
+        let target = DVec3::new(rng.random_range(-0.5..0.5) * s, 0.0, rng.random_range(-0.5..0.5) * s);
+        if (target - eye).length() > 1e-6 * s {
+            view = (target - eye).normalize();
+        }
+    }
+    let mut light_dir = unit_vector(&mut rng);
+    if light_dir.y > 0.0 && rng.random_bool(0.8) {
+        light_dir.y = -light_dir.y;
+    }
+    let jitter = |rng: &mut TestRng, v: DVec3, amount: f64| (v + amount * unit_vector(rng)).normalize();
+    match case {
+        "light_parallel_to_view" => {
+            light_dir = if rng.random_bool(0.5) { view } else { jitter(&mut rng, view, 1e-4) };
+        }
+        "light_toward_camera" => light_dir = if rng.random_bool(0.5) { -view } else { jitter(&mut rng, -view, 0.2) },
+        "light_behind_camera" => light_dir = jitter(&mut rng, view, 0.5),
+        "grazing_light" => {
+            let a = rng.random_range(0.0..std::f64::consts::TAU);
+            light_dir = DVec3::new(a.cos(), -10f64.powf(rng.random_range(-4.0..-1.0)), a.sin()).normalize();
+        }
+        "light_straight_down" => {
+            light_dir = -DVec3::Y;
+            if rng.random_bool(0.3) {
+                view = -DVec3::Y;
+            }
+        }
+        _ => {}
+    }
+    let up = if view.cross(DVec3::Y).length() > 1e-3 { DVec3::Y } else { DVec3::Z };
+    let camera = Camera::look_at(eye, eye + view, up, lens).unwrap();
+    let light = match case {
+        "spot" | "spot_behind_camera" => {
+            let position = if case == "spot" {
+                DVec3::new(rng.random_range(-0.6..0.6) * s, rng.random_range(0.01..0.5) * s, rng.random_range(-0.6..0.6) * s)
+            } else {
+                eye - view * rng.random_range(0.001..0.2) * s + DVec3::Y * rng.random_range(0.0..0.05) * s
+            };
+            let aim = if case == "spot" {
+                DVec3::new(rng.random_range(-0.5..0.5) * s, 0.0, rng.random_range(-0.5..0.5) * s) - position
+            } else {
+                view
+            };
+            let direction = if aim.length() > 1e-6 * s { aim } else { -DVec3::Y };
+            let range = s * rng.random_range(0.2..3.0);
+            Light::Spot(SpotLight::new(position, direction, rng.random_range(5.0..80.0), range).unwrap())
+        }
+        _ => Light::Directional(DirectionalLight::new(light_dir).unwrap()),
+    };
+    Config { camera, light, scene, case }
+}
+
+/// Receiver surface points the camera sees (and, for a spot light, inside its frustum).
+fn visible_receiver_points(cfg: &Config, rng: &mut TestRng) -> Vec<DVec3> {
+    let planes = cfg.camera.frustum_planes();
+    let mut out = Vec::new();
+    for r in cfg.scene.receivers() {
+        for k in 0..24 {
+            let (lo, hi) = (r.min(), r.max());
+            let mut p = lo + (hi - lo) * DVec3::new(rng.random_range(0.0..1.0), rng.random_range(0.0..1.0), rng.random_range(0.0..1.0));
+            if k % 2 == 0 {
+                // On a face: snap one coordinate.
+                let axis = rng.random_range(0..3);
+                p[axis] = if rng.random_bool(0.5) { lo[axis] } else { hi[axis] };
+            }
+            if planes.iter().all(|pl| pl.distance(p) >= 0.0) && lit_by_spot(&cfg.light, p) {
+                out.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// Whether `p` is inside a spot light's cone and range (always true for a directional light).
+fn lit_by_spot(light: &Light, p: DVec3) -> bool {
+    match light {
+        Light::Directional(_) => true,
+        Light::Spot(s) => {
+            let q = p - s.position();
+            let d = q.dot(s.direction());
+            d >= s.near() * 1.001 && d <= s.range() && q.length() * s.half_angle().cos() <= d
+        }
+    }
+}
+
+/// Caster points on the light ray through `r`, between `r` and the light: the ray's entry,
+/// exit and middle in each caster box it crosses.
+fn shadowing_caster_points(cfg: &Config, r: DVec3) -> Vec<DVec3> {
+    // The ray r + t (toward - r) for t in [0, t_max].
+    let (toward, t_max) = match &cfg.light {
+        Light::Directional(l) => (r - l.direction(), f64::INFINITY),
+        Light::Spot(s) => {
+            // Stop at the light's near plane: closer casters are clipped by design.
+            let d = (r - s.position()).dot(s.direction());
+            (s.position(), 1.0 - s.near() * 1.001 / d)
+        }
+    };
+    let dir = toward - r;
+    let mut out = Vec::new();
+    for c in cfg.scene.casters() {
+        let (mut t0, mut t1) = (0.0f64, t_max);
+        for axis in 0..3 {
+            if dir[axis].abs() < 1e-300 {
+                if r[axis] < c.min()[axis] || r[axis] > c.max()[axis] {
+                    t0 = f64::INFINITY;
+                }
+                continue;
+            }
+            let a = (c.min()[axis] - r[axis]) / dir[axis];
+            let b = (c.max()[axis] - r[axis]) / dir[axis];
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        if t0 <= t1 && t1.is_finite() {
+            for t in [t0, 0.5 * (t0 + t1), t1] {
+                out.push(r + dir * t);
+            }
+        }
+    }
+    out
+}
+
+/// Tolerance for "inside" checks in normalised device coordinates.
+const EPS: f64 = 1e-6;
+
+fn lands_inside(map: &ShadowMap, p: DVec3) -> Result<DVec3, String> {
+    let ndc = map.project(p).ok_or_else(|| format!("{p} is behind the map's centre"))?;
+    let s = map.inset_ndc() + EPS;
+    if ndc.x.abs() > s || ndc.y.abs() > s || ndc.z < -EPS || ndc.z > 1.0 + EPS {
+        return Err(format!("{p} lands at {ndc}, outside the inset square {s} or depth [0, 1]"));
+    }
+    let depth = map.linear_depth(p);
+    if !(-EPS..=1.0 + EPS).contains(&depth) {
+        return Err(format!("{p} has linear depth {depth}"));
+    }
+    Ok(ndc)
+}
+
+/// The world-space footprint area of the map's inset square on the map plane.
+fn footprint(map: &ShadowMap, light: &Light) -> f64 {
+    let m = map.clip_from_world;
+    let (rx, ry, rw) = (m.row(0).truncate(), m.row(1).truncate(), m.row(3).truncate());
+    let axis = if rw.length() > 0.0 { rw.normalize() } else { light.direction() };
+    let s = 2.0 * map.inset_ndc();
+    s * s / (rx.cross(axis).length() * ry.cross(axis).length())
+}
+
+fn check(cfg: &Config, seed: u64) -> Result<(), String> {
+    let settings = MapSettings::with_resolution(1024);
+    let setup = |t: Technique| -> Result<ShadowSetup, String> {
+        compute_setup(&t, &cfg.camera, &cfg.light, &cfg.scene, settings).map_err(|e| format!("{e}"))
+    };
+    let uniform = setup(Technique::Uniform(Uniform))?;
+    let focused = setup(Technique::Focused(Focused))?;
+    let mut rng = TestRng::from_seed(proptest::test_runner::RngAlgorithm::ChaCha, &[seed as u8; 32]);
+    let points = visible_receiver_points(cfg, &mut rng);
+    for setup in [&uniform, &focused] {
+        let map = &setup.maps[0];
+        if !(map.clip_from_world.is_finite() && map.depth_from_world.is_finite()) {
+            return Err(format!("{}: non-finite matrix", setup.technique));
+        }
+        for &r in &points {
+            let ctx = |e: String| format!("{} ({:?}): receiver: {e}", setup.technique, setup.diagnostics.fallbacks);
+            let casters = shadowing_caster_points(cfg, r);
+            if setup.technique == "uniform" || !casters.is_empty() {
+                lands_inside(map, r).map_err(ctx)?;
+            } else if let Some(ndc) = map.project(r) {
+                // Not shadowable: it may fall outside the focus region, but never beyond the
+                // far plane, where it would compare as shadowed.
+                if ndc.z > 1.0 + EPS && ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 {
+                    return Err(ctx(format!("{r} lands beyond the far plane at {ndc}")));
+                }
+            }
+            for q in casters {
+                lands_inside(map, q).map_err(|e| {
+                    format!("{} ({:?}): caster point shadowing {r}: {e}", setup.technique, setup.diagnostics.fallbacks)
+                })?;
+            }
+        }
+    }
+    let (fu, ff) = (footprint(&uniform.maps[0], &cfg.light), footprint(&focused.maps[0], &cfg.light));
+    if ff > fu * (1.0 + 1e-6) {
+        return Err(format!("focused footprint {ff} exceeds the uniform footprint {fu}"));
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 20_000, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn setups_cover_receivers_and_never_clip_a_caster(seed in any::<u64>()) {
+        let cfg = config(seed);
+        if let Err(e) = check(&cfg, seed) {
+            prop_assert!(false, "case {} (seed {seed}): {e}\n{cfg:?}", cfg.case);
+        }
+    }
+}
+
+/// The hard cases fire the fallbacks they should, so the property test above exercises them.
+#[test]
+fn hard_cases_are_drawn_and_name_their_fallbacks() {
+    let mut seen = std::collections::BTreeMap::<&str, usize>::new();
+    let mut parallel_fallbacks = 0;
+    for seed in 0..2000u64 {
+        let cfg = config(seed);
+        *seen.entry(cfg.case).or_default() += 1;
+        let setup = compute_setup(&Focused, &cfg.camera, &cfg.light, &cfg.scene, MapSettings::default()).unwrap();
+        if cfg.case == "light_parallel_to_view"
+            && setup.diagnostics.fallbacks.contains(&gnomon::Fallback::LightParallelToView)
+        {
+            parallel_fallbacks += 1;
+        }
+    }
+    for case in CASES {
+        assert!(seen.get(case).copied().unwrap_or(0) > 100, "case {case} drawn too rarely: {seen:?}");
+    }
+    assert!(parallel_fallbacks > 50, "the parallel fallback fired {parallel_fallbacks} times");
+}
+
+#[test]
+fn depth_row_matches_the_clip_depth_for_orthographic_maps() {
+    for seed in 0..200u64 {
+        let cfg = config(seed);
+        if matches!(cfg.light, Light::Spot(_)) {
+            continue;
+        }
+        let setup = compute_setup(&Focused, &cfg.camera, &cfg.light, &cfg.scene, MapSettings::default()).unwrap();
+        let m = setup.maps[0];
+        let row = m.clip_from_world.row(2);
+        let scale = row.truncate().length().max(1e-300);
+        assert!(((row - m.depth_from_world) / scale).abs().max_element() < 1e-9, "{row} vs {}", m.depth_from_world);
+        let _ = DVec4::ZERO;
+    }
+}
+
+/// The property test checks many points: most configurations see receivers, and many
+/// receiver points are shadowable, in every hard case.
+#[test]
+fn property_checks_are_not_vacuous() {
+    let mut per_case = std::collections::BTreeMap::<&str, (usize, usize, usize)>::new();
+    for seed in 0..1500u64 {
+        let cfg = config(seed);
+        let mut rng = TestRng::from_seed(proptest::test_runner::RngAlgorithm::ChaCha, &[seed as u8; 32]);
+        let points = visible_receiver_points(&cfg, &mut rng);
+        let entry = per_case.entry(cfg.case).or_default();
+        entry.0 += usize::from(!points.is_empty());
+        for r in points {
+            let casters = shadowing_caster_points(&cfg, r);
+            entry.1 += usize::from(!casters.is_empty());
+            entry.2 += casters.len();
+        }
+    }
+    for (case, (configs_with_points, shadowable, caster_points)) in &per_case {
+        println!("{case}: {configs_with_points} configurations see receivers, {shadowable} shadowable receiver points, {caster_points} caster points");
+        assert!(*configs_with_points > 40, "{case}: too few configurations see a receiver");
+        assert!(*shadowable > 200, "{case}: too few shadowable receiver points");
+    }
+}
