@@ -1,1 +1,76 @@
-fn main(){}
+//! `gnomon`: the command-line tool.
+//!
+//! Subcommands: `setup` (print the shadow-map matrices for a camera, light and scene) and
+//! `demo` (the built-in scene from its named views with every technique). Bad input gives a
+//! one-line error on stderr and exit code 2.
+
+#![forbid(unsafe_code)]
+
+mod args;
+mod demo;
+mod report;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// gnomon: shadow-map techniques, made robust and measured against exact shadows.
+#[derive(Debug, Parser)]
+#[command(name = "gnomon", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Compute the shadow maps for a camera, a light and a scene, and print them.
+    Setup(args::SetupArgs),
+    /// Set up the built-in demo scene from its named views with every technique and write
+    /// the results to a folder.
+    Demo(demo::DemoArgs),
+}
+
+/// An error the user can fix: printed on one line, exit code 2.
+#[derive(Debug)]
+pub struct UsageError(pub String);
+
+impl<E: std::fmt::Display> From<E> for UsageError {
+    fn from(e: E) -> Self {
+        UsageError(e.to_string())
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                let _ = e.print();
+                return ExitCode::from(2);
+            }
+            // clap's message spans several lines (the message, then tips and usage after a
+            // blank line); keep the message, on one line.
+            let text = e.to_string();
+            let message: Vec<&str> = text.lines().take_while(|l| !l.trim().is_empty()).map(str::trim).collect();
+            eprintln!("{}", message.join(" "));
+            return ExitCode::from(2);
+        }
+    };
+    let result = match cli.command {
+        Command::Setup(a) => args::run_setup(&a),
+        Command::Demo(a) => demo::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(UsageError(message)) => {
+            eprintln!("error: {}", message.replace('\n', " "));
+            ExitCode::from(2)
+        }
+    }
+}

@@ -61,8 +61,10 @@ pub(crate) fn focus_body(
 
 /// The half-spaces whose intersection is P extended toward the light.
 pub(crate) fn extension_planes(view_body: &ConvexPolyhedron, projector: &Projector, tolerance: f64) -> Vec<Plane> {
+    let vertices = view_body.vertices(tolerance);
+    let centroid = vertices.iter().copied().sum::<glam::DVec3>() / vertices.len().max(1) as f64;
     let mut planes: Vec<Plane> = view_body
-        .bounding_planes(tolerance)
+        .bounding_planes(centroid, tolerance)
         .into_iter()
         .filter(|plane| match projector {
             // Inward normal m: moving toward the light (-forward) stays inside iff m . forward < 0.
@@ -71,7 +73,6 @@ pub(crate) fn extension_planes(view_body: &ConvexPolyhedron, projector: &Project
             Projector::Point { position, .. } => plane.distance(*position) > tolerance,
         })
         .collect();
-    let vertices = view_body.vertices(tolerance);
     let projected: Vec<DVec2> = vertices.iter().map(|p| projector.project(*p).truncate()).collect();
     let hull = convex_hull_2d(&projected);
     if hull.len() >= 3 {

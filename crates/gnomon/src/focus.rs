@@ -12,10 +12,11 @@
 
 use glam::DVec3;
 
-use crate::bounds::{Aabb, SceneBounds};
+use crate::bounds::{Aabb, BoxArrays, SceneBounds};
 use crate::camera::Camera;
 use crate::geometry::{ConvexPolyhedron, Plane};
-use crate::light_space::{Extents, Projector};
+
+use crate::light_space::{Extents, LightFrame, Projector};
 use crate::setup::Diagnostics;
 
 /// How an axis-aligned box lies against a set of planes.
@@ -46,33 +47,135 @@ pub(crate) fn classify_box(aabb: &Aabb, planes: &[Plane], tolerance: f64) -> Box
     if mask == 0 { BoxSide::Inside } else { BoxSide::Straddles(mask) }
 }
 
-/// The part of a box inside a set of planes, as vertices appended to `out`; `false` (and
-/// nothing appended) when nothing is left.
-pub(crate) fn clip_box(aabb: &Aabb, planes: &[Plane], tolerance: f64, out: &mut Vec<DVec3>) -> bool {
-    match classify_box(aabb, planes, tolerance) {
-        BoxSide::Outside => false,
-        BoxSide::Inside => {
-            out.extend_from_slice(&aabb.corners());
-            true
+/// [`classify_boxes`]'s code for a box wholly outside one of the planes.
+pub(crate) const OUTSIDE: u32 = u32::MAX;
+
+/// Classifies every box against up to 31 planes, as [`classify_box`] does one: [`OUTSIDE`],
+/// 0 (inside all planes) or the mask of the planes it straddles. One pass per plane over the
+/// box arrays, without branches, so that it vectorises.
+pub(crate) fn classify_boxes(boxes: &BoxArrays, planes: &[Plane], tolerance: f64, out: &mut Vec<u32>) {
+    let n = boxes.center[0].len();
+    out.clear();
+    out.resize(n, 0);
+    let (cx, cy, cz) = (&boxes.center[0][..n], &boxes.center[1][..n], &boxes.center[2][..n]);
+    let (hx, hy, hz) = (&boxes.half[0][..n], &boxes.half[1][..n], &boxes.half[2][..n]);
+    for (k, plane) in planes.iter().enumerate().take(31) {
+        let (m, a, o) = (plane.normal, plane.normal.abs(), plane.offset);
+        for i in 0..n {
+            let s = m.x * cx[i] + m.y * cy[i] + m.z * cz[i] + o;
+            let r = a.x * hx[i] + a.y * hy[i] + a.z * hz[i];
+            out[i] |= (u32::from(s - r < -tolerance) << k) | (u32::from(s + r <= tolerance) << 31);
         }
-        BoxSide::Straddles(mask) => {
-            let crossing = planes.iter().enumerate().filter(|(i, _)| mask & (1 << i) != 0).map(|(_, p)| p);
-            let clipped = ConvexPolyhedron::from_box(aabb).clip_all(crossing, tolerance);
-            if clipped.is_empty() {
-                return false;
-            }
-            out.extend(clipped.vertices(tolerance));
-            true
+    }
+    for code in out.iter_mut() {
+        if *code & (1 << 31) != 0 {
+            *code = OUTSIDE;
         }
     }
 }
 
-/// A part of a receiver that the camera can see.
-enum ReceiverPart {
-    /// The whole box is visible.
-    Whole(Aabb),
-    /// The visible part's vertices, a range in [`VisibleScene::points`].
-    Clipped(std::ops::Range<usize>),
+/// The extents of the boxes `indices` (all when `None`) under an orthographic frame: per
+/// box the projected centre plus and minus the projected half extents.
+pub(crate) fn parallel_extents(boxes: &BoxArrays, frame: &LightFrame, indices: &[usize]) -> Extents {
+    let axes = [frame.right, frame.up, frame.forward];
+    let mut ext = Extents::EMPTY;
+    for &i in indices {
+        let c = DVec3::new(boxes.center[0][i], boxes.center[1][i], boxes.center[2][i]);
+        let h = DVec3::new(boxes.half[0][i], boxes.half[1][i], boxes.half[2][i]);
+        let pc = DVec3::new(axes[0].dot(c), axes[1].dot(c), axes[2].dot(c));
+        let ph = DVec3::new(axes[0].abs().dot(h), axes[1].abs().dot(h), axes[2].abs().dot(h));
+        ext.min = ext.min.min(pc - ph);
+        ext.max = ext.max.max(pc + ph);
+    }
+    ext
+}
+
+/// The vertices of a box cut by the planes named in `mask` (the box lies inside the others),
+/// appended to `out` without allocating; `false` when nothing is left.
+///
+/// Every vertex of the cut box is where three of its bounding planes meet: three box faces (a
+/// corner), two box faces and a plane (an edge crossing the plane), one box face and two
+/// planes, or three planes. All four kinds are enumerated and the feasible points kept.
+/// Duplicates may appear; they do not change extents.
+pub(crate) fn box_cut_vertices(
+    aabb: &Aabb,
+    planes: &[Plane],
+    mask: u32,
+    tolerance: f64,
+    out: &mut Vec<DVec3>,
+) -> bool {
+    let mut cut = [Plane { normal: DVec3::ZERO, offset: 0.0 }; 32];
+    let mut k = 0;
+    for (i, plane) in planes.iter().enumerate() {
+        if mask & (1 << i) != 0 {
+            cut[k] = *plane;
+            k += 1;
+        }
+    }
+    let cut = &cut[..k];
+    let start = out.len();
+    let in_cut = |p: DVec3, skip: &[usize]| {
+        cut.iter().enumerate().all(|(i, pl)| skip.contains(&i) || pl.distance(p) >= -tolerance)
+    };
+    let corners = aabb.corners();
+    // Three box faces: corners.
+    for c in corners {
+        if in_cut(c, &[]) {
+            out.push(c);
+        }
+    }
+    // Two box faces and a plane: box edges crossing a plane.
+    for (i, a) in corners.iter().enumerate() {
+        for bit in [1, 2, 4] {
+            if i & bit != 0 {
+                continue;
+            }
+            let b = corners[i | bit];
+            for (j, pl) in cut.iter().enumerate() {
+                let (da, db) = (pl.distance(*a), pl.distance(b));
+                if (da < 0.0) != (db < 0.0) && da != db {
+                    let p = *a + (b - *a) * (da / (da - db));
+                    if in_cut(p, &[j]) {
+                        out.push(p);
+                    }
+                }
+            }
+        }
+    }
+    // One box face and two planes; three planes.
+    let face_planes = crate::focus::box_planes(aabb);
+    for j in 0..k {
+        for l in j + 1..k {
+            for face in &face_planes {
+                if let Some(p) = meet(&cut[j], &cut[l], face)
+                    && aabb.contains_point(p, tolerance)
+                    && in_cut(p, &[j, l])
+                {
+                    out.push(p);
+                }
+            }
+            for m in l + 1..k {
+                if let Some(p) = meet(&cut[j], &cut[l], &cut[m])
+                    && aabb.contains_point(p, tolerance)
+                    && in_cut(p, &[j, l, m])
+                {
+                    out.push(p);
+                }
+            }
+        }
+    }
+    out.len() > start
+}
+
+/// The point where three planes meet, if they meet in one point.
+fn meet(a: &Plane, b: &Plane, c: &Plane) -> Option<DVec3> {
+    let bc = b.normal.cross(c.normal);
+    let det = a.normal.dot(bc);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let p = (-a.offset * bc - b.offset * c.normal.cross(a.normal) - c.offset * a.normal.cross(b.normal)) / det;
+    p.is_finite().then_some(p)
 }
 
 /// What the camera sees of the scene, for one light: the view frustum inside the scene box
@@ -80,7 +183,11 @@ enum ReceiverPart {
 pub(crate) struct VisibleScene {
     /// P: the view frustum clipped by the scene box (and the light frustum for a spot light).
     pub view_body: ConvexPolyhedron,
-    receivers: Vec<ReceiverPart>,
+    /// Receivers wholly visible, as indices into the scene's receivers.
+    whole: Vec<usize>,
+    /// How many receivers are partly visible.
+    clipped: usize,
+    /// The vertices of the visible parts of the partly visible receivers.
     points: Vec<DVec3>,
 }
 
@@ -95,42 +202,46 @@ impl VisibleScene {
         let view_body = ConvexPolyhedron::from_hexahedron(&camera.frustum_corners())
             .clip_all(&box_planes(&scene_box), tolerance)
             .clip_all(light_planes.into_iter().flatten(), tolerance);
-        let mut receivers = Vec::new();
+        let mut whole = Vec::new();
+        let mut clipped = 0;
         let mut points = Vec::new();
         if !view_body.is_empty() {
-            for r in scene.receivers() {
-                match classify_box(r, &planes, tolerance) {
-                    BoxSide::Outside => {}
-                    BoxSide::Inside => receivers.push(ReceiverPart::Whole(*r)),
-                    BoxSide::Straddles(_) => {
-                        let start = points.len();
-                        if clip_box(r, &planes, tolerance, &mut points) {
-                            receivers.push(ReceiverPart::Clipped(start..points.len()));
+            let mut codes = Vec::new();
+            classify_boxes(scene.receiver_arrays(), &planes, tolerance, &mut codes);
+            for (i, &code) in codes.iter().enumerate() {
+                match code {
+                    OUTSIDE => {}
+                    0 => whole.push(i),
+                    mask => {
+                        if box_cut_vertices(&scene.receivers()[i], &planes, mask, tolerance, &mut points) {
+                            clipped += 1;
                         }
                     }
                 }
             }
         }
-        Self { view_body, receivers, points }
+        Self { view_body, whole, clipped, points }
     }
 
     /// How many receiver boxes have a visible part.
     pub fn visible_receivers(&self) -> usize {
-        self.receivers.len()
+        self.whole.len() + self.clipped
     }
 
     /// The extents of the visible receiver parts under `projector`.
-    pub fn receiver_extents(&self, projector: &Projector) -> Extents {
-        let mut ext = Extents::EMPTY;
-        for part in &self.receivers {
-            match part {
-                ReceiverPart::Whole(b) => ext = ext.union(&projector.box_extents(b)),
-                ReceiverPart::Clipped(range) => {
-                    for p in &self.points[range.clone()] {
-                        ext.add(projector.project(*p));
-                    }
+    pub fn receiver_extents(&self, scene: &SceneBounds, projector: &Projector) -> Extents {
+        let mut ext = match projector {
+            Projector::Parallel(frame) => parallel_extents(scene.receiver_arrays(), frame, &self.whole),
+            Projector::Point { .. } => {
+                let mut ext = Extents::EMPTY;
+                for &i in &self.whole {
+                    ext = ext.union(&projector.box_extents(&scene.receivers()[i]));
                 }
+                ext
             }
+        };
+        for p in &self.points {
+            ext.add(projector.project(*p));
         }
         ext
     }
@@ -161,9 +272,31 @@ pub(crate) fn caster_extents(
     tolerance: f64,
     diagnostics: &mut Diagnostics,
 ) -> Extents {
+    let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
     let mut ext = Extents::EMPTY;
     let mut relevant = 0;
     let mut near_clipped = 0;
+    if let (Projector::Parallel(frame), None) = (projector, light_planes) {
+        // One pass over the box arrays: project, cull, accumulate.
+        let boxes = scene.caster_arrays();
+        let axes = [frame.right, frame.up, frame.forward];
+        let abs_axes = axes.map(DVec3::abs);
+        for i in 0..boxes.center[0].len() {
+            let c = DVec3::new(boxes.center[0][i], boxes.center[1][i], boxes.center[2][i]);
+            let h = DVec3::new(boxes.half[0][i], boxes.half[1][i], boxes.half[2][i]);
+            let pc = DVec3::new(axes[0].dot(c), axes[1].dot(c), axes[2].dot(c));
+            let ph = DVec3::new(abs_axes[0].dot(h), abs_axes[1].dot(h), abs_axes[2].dot(h));
+            let box_ext = Extents { min: pc - ph, max: pc + ph };
+            if receivers.xy_overlaps(&box_ext, xy_slack) && box_ext.min.z <= receivers.max.z {
+                relevant += 1;
+                ext = ext.union(&box_ext);
+            }
+        }
+        diagnostics.relevant_casters = relevant;
+        diagnostics.culled_casters = scene.casters().len() - relevant;
+        diagnostics.casters_clipped_by_light_near = 0;
+        return ext;
+    }
     let mut scratch = Vec::new();
     for caster in scene.casters() {
         let (box_ext, crosses_near) = match light_planes {
@@ -173,7 +306,7 @@ pub(crate) fn caster_extents(
                 BoxSide::Inside => (projector.box_extents(caster), false),
                 BoxSide::Straddles(mask) => {
                     scratch.clear();
-                    if !clip_box(caster, planes, tolerance, &mut scratch) {
+                    if !box_cut_vertices(caster, planes, mask, tolerance, &mut scratch) {
                         continue;
                     }
                     let mut e = Extents::EMPTY;
@@ -185,7 +318,6 @@ pub(crate) fn caster_extents(
                 }
             },
         };
-        let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
         if !receivers.xy_overlaps(&box_ext, xy_slack) || box_ext.min.z > receivers.max.z {
             continue;
         }
@@ -220,4 +352,51 @@ pub(crate) fn unit_cube_clip(receivers: &Extents, casters: &Extents, body: Optio
     lo = lo.min(mid);
     hi = hi.max(mid);
     Some(Extents { min: lo.extend(near.min(far)), max: hi.extend(far) })
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    fn unit(v: [f64; 3]) -> DVec3 {
+        let v = DVec3::from_array(v);
+        if v.length() < 1e-3 { DVec3::X } else { v.normalize() }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 3000, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// The allocation-free cut agrees with the general polyhedron clipper.
+        #[test]
+        fn box_cut_matches_polyhedron_clipping(
+            lo in prop::array::uniform3(-10.0f64..10.0),
+            size in prop::array::uniform3(0.0f64..8.0),
+            planes in prop::collection::vec((prop::array::uniform3(-1.0f64..1.0), prop::array::uniform3(-10.0f64..10.0)), 1..7),
+        ) {
+            let lo = DVec3::from_array(lo);
+            let size = DVec3::from_array(size);
+            prop_assume!(size.max_element() > 0.1);
+            let aabb = Aabb::new(lo, lo + size).unwrap();
+            let planes: Vec<Plane> = planes.iter().map(|(n, p)| Plane::through_point(DVec3::from_array(*p), unit(*n))).collect();
+            let tol = 1e-9;
+            let clipped = ConvexPolyhedron::from_box(&aabb).clip_all(&planes, tol);
+            let mut fast = Vec::new();
+            let mask = (1u32 << planes.len()) - 1;
+            let any = box_cut_vertices(&aabb, &planes, mask, tol, &mut fast);
+            let exact = clipped.vertices(tol);
+            // Both find every vertex of the other (up to touching, measure-zero results).
+            if !exact.is_empty() {
+                prop_assert!(any);
+                for v in &exact {
+                    prop_assert!(fast.iter().any(|f| f.distance(*v) < 1e-6), "missing {v}: fast {fast:?} exact {exact:?}");
+                }
+            }
+            for f in &fast {
+                prop_assert!(exact.is_empty() || exact.iter().any(|v| f.distance(*v) < 1e-6) || clipped.is_empty(),
+                    "extra {f}: fast {fast:?} exact {exact:?}");
+            }
+        }
+    }
 }

@@ -9,15 +9,19 @@ use crate::bounds::Aabb;
 /// what the shadow setups use (extents in light space). Face winding is not relied on: face
 /// planes are oriented with the polyhedron's centroid. All comparisons use a tolerance given
 /// by the caller in world units, so that a point on a clipping plane is kept exactly once.
+///
+/// Storage is flat (all face points in one buffer, faces as end offsets) so that a clip
+/// allocates two buffers, not one per face.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ConvexPolyhedron {
-    faces: Vec<Vec<DVec3>>,
+    points: Vec<DVec3>,
+    face_ends: Vec<usize>,
 }
 
 impl ConvexPolyhedron {
     /// The empty polyhedron.
     pub fn empty() -> Self {
-        Self { faces: Vec::new() }
+        Self::default()
     }
 
     /// The polyhedron of a box.
@@ -28,31 +32,31 @@ impl ConvexPolyhedron {
     /// A hexahedron from eight corners: the first four and the last four each a quad (in the
     /// same rotational order), as [`crate::Camera::frustum_corners`] returns them.
     pub fn from_hexahedron(c: &[DVec3; 8]) -> Self {
-        let faces = vec![
-            vec![c[0], c[1], c[2], c[3]],
-            vec![c[4], c[7], c[6], c[5]],
-            vec![c[0], c[4], c[5], c[1]],
-            vec![c[1], c[5], c[6], c[2]],
-            vec![c[2], c[6], c[7], c[3]],
-            vec![c[3], c[7], c[4], c[0]],
-        ];
-        Self { faces }
+        const FACES: [[usize; 4]; 6] =
+            [[0, 1, 2, 3], [4, 7, 6, 5], [0, 4, 5, 1], [1, 5, 6, 2], [2, 6, 7, 3], [3, 7, 4, 0]];
+        let points = FACES.iter().flatten().map(|&i| c[i]).collect();
+        Self { points, face_ends: vec![4, 8, 12, 16, 20, 24] }
     }
 
     /// Whether nothing is left.
     pub fn is_empty(&self) -> bool {
-        self.faces.is_empty()
+        self.face_ends.is_empty()
     }
 
-    /// The faces.
-    pub fn faces(&self) -> &[Vec<DVec3>] {
-        &self.faces
+    /// The faces, each a polygon.
+    pub fn faces(&self) -> impl Iterator<Item = &[DVec3]> + '_ {
+        let mut start = 0;
+        self.face_ends.iter().map(move |&end| {
+            let face = &self.points[start..end];
+            start = end;
+            face
+        })
     }
 
     /// The distinct vertices (points closer than `tolerance` are merged).
     pub fn vertices(&self, tolerance: f64) -> Vec<DVec3> {
-        let mut out: Vec<DVec3> = Vec::new();
-        for p in self.faces.iter().flatten() {
+        let mut out: Vec<DVec3> = Vec::with_capacity(self.points.len() / 2);
+        for p in &self.points {
             if !out.iter().any(|q| q.distance_squared(*p) <= tolerance * tolerance) {
                 out.push(*p);
             }
@@ -60,18 +64,11 @@ impl ConvexPolyhedron {
         out
     }
 
-    /// The mean of the vertices (a point inside a non-empty polyhedron).
-    pub fn centroid(&self, tolerance: f64) -> DVec3 {
-        let v = self.vertices(tolerance);
-        v.iter().copied().sum::<DVec3>() / v.len().max(1) as f64
-    }
-
     /// The planes of the faces of non-negligible area, normals pointing inward: the
-    /// polyhedron is the intersection of their insides.
-    pub fn bounding_planes(&self, tolerance: f64) -> Vec<Plane> {
-        let centroid = self.centroid(tolerance);
-        let mut planes = Vec::with_capacity(self.faces.len());
-        for face in &self.faces {
+    /// polyhedron is the intersection of their insides. `centroid`: a point inside.
+    pub fn bounding_planes(&self, centroid: DVec3, tolerance: f64) -> Vec<Plane> {
+        let mut planes = Vec::with_capacity(self.face_ends.len());
+        for face in self.faces() {
             // Newell's method: robust for nearly degenerate polygons.
             let mut normal = DVec3::ZERO;
             for (i, a) in face.iter().enumerate() {
@@ -101,47 +98,75 @@ impl ConvexPolyhedron {
     /// The part of the polyhedron on the inside of `plane` (signed distance >= -tolerance).
     /// A polyhedron that only touches the plane comes back empty.
     pub fn clip(&self, plane: &Plane, tolerance: f64) -> ConvexPolyhedron {
-        let mut max_d = f64::NEG_INFINITY;
-        let mut min_d = f64::INFINITY;
-        for p in self.faces.iter().flatten() {
-            let d = plane.distance(*p);
-            max_d = max_d.max(d);
-            min_d = min_d.min(d);
-        }
-        if self.faces.is_empty() || max_d <= tolerance {
-            return Self::empty();
-        }
-        if min_d >= -tolerance {
-            return self.clone();
-        }
-        let mut faces = Vec::with_capacity(self.faces.len() + 1);
-        let mut cap: Vec<DVec3> = Vec::new();
-        for face in &self.faces {
-            let clipped = clip_polygon(face, plane, tolerance, &mut cap);
-            if clipped.len() >= 3 {
-                faces.push(clipped);
-            }
-        }
-        if let Some(cap_face) = order_cap(cap, plane, tolerance) {
-            faces.push(cap_face);
-        }
-        if faces.len() < 2 {
-            return Self::empty();
-        }
-        Self { faces }
+        let mut out = self.clone();
+        out.clip_in_place(plane, tolerance, &mut Scratch::default());
+        out
     }
 
     /// Clips by every plane in turn.
     pub fn clip_all<'a>(&self, planes: impl IntoIterator<Item = &'a Plane>, tolerance: f64) -> ConvexPolyhedron {
         let mut out = self.clone();
+        let mut scratch = Scratch::default();
         for plane in planes {
             if out.is_empty() {
                 break;
             }
-            out = out.clip(plane, tolerance);
+            out.clip_in_place(plane, tolerance, &mut scratch);
         }
         out
     }
+
+    fn clip_in_place(&mut self, plane: &Plane, tolerance: f64, scratch: &mut Scratch) {
+        let mut max_d = f64::NEG_INFINITY;
+        let mut min_d = f64::INFINITY;
+        scratch.distances.clear();
+        for p in &self.points {
+            let d = plane.distance(*p);
+            max_d = max_d.max(d);
+            min_d = min_d.min(d);
+            scratch.distances.push(d);
+        }
+        if self.is_empty() || max_d <= tolerance {
+            *self = Self::empty();
+            return;
+        }
+        if min_d >= -tolerance {
+            return;
+        }
+        scratch.points.clear();
+        scratch.face_ends.clear();
+        scratch.cap.clear();
+        let mut face_start = 0;
+        for (face, &face_end) in self.faces().zip(&self.face_ends) {
+            let distances = &scratch.distances[face_start..face_end];
+            face_start = face_end;
+            let start = scratch.points.len();
+            clip_polygon(face, distances, tolerance, &mut scratch.points, &mut scratch.cap);
+            if scratch.points.len() - start >= 3 {
+                scratch.face_ends.push(scratch.points.len());
+            } else {
+                scratch.points.truncate(start);
+            }
+        }
+        if order_cap(&mut scratch.cap, plane, tolerance) {
+            scratch.points.extend_from_slice(&scratch.cap);
+            scratch.face_ends.push(scratch.points.len());
+        }
+        std::mem::swap(&mut self.points, &mut scratch.points);
+        std::mem::swap(&mut self.face_ends, &mut scratch.face_ends);
+        if self.face_ends.len() < 2 {
+            *self = Self::empty();
+        }
+    }
+}
+
+/// Buffers reused across the clips of one [`ConvexPolyhedron::clip_all`].
+#[derive(Default)]
+struct Scratch {
+    distances: Vec<f64>,
+    points: Vec<DVec3>,
+    face_ends: Vec<usize>,
+    cap: Vec<DVec3>,
 }
 
 impl Aabb {
@@ -152,16 +177,15 @@ impl Aabb {
     }
 }
 
-/// Sutherland-Hodgman against one plane; points on the plane (and new intersection points)
-/// are appended to `cap`.
-fn clip_polygon(face: &[DVec3], plane: &Plane, tolerance: f64, cap: &mut Vec<DVec3>) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(face.len() + 2);
+/// Sutherland-Hodgman against one plane, given each point's signed distance to it; the kept
+/// polygon is appended to `out`, points on the plane (and new intersection points) to `cap`.
+fn clip_polygon(face: &[DVec3], distances: &[f64], tolerance: f64, out: &mut Vec<DVec3>, cap: &mut Vec<DVec3>) {
     let n = face.len();
     for i in 0..n {
         let a = face[i];
         let b = face[(i + 1) % n];
-        let da = plane.distance(a);
-        let db = plane.distance(b);
+        let da = distances[i];
+        let db = distances[(i + 1) % n];
         if da >= -tolerance {
             out.push(a);
             if da <= tolerance {
@@ -178,31 +202,41 @@ fn clip_polygon(face: &[DVec3], plane: &Plane, tolerance: f64, cap: &mut Vec<DVe
             cap.push(x);
         }
     }
-    out
 }
 
-/// Orders the points where the polyhedron meets the clipping plane into a polygon.
-fn order_cap(mut points: Vec<DVec3>, plane: &Plane, tolerance: f64) -> Option<Vec<DVec3>> {
-    let mut unique: Vec<DVec3> = Vec::with_capacity(points.len());
-    for p in points.drain(..) {
-        if !unique.iter().any(|q| q.distance_squared(p) <= tolerance * tolerance) {
-            unique.push(p);
+/// Orders the points where the polyhedron meets the clipping plane into a polygon, in place;
+/// `false` when fewer than three distinct points remain.
+fn order_cap(points: &mut Vec<DVec3>, plane: &Plane, tolerance: f64) -> bool {
+    let mut n = 0;
+    for i in 0..points.len() {
+        let p = points[i];
+        if !points[..n].iter().any(|q| q.distance_squared(p) <= tolerance * tolerance) {
+            points[n] = p;
+            n += 1;
         }
     }
-    if unique.len() < 3 {
-        return None;
+    points.truncate(n);
+    if n < 3 {
+        return false;
     }
-    let center = unique.iter().copied().sum::<DVec3>() / unique.len() as f64;
+    let center = points.iter().copied().sum::<DVec3>() / n as f64;
     let (u, v) = plane.normal.any_orthonormal_pair();
-    let mut keyed: Vec<(f64, DVec3)> = unique
-        .into_iter()
+    // A pseudo-angle: monotone in the angle around the centre, cheaper than atan2.
+    let pseudo_angle = |x: f64, y: f64| {
+        let t = x / (x.abs() + y.abs()).max(f64::MIN_POSITIVE);
+        if y >= 0.0 { 1.0 - t } else { 3.0 + t }
+    };
+    let mut keyed: Vec<(f64, DVec3)> = points
+        .iter()
         .map(|p| {
-            let d = p - center;
-            (d.dot(v).atan2(d.dot(u)), p)
+            let d = *p - center;
+            (pseudo_angle(d.dot(u), d.dot(v)), *p)
         })
         .collect();
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
-    Some(keyed.into_iter().map(|(_, p)| p).collect())
+    points.clear();
+    points.extend(keyed.into_iter().map(|(_, p)| p));
+    true
 }
 
 #[cfg(test)]
@@ -217,7 +251,7 @@ mod tests {
     fn box_has_eight_vertices_and_inward_planes() {
         let cube = unit_cube();
         assert_eq!(cube.vertices(1e-9).len(), 8);
-        let planes = cube.bounding_planes(1e-9);
+        let planes = cube.bounding_planes(DVec3::splat(0.5), 1e-9);
         assert_eq!(planes.len(), 6);
         for plane in planes {
             assert!((plane.distance(DVec3::splat(0.5)) - 0.5).abs() < 1e-12);
@@ -234,7 +268,7 @@ mod tests {
         // Four corners below the plane plus six edge midpoints.
         assert_eq!(vertices.len(), 4 + 6);
         assert!(vertices.iter().all(|p| p.element_sum() <= 1.5 + 1e-12));
-        assert!(cut.faces().iter().any(|f| f.len() == 6));
+        assert!(cut.faces().any(|f| f.len() == 6));
     }
 
     #[test]

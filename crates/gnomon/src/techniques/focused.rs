@@ -5,6 +5,8 @@
 //! 2004, section 3.3). Unit cube clipping: the blog post on robust unit cube clipping (see
 //! `shared/papers/unit-cube-clipping-blog-post.txt`).
 
+use glam::DVec3;
+
 use crate::body::focus_body;
 use crate::error::SetupError;
 use crate::focus::{VisibleScene, caster_extents, unit_cube_clip};
@@ -25,9 +27,9 @@ use crate::techniques::{ANGULAR_PADDING, tolerance};
 /// that lookups outside the focus region read as lit.
 ///
 /// Light frame (directional light): the LiSPSM paper's light space (map +y = the view
-/// direction projected onto the map plane) when that covers the visible receivers with a
-/// smaller rectangle than the frame fixed by the light alone, else the fixed frame; so the
-/// map is never coarser than the uniform map. Spot lights use the fixed frame.
+/// direction projected onto the map plane) when B's rectangle in it is no larger than in the
+/// frame fixed by the light alone, else the fixed frame; so the map is never coarser than
+/// the uniform map. Spot lights use the fixed frame.
 ///
 /// Degenerate cases, each named in the diagnostics:
 /// - view parallel to the light: the fixed frame ([`Fallback::LightParallelToView`]);
@@ -92,14 +94,15 @@ pub(crate) fn focus(
         diagnostics.fallbacks.push(Fallback::NoVisibleReceiver);
         return None;
     }
-    let (projector, receivers) = choose_frame(input, &visible, fixed, diagnostics);
-
+    // B does not depend on the rotation about the light direction: build it in the fixed frame.
     let region = match &light_planes {
         None => ConvexPolyhedron::from_box(&scene_box),
         Some(planes) => ConvexPolyhedron::from_box(&scene_box).clip_all(planes, tolerance),
     };
-    let body = focus_body(&visible.view_body, &region, &projector, tolerance);
-    diagnostics.focus_body_vertices = body.vertices(tolerance).len();
+    let body = focus_body(&visible.view_body, &region, &fixed, tolerance).vertices(tolerance);
+    diagnostics.focus_body_vertices = body.len();
+    let projector = choose_frame(input, &body, fixed, diagnostics);
+    let receivers = visible.receiver_extents(input.scene, &projector);
     let body_extents = usable_body_extents(&body, &projector, &receivers, tolerance);
     if body_extents.is_none() {
         diagnostics.fallbacks.push(Fallback::DegenerateFocusBody);
@@ -122,47 +125,48 @@ pub(crate) fn focus(
     }
 }
 
-/// Picks the light frame: for a directional light the view-aligned frame when it covers the
-/// visible receivers with a rectangle no larger than the fixed frame's; returns the
-/// projector and the receivers' extents under it.
+/// Picks the light frame: for a directional light the view-aligned frame when B's
+/// rectangle in it is no larger than in the fixed frame (the map is "fitted to B"). Since
+/// the visible receivers lie in B and B in the scene box, the focused map is then never
+/// coarser than the uniform map.
 fn choose_frame(
     input: &SetupInput<'_>,
-    visible: &VisibleScene,
+    body: &[DVec3],
     fixed: Projector,
     diagnostics: &mut Diagnostics,
-) -> (Projector, Extents) {
-    let fixed_receivers = visible.receiver_extents(&fixed);
+) -> Projector {
     diagnostics.light_frame = LightFrameKind::Fixed;
     let Light::Directional(light) = input.light else {
-        return (fixed, fixed_receivers);
+        return fixed;
     };
     let Some(frame) = LightFrame::view_aligned(light.direction(), input.camera.forward()) else {
-        return (fixed, fixed_receivers);
+        return fixed;
     };
     let aligned = Projector::Parallel(frame);
-    let aligned_receivers = visible.receiver_extents(&aligned);
-    if aligned_receivers.xy_area() <= fixed_receivers.xy_area() {
+    let area = |projector: &Projector| {
+        let mut ext = Extents::EMPTY;
+        for p in body {
+            ext.add(projector.project(*p));
+        }
+        ext.xy_area()
+    };
+    if !body.is_empty() && area(&aligned) <= area(&fixed) {
         diagnostics.light_frame = LightFrameKind::ViewAligned;
-        (aligned, aligned_receivers)
+        aligned
     } else {
-        (fixed, fixed_receivers)
+        fixed
     }
 }
 
 /// B's extents under `projector`, or `None` when B is empty or does not hold the visible
 /// receivers (a flat or numerically broken body: it is then not used).
-fn usable_body_extents(
-    body: &ConvexPolyhedron,
-    projector: &Projector,
-    receivers: &Extents,
-    tolerance: f64,
-) -> Option<Extents> {
+fn usable_body_extents(body: &[DVec3], projector: &Projector, receivers: &Extents, tolerance: f64) -> Option<Extents> {
     if body.is_empty() {
         return None;
     }
     let mut ext = Extents::EMPTY;
-    for p in body.vertices(tolerance) {
-        ext.add(projector.project(p));
+    for p in body {
+        ext.add(projector.project(*p));
     }
     let slack = 1e-6 * (receivers.max.z - receivers.min.z) + tolerance;
     (ext.min.z <= receivers.min.z + slack).then_some(ext)

@@ -1,0 +1,180 @@
+//! Options shared by the subcommands that take a view and a light, and `gnomon setup`.
+
+use clap::{Args, ValueEnum};
+use glam::DVec3;
+use gnomon::{
+    Camera, DirectionalLight, Lens, Light, MapSettings, SceneBounds, SpotLight, Technique, compute_setup,
+};
+
+use crate::UsageError;
+use crate::report;
+
+/// A camera, given by eye, target and up, and its lens.
+#[derive(Debug, Clone, Args)]
+pub struct ViewArgs {
+    /// Camera position, X,Y,Z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub eye: DVec3,
+    /// The point the camera looks at, X,Y,Z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub target: DVec3,
+    /// The image's up direction, X,Y,Z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
+    pub up: DVec3,
+    /// Vertical field of view in degrees.
+    #[arg(long, default_value_t = 60.0, allow_hyphen_values = true)]
+    pub fov: f64,
+    /// Near plane distance.
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub near: f64,
+    /// Far plane distance.
+    #[arg(long, default_value_t = 400.0, allow_hyphen_values = true)]
+    pub far: f64,
+    /// Width over height.
+    #[arg(long, default_value_t = 16.0 / 9.0, allow_hyphen_values = true)]
+    pub aspect: f64,
+}
+
+impl ViewArgs {
+    /// The validated camera.
+    pub fn camera(&self) -> Result<Camera, UsageError> {
+        let lens = Lens { fov_y_degrees: self.fov, aspect: self.aspect, near: self.near, far: self.far };
+        Ok(Camera::look_at(self.eye, self.target, self.up, lens)?)
+    }
+}
+
+/// The light: directional or spot, exactly one.
+#[derive(Debug, Clone, Args)]
+#[group(required = true, multiple = false)]
+pub struct LightArgs {
+    /// A directional light: the direction the light travels, X,Y,Z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub light_dir: Option<DVec3>,
+    /// A spot light: PX,PY,PZ,DX,DY,DZ,HALF_ANGLE_DEG,RANGE (position, direction, cone
+    /// half-angle in degrees, range).
+    #[arg(long, value_parser = parse_spot, allow_hyphen_values = true)]
+    pub spot: Option<[f64; 8]>,
+}
+
+impl LightArgs {
+    /// The validated light.
+    pub fn light(&self) -> Result<Light, UsageError> {
+        match (self.light_dir, self.spot) {
+            (Some(d), None) => Ok(Light::Directional(DirectionalLight::new(d)?)),
+            (None, Some(s)) => Ok(Light::Spot(SpotLight::new(
+                DVec3::new(s[0], s[1], s[2]),
+                DVec3::new(s[3], s[4], s[5]),
+                s[6],
+                s[7],
+            )?)),
+            _ => Err(UsageError("give exactly one of --light-dir and --spot".into())),
+        }
+    }
+}
+
+/// The techniques the command line knows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TechniqueArg {
+    /// Uniform shadow map (SSM).
+    Uniform,
+    /// Focused shadow map with unit cube clipping (FSM).
+    Focused,
+}
+
+impl TechniqueArg {
+    /// The core's technique with default parameters.
+    pub fn technique(self) -> Technique {
+        let name = self.to_possible_value().expect("no skipped variants").get_name().to_string();
+        name.parse().expect("every command-line technique is a core technique")
+    }
+}
+
+/// `gnomon setup`.
+#[derive(Debug, Clone, Args)]
+pub struct SetupArgs {
+    /// The scene: a built-in scene's name.
+    #[arg(long, default_value = "demo")]
+    pub scene: String,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    #[command(flatten)]
+    pub light: LightArgs,
+    /// The shadow-map technique.
+    #[arg(long, value_enum)]
+    pub technique: TechniqueArg,
+    /// Shadow-map resolution in texels (square).
+    #[arg(long, default_value_t = 1024)]
+    pub shadow_map: u32,
+    /// Print JSON instead of a summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Loads a built-in scene's bounds.
+pub fn scene_bounds(name: &str) -> Result<SceneBounds, UsageError> {
+    let layout = gnomon_scene::by_name(name).ok_or_else(|| {
+        UsageError(format!("unknown scene '{name}' (known: {})", gnomon_scene::SCENE_NAMES.join(", ")))
+    })?;
+    Ok(layout.bounds()?)
+}
+
+/// Runs `gnomon setup`.
+pub fn run_setup(args: &SetupArgs) -> Result<(), UsageError> {
+    let scene = scene_bounds(&args.scene)?;
+    let camera = args.view.camera()?;
+    let light = args.light.light()?;
+    let technique = args.technique.technique();
+    let setup = compute_setup(&technique, &camera, &light, &scene, MapSettings::with_resolution(args.shadow_map))?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report::setup_json(&setup)).expect("JSON of plain values"));
+    } else {
+        print!("{}", report::setup_text(&setup));
+    }
+    Ok(())
+}
+
+fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != N {
+        return Err(format!("expected {what} as {N} comma-separated numbers, got '{s}'"));
+    }
+    let mut out = [0.0f64; N];
+    for (o, p) in out.iter_mut().zip(parts) {
+        *o = p.parse().map_err(|_| format!("'{p}' is not a number"))?;
+        if !o.is_finite() {
+            return Err(format!("'{p}' is not a finite number"));
+        }
+    }
+    Ok(out)
+}
+
+/// Parses `X,Y,Z`.
+pub fn parse_vec3(s: &str) -> Result<DVec3, String> {
+    parse_numbers::<3>(s, "X,Y,Z").map(DVec3::from_array)
+}
+
+fn parse_spot(s: &str) -> Result<[f64; 8], String> {
+    parse_numbers::<8>(s, "PX,PY,PZ,DX,DY,DZ,HALF_ANGLE_DEG,RANGE")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_vectors() {
+        assert_eq!(parse_vec3("1, -2,3.5").unwrap(), DVec3::new(1.0, -2.0, 3.5));
+        assert!(parse_vec3("1,2").is_err());
+        assert!(parse_vec3("1,2,x").is_err());
+        assert!(parse_vec3("1,2,nan").is_err());
+        assert!(parse_vec3("1,2,inf").is_err());
+        assert_eq!(parse_spot("0,10,0,0,-1,0,30,50").unwrap()[6], 30.0);
+    }
+
+    #[test]
+    fn every_technique_argument_names_a_core_technique() {
+        for t in TechniqueArg::value_variants() {
+            let _ = t.technique();
+        }
+    }
+}

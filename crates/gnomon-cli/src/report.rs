@@ -1,0 +1,91 @@
+//! Setups as JSON and as text.
+
+use gnomon::{MapProjection, ShadowSetup};
+use serde_json::{Value, json};
+
+/// The JSON form of a setup: `{"technique", "fallback", "maps", "selection", "diagnostics"}`;
+/// matrices column-major.
+pub fn setup_json(setup: &ShadowSetup) -> Value {
+    let d = &setup.diagnostics;
+    let maps: Vec<Value> = setup
+        .maps
+        .iter()
+        .map(|m| {
+            json!({
+                "clip_from_world": m.clip_from_world.to_cols_array(),
+                "depth_from_world": m.depth_from_world.to_array(),
+                "resolution": m.resolution,
+                "viewport_inset": m.viewport_inset,
+                "projection": match m.projection {
+                    MapProjection::Orthographic => "orthographic",
+                    MapProjection::Perspective => "perspective",
+                },
+            })
+        })
+        .collect();
+    json!({
+        "technique": setup.technique,
+        "fallback": setup.fallback().map(|f| f.name()),
+        "maps": maps,
+        "selection": { "kind": setup.selection.kind() },
+        "diagnostics": {
+            "fallbacks": d.fallbacks.iter().map(|f| json!({"name": f.name(), "reason": f.reason()})).collect::<Vec<_>>(),
+            "light_frame": d.light_frame.name(),
+            "gamma_degrees": d.gamma_degrees,
+            "visible_receivers": d.visible_receivers,
+            "relevant_casters": d.relevant_casters,
+            "culled_casters": d.culled_casters,
+            "casters_clipped_by_light_near": d.casters_clipped_by_light_near,
+            "focus_body_vertices": d.focus_body_vertices,
+            "scene_box_grown": d.scene_box_grown,
+        },
+    })
+}
+
+/// A human-readable summary of a setup.
+pub fn setup_text(setup: &ShadowSetup) -> String {
+    use std::fmt::Write;
+    let d = &setup.diagnostics;
+    let mut s = String::new();
+    let _ = writeln!(s, "technique: {}", setup.technique);
+    match setup.fallback() {
+        Some(f) => {
+            for f in &d.fallbacks {
+                let _ = writeln!(s, "fallback:  {}", f);
+            }
+            let _ = f;
+        }
+        None => {
+            let _ = writeln!(s, "fallback:  none");
+        }
+    }
+    let _ = writeln!(
+        s,
+        "light frame {}, gamma {:.1} deg; {} visible receivers, {} relevant casters ({} culled), B has {} vertices",
+        d.light_frame.name(),
+        d.gamma_degrees,
+        d.visible_receivers,
+        d.relevant_casters,
+        d.culled_casters,
+        d.focus_body_vertices
+    );
+    for (i, m) in setup.maps.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "map {i}: {}x{} {:?}, inset {} texel(s), depth range {:.3} world units",
+            m.resolution,
+            m.resolution,
+            m.projection,
+            m.viewport_inset,
+            m.depth_range_world()
+        );
+        let _ = writeln!(s, "  clip_from_world (rows):");
+        for r in 0..4 {
+            let row = m.clip_from_world.row(r);
+            let _ = writeln!(s, "    [{:>12.6} {:>12.6} {:>12.6} {:>12.6}]", row.x, row.y, row.z, row.w);
+        }
+        let v = m.depth_from_world;
+        let _ = writeln!(s, "  depth_from_world: [{:.6} {:.6} {:.6} {:.6}]", v.x, v.y, v.z, v.w);
+    }
+    s
+}

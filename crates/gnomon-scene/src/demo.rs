@@ -1,0 +1,174 @@
+//! The built-in demo scene: about 400 m across, with a ground slab, city blocks of different
+//! heights, a long avenue lined with thin poles, and free-standing spheres, tori and torus
+//! knots in a park. Everything casts and receives shadows.
+
+use glam::{DMat4, DQuat, DVec3};
+
+use crate::{SceneLayout, SceneObject, Shape};
+
+/// Half the ground's size: the scene spans [-200, 200] m in x and z.
+pub const GROUND_HALF_SIZE: f64 = 200.0;
+
+/// A named camera and sun for the demo scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DemoView {
+    /// The view's name.
+    pub name: &'static str,
+    /// Where the camera is.
+    pub eye: [f64; 3],
+    /// What it looks at.
+    pub target: [f64; 3],
+    /// The direction the sunlight travels.
+    pub light_direction: [f64; 3],
+    /// What the view shows.
+    pub description: &'static str,
+}
+
+/// The demo's named views, from easy to hard for shadow maps.
+pub const DEMO_VIEWS: &[DemoView] = &[
+    DemoView {
+        name: "overview",
+        eye: [260.0, 190.0, 260.0],
+        target: [0.0, 0.0, 0.0],
+        light_direction: [-0.4, -1.0, -0.25],
+        description: "the whole scene from high up, sun high",
+    },
+    DemoView {
+        name: "street",
+        eye: [-185.0, 2.0, 58.0],
+        target: [185.0, 2.0, 58.0],
+        light_direction: [0.35, -0.6, 1.0],
+        description: "down the long avenue at eye height, low sun from the side",
+    },
+    DemoView {
+        name: "low_sun",
+        eye: [120.0, 25.0, 190.0],
+        target: [0.0, 5.0, 0.0],
+        light_direction: [1.0, -0.18, 0.3],
+        description: "the city under a low sun: long shadows",
+    },
+    DemoView {
+        name: "dueling_frusta",
+        eye: [150.0, 8.0, 150.0],
+        target: [0.0, 20.0, 0.0],
+        light_direction: [0.6, -0.45, 0.6],
+        description: "looking into the sun",
+    },
+    DemoView {
+        name: "miners_lamp",
+        eye: [100.0, 120.0, 100.0],
+        target: [0.0, 0.0, 0.0],
+        light_direction: [-0.55, -0.65, -0.55],
+        description: "looking along the light",
+    },
+];
+
+/// A small deterministic hash, so that the layout is the same on every machine.
+fn hash(i: u32) -> u32 {
+    let mut x = i.wrapping_mul(0x9E37_79B9) ^ 0x85EB_CA6B;
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x2C1B_3C6D);
+    x ^= x >> 12;
+    x
+}
+
+fn object(name: String, shape: Shape, world_from_object: DMat4) -> SceneObject {
+    SceneObject { name, shape, world_from_object, casts: true, receives: true }
+}
+
+/// The demo scene.
+pub fn demo() -> SceneLayout {
+    let mut objects = Vec::new();
+    objects.push(object(
+        "ground".into(),
+        Shape::Cuboid { half_extents: DVec3::new(GROUND_HALF_SIZE, 0.5, GROUND_HALF_SIZE) },
+        DMat4::from_translation(DVec3::new(0.0, -0.5, 0.0)),
+    ));
+    // City blocks: a 5 x 5 grid, 24 m blocks on a 40 m pitch, 8 to 60 m tall.
+    for i in 0..5u32 {
+        for j in 0..5u32 {
+            let h = 8.0 + (hash(i * 5 + j) % 53) as f64;
+            let center = DVec3::new(-170.0 + 12.0 + 40.0 * i as f64, 0.5 * h, -170.0 + 12.0 + 40.0 * j as f64);
+            objects.push(object(
+                format!("block_{i}_{j}"),
+                Shape::Cuboid { half_extents: DVec3::new(12.0, 0.5 * h, 12.0) },
+                DMat4::from_translation(center),
+            ));
+        }
+    }
+    // The avenue (z from 48 to 68, across the whole ground) lined with poles every 20 m.
+    for k in 0..19 {
+        let x = -180.0 + 20.0 * k as f64;
+        for z in [48.0, 68.0] {
+            objects.push(object(
+                format!("pole_{k}_{}", z as i32),
+                Shape::Pole { radius: 0.15, height: 8.0 },
+                DMat4::from_translation(DVec3::new(x, 0.0, z)),
+            ));
+        }
+    }
+    // The park: spheres, tori and knots.
+    let spheres = [(110.0, 5.0, 110.0, 5.0), (150.0, 8.0, 140.0, 8.0), (95.0, 14.0, 160.0, 3.0), (130.0, 3.0, -60.0, 3.0)];
+    for (n, (x, y, z, r)) in spheres.into_iter().enumerate() {
+        objects.push(object(
+            format!("sphere_{n}"),
+            Shape::Sphere { radius: r },
+            DMat4::from_translation(DVec3::new(x, y, z)),
+        ));
+    }
+    let tori = [
+        (120.0, 10.0, 170.0, DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2)),
+        (170.0, 2.0, 100.0, DQuat::IDENTITY),
+        (100.0, 9.0, -120.0, DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2)),
+    ];
+    for (n, (x, y, z, rotation)) in tori.into_iter().enumerate() {
+        objects.push(object(
+            format!("torus_{n}"),
+            Shape::Torus { major_radius: 7.0, minor_radius: 2.0 },
+            DMat4::from_rotation_translation(rotation, DVec3::new(x, y, z)),
+        ));
+    }
+    let knots = [(160.0, 12.0, -20.0), (80.0, 12.0, 130.0)];
+    for (n, (x, y, z)) in knots.into_iter().enumerate() {
+        objects.push(object(
+            format!("knot_{n}"),
+            Shape::TorusKnot { p: 2, q: 3, major_radius: 6.0, minor_radius: 3.0, tube_radius: 1.2 },
+            DMat4::from_rotation_translation(DQuat::from_rotation_x(0.4), DVec3::new(x, y, z)),
+        ));
+    }
+    SceneLayout { name: "demo".into(), objects }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn demo_layout_is_about_400_m_and_everything_casts_and_receives() {
+        let scene = demo();
+        let bounds = scene.bounds().unwrap();
+        let s = bounds.scene_box();
+        assert!((s.max().x - s.min().x - 400.0).abs() < 1.0);
+        assert!((s.max().z - s.min().z - 400.0).abs() < 1.0);
+        assert_eq!(bounds.casters().len(), scene.objects.len());
+        assert_eq!(bounds.receivers().len(), scene.objects.len());
+        let kinds: std::collections::BTreeSet<_> = scene.objects.iter().map(|o| o.shape.kind()).collect();
+        assert_eq!(kinds.len(), 5, "every kind of shape appears: {kinds:?}");
+        // Blocks of different heights.
+        let heights: std::collections::BTreeSet<_> =
+            bounds.casters().iter().filter(|b| b.max().y > 7.0).map(|b| (b.max().y * 10.0) as i64).collect();
+        assert!(heights.len() > 10);
+    }
+
+    #[test]
+    fn objects_do_not_overlap_the_avenue_or_each_other_much() {
+        let scene = demo();
+        for o in &scene.objects {
+            let b = o.world_bounds().unwrap();
+            if o.name.starts_with("block") {
+                assert!(b.max().z < 48.0, "{} reaches into the avenue", o.name);
+            }
+            assert!(b.min().y >= -1.0 - 1e-9);
+        }
+    }
+}
