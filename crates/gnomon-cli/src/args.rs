@@ -3,7 +3,8 @@
 use clap::{Args, ValueEnum};
 use glam::DVec3;
 use gnomon::{
-    Camera, DirectionalLight, Lens, Light, MapSettings, SceneBounds, SpotLight, Technique, compute_setup,
+    Camera, DirectionalLight, Lens, Light, MapSettings, SceneBounds, SpotLight, Technique,
+    compute_setup,
 };
 
 use crate::UsageError;
@@ -38,7 +39,12 @@ pub struct ViewArgs {
 impl ViewArgs {
     /// The validated camera.
     pub fn camera(&self) -> Result<Camera, UsageError> {
-        let lens = Lens { fov_y_degrees: self.fov, aspect: self.aspect, near: self.near, far: self.far };
+        let lens = Lens {
+            fov_y_degrees: self.fov,
+            aspect: self.aspect,
+            near: self.near,
+            far: self.far,
+        };
         Ok(Camera::look_at(self.eye, self.target, self.up, lens)?)
     }
 }
@@ -67,7 +73,9 @@ impl LightArgs {
                 s[6],
                 s[7],
             )?)),
-            _ => Err(UsageError("give exactly one of --light-dir and --spot".into())),
+            _ => Err(UsageError(
+                "give exactly one of --light-dir and --spot".into(),
+            )),
         }
     }
 }
@@ -84,8 +92,13 @@ pub enum TechniqueArg {
 impl TechniqueArg {
     /// The core's technique with default parameters.
     pub fn technique(self) -> Technique {
-        let name = self.to_possible_value().expect("no skipped variants").get_name().to_string();
-        name.parse().expect("every command-line technique is a core technique")
+        let name = self
+            .to_possible_value()
+            .expect("no skipped variants")
+            .get_name()
+            .to_string();
+        name.parse()
+            .expect("every command-line technique is a core technique")
     }
 }
 
@@ -113,7 +126,10 @@ pub struct SetupArgs {
 /// Loads a built-in scene's bounds.
 pub fn scene_bounds(name: &str) -> Result<SceneBounds, UsageError> {
     let layout = gnomon_scene::by_name(name).ok_or_else(|| {
-        UsageError(format!("unknown scene '{name}' (known: {})", gnomon_scene::SCENE_NAMES.join(", ")))
+        UsageError(format!(
+            "unknown scene '{name}' (known: {})",
+            gnomon_scene::SCENE_NAMES.join(", ")
+        ))
     })?;
     Ok(layout.bounds()?)
 }
@@ -124,9 +140,19 @@ pub fn run_setup(args: &SetupArgs) -> Result<(), UsageError> {
     let camera = args.view.camera()?;
     let light = args.light.light()?;
     let technique = args.technique.technique();
-    let setup = compute_setup(&technique, &camera, &light, &scene, MapSettings::with_resolution(args.shadow_map))?;
+    let setup = compute_setup(
+        &technique,
+        &camera,
+        &light,
+        &scene,
+        MapSettings::with_resolution(args.shadow_map),
+    )?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report::setup_json(&setup)).expect("JSON of plain values"));
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report::setup_json(&setup))
+                .expect("JSON of plain values")
+        );
     } else {
         print!("{}", report::setup_text(&setup));
     }
@@ -136,7 +162,9 @@ pub fn run_setup(args: &SetupArgs) -> Result<(), UsageError> {
 fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != N {
-        return Err(format!("expected {what} as {N} comma-separated numbers, got '{s}'"));
+        return Err(format!(
+            "expected {what} as {N} comma-separated numbers, got '{s}'"
+        ));
     }
     let mut out = [0.0f64; N];
     for (o, p) in out.iter_mut().zip(parts) {

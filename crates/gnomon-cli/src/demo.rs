@@ -8,7 +8,9 @@ use std::time::Instant;
 
 use clap::Args;
 use glam::DVec3;
-use gnomon::{Camera, DirectionalLight, Lens, Light, MapSettings, ShadowTechnique, Technique, compute_setup};
+use gnomon::{
+    Camera, DirectionalLight, Lens, Light, MapSettings, ShadowTechnique, Technique, compute_setup,
+};
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
@@ -39,12 +41,23 @@ pub fn run(args: &DemoArgs) -> Result<(), UsageError> {
             DVec3::from_array(view.eye),
             DVec3::from_array(view.target),
             DVec3::Y,
-            Lens::default(),
+            Lens {
+                far: view.far,
+                ..Lens::default()
+            },
         )?;
-        let light = Light::Directional(DirectionalLight::new(DVec3::from_array(view.light_direction))?);
+        let light = Light::Directional(DirectionalLight::new(DVec3::from_array(
+            view.light_direction,
+        ))?);
         for technique in Technique::all() {
             let start = Instant::now();
-            let setup = compute_setup(&technique, &camera, &light, &scene, MapSettings::with_resolution(args.shadow_map))?;
+            let setup = compute_setup(
+                &technique,
+                &camera,
+                &light,
+                &scene,
+                MapSettings::with_resolution(args.shadow_map),
+            )?;
             let micros = start.elapsed().as_secs_f64() * 1e6;
             let fallback = setup.fallback().map_or("none", |f| f.name());
             println!(
@@ -68,7 +81,10 @@ pub fn run(args: &DemoArgs) -> Result<(), UsageError> {
     }
     let json_path = args.out.join("setups.json");
     let html_path = args.out.join("index.html");
-    write(&json_path, &serde_json::to_string_pretty(&all).expect("JSON of plain values"))?;
+    write(
+        &json_path,
+        &serde_json::to_string_pretty(&all).expect("JSON of plain values"),
+    )?;
     let html = format!(
         "<!doctype html><meta charset=utf-8><title>gnomon demo</title><h1>gnomon demo: {}</h1>\
          <p>Shadow setups of the demo scene's named views (images come with the renderer).</p>\
@@ -84,5 +100,6 @@ pub fn run(args: &DemoArgs) -> Result<(), UsageError> {
 }
 
 fn write(path: &std::path::Path, text: &str) -> Result<(), UsageError> {
-    std::fs::write(path, text).map_err(|e| UsageError(format!("cannot write {}: {e}", path.display())))
+    std::fs::write(path, text)
+        .map_err(|e| UsageError(format!("cannot write {}: {e}", path.display())))
 }

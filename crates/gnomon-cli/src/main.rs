@@ -25,7 +25,7 @@ struct Cli {
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Compute the shadow maps for a camera, a light and a scene, and print them.
-    Setup(args::SetupArgs),
+    Setup(Box<args::SetupArgs>),
     /// Set up the built-in demo scene from its named views with every technique and write
     /// the results to a folder.
     Demo(demo::DemoArgs),
@@ -57,7 +57,11 @@ fn main() -> ExitCode {
             // clap's message spans several lines (the message, then tips and usage after a
             // blank line); keep the message, on one line.
             let text = e.to_string();
-            let message: Vec<&str> = text.lines().take_while(|l| !l.trim().is_empty()).map(str::trim).collect();
+            let message: Vec<&str> = text
+                .lines()
+                .take_while(|l| !l.trim().is_empty())
+                .map(str::trim)
+                .collect();
             eprintln!("{}", message.join(" "));
             return ExitCode::from(2);
         }

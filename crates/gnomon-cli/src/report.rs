@@ -82,10 +82,18 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
         let _ = writeln!(s, "  clip_from_world (rows):");
         for r in 0..4 {
             let row = m.clip_from_world.row(r);
-            let _ = writeln!(s, "    [{:>12.6} {:>12.6} {:>12.6} {:>12.6}]", row.x, row.y, row.z, row.w);
+            let _ = writeln!(
+                s,
+                "    [{:>12.6} {:>12.6} {:>12.6} {:>12.6}]",
+                row.x, row.y, row.z, row.w
+            );
         }
         let v = m.depth_from_world;
-        let _ = writeln!(s, "  depth_from_world: [{:.6} {:.6} {:.6} {:.6}]", v.x, v.y, v.z, v.w);
+        let _ = writeln!(
+            s,
+            "  depth_from_world: [{:.6} {:.6} {:.6} {:.6}]",
+            v.x, v.y, v.z, v.w
+        );
     }
     s
 }

@@ -20,6 +20,8 @@ pub struct DemoView {
     pub target: [f64; 3],
     /// The direction the sunlight travels.
     pub light_direction: [f64; 3],
+    /// The camera's far plane distance (near is 1 m, the vertical field of view 60 degrees).
+    pub far: f64,
     /// What the view shows.
     pub description: &'static str,
 }
@@ -28,6 +30,7 @@ pub struct DemoView {
 pub const DEMO_VIEWS: &[DemoView] = &[
     DemoView {
         name: "overview",
+        far: 800.0,
         eye: [260.0, 190.0, 260.0],
         target: [0.0, 0.0, 0.0],
         light_direction: [-0.4, -1.0, -0.25],
@@ -35,6 +38,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
     },
     DemoView {
         name: "street",
+        far: 400.0,
         eye: [-185.0, 2.0, 58.0],
         target: [185.0, 2.0, 58.0],
         light_direction: [0.35, -0.6, 1.0],
@@ -42,6 +46,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
     },
     DemoView {
         name: "low_sun",
+        far: 400.0,
         eye: [120.0, 25.0, 190.0],
         target: [0.0, 5.0, 0.0],
         light_direction: [1.0, -0.18, 0.3],
@@ -49,6 +54,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
     },
     DemoView {
         name: "dueling_frusta",
+        far: 400.0,
         eye: [150.0, 8.0, 150.0],
         target: [0.0, 20.0, 0.0],
         light_direction: [0.6, -0.45, 0.6],
@@ -56,6 +62,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
     },
     DemoView {
         name: "miners_lamp",
+        far: 400.0,
         eye: [100.0, 120.0, 100.0],
         target: [0.0, 0.0, 0.0],
         light_direction: [-0.55, -0.65, -0.55],
@@ -73,7 +80,13 @@ fn hash(i: u32) -> u32 {
 }
 
 fn object(name: String, shape: Shape, world_from_object: DMat4) -> SceneObject {
-    SceneObject { name, shape, world_from_object, casts: true, receives: true }
+    SceneObject {
+        name,
+        shape,
+        world_from_object,
+        casts: true,
+        receives: true,
+    }
 }
 
 /// The demo scene.
@@ -81,17 +94,25 @@ pub fn demo() -> SceneLayout {
     let mut objects = Vec::new();
     objects.push(object(
         "ground".into(),
-        Shape::Cuboid { half_extents: DVec3::new(GROUND_HALF_SIZE, 0.5, GROUND_HALF_SIZE) },
+        Shape::Cuboid {
+            half_extents: DVec3::new(GROUND_HALF_SIZE, 0.5, GROUND_HALF_SIZE),
+        },
         DMat4::from_translation(DVec3::new(0.0, -0.5, 0.0)),
     ));
     // City blocks: a 5 x 5 grid, 24 m blocks on a 40 m pitch, 8 to 60 m tall.
     for i in 0..5u32 {
         for j in 0..5u32 {
             let h = 8.0 + (hash(i * 5 + j) % 53) as f64;
-            let center = DVec3::new(-170.0 + 12.0 + 40.0 * i as f64, 0.5 * h, -170.0 + 12.0 + 40.0 * j as f64);
+            let center = DVec3::new(
+                -170.0 + 12.0 + 40.0 * i as f64,
+                0.5 * h,
+                -170.0 + 12.0 + 40.0 * j as f64,
+            );
             objects.push(object(
                 format!("block_{i}_{j}"),
-                Shape::Cuboid { half_extents: DVec3::new(12.0, 0.5 * h, 12.0) },
+                Shape::Cuboid {
+                    half_extents: DVec3::new(12.0, 0.5 * h, 12.0),
+                },
                 DMat4::from_translation(center),
             ));
         }
@@ -102,13 +123,21 @@ pub fn demo() -> SceneLayout {
         for z in [48.0, 68.0] {
             objects.push(object(
                 format!("pole_{k}_{}", z as i32),
-                Shape::Pole { radius: 0.15, height: 8.0 },
+                Shape::Pole {
+                    radius: 0.15,
+                    height: 8.0,
+                },
                 DMat4::from_translation(DVec3::new(x, 0.0, z)),
             ));
         }
     }
     // The park: spheres, tori and knots.
-    let spheres = [(110.0, 5.0, 110.0, 5.0), (150.0, 8.0, 140.0, 8.0), (95.0, 14.0, 160.0, 3.0), (130.0, 3.0, -60.0, 3.0)];
+    let spheres = [
+        (110.0, 5.0, 110.0, 5.0),
+        (150.0, 8.0, 140.0, 8.0),
+        (95.0, 14.0, 160.0, 3.0),
+        (130.0, 3.0, -60.0, 3.0),
+    ];
     for (n, (x, y, z, r)) in spheres.into_iter().enumerate() {
         objects.push(object(
             format!("sphere_{n}"),
@@ -117,14 +146,27 @@ pub fn demo() -> SceneLayout {
         ));
     }
     let tori = [
-        (120.0, 10.0, 170.0, DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2)),
+        (
+            120.0,
+            10.0,
+            170.0,
+            DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2),
+        ),
         (170.0, 2.0, 100.0, DQuat::IDENTITY),
-        (100.0, 9.0, -120.0, DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2)),
+        (
+            100.0,
+            9.0,
+            -120.0,
+            DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2),
+        ),
     ];
     for (n, (x, y, z, rotation)) in tori.into_iter().enumerate() {
         objects.push(object(
             format!("torus_{n}"),
-            Shape::Torus { major_radius: 7.0, minor_radius: 2.0 },
+            Shape::Torus {
+                major_radius: 7.0,
+                minor_radius: 2.0,
+            },
             DMat4::from_rotation_translation(rotation, DVec3::new(x, y, z)),
         ));
     }
@@ -132,11 +174,20 @@ pub fn demo() -> SceneLayout {
     for (n, (x, y, z)) in knots.into_iter().enumerate() {
         objects.push(object(
             format!("knot_{n}"),
-            Shape::TorusKnot { p: 2, q: 3, major_radius: 6.0, minor_radius: 3.0, tube_radius: 1.2 },
+            Shape::TorusKnot {
+                p: 2,
+                q: 3,
+                major_radius: 6.0,
+                minor_radius: 3.0,
+                tube_radius: 1.2,
+            },
             DMat4::from_rotation_translation(DQuat::from_rotation_x(0.4), DVec3::new(x, y, z)),
         ));
     }
-    SceneLayout { name: "demo".into(), objects }
+    SceneLayout {
+        name: "demo".into(),
+        objects,
+    }
 }
 
 #[cfg(test)]
@@ -152,11 +203,16 @@ mod tests {
         assert!((s.max().z - s.min().z - 400.0).abs() < 1.0);
         assert_eq!(bounds.casters().len(), scene.objects.len());
         assert_eq!(bounds.receivers().len(), scene.objects.len());
-        let kinds: std::collections::BTreeSet<_> = scene.objects.iter().map(|o| o.shape.kind()).collect();
+        let kinds: std::collections::BTreeSet<_> =
+            scene.objects.iter().map(|o| o.shape.kind()).collect();
         assert_eq!(kinds.len(), 5, "every kind of shape appears: {kinds:?}");
         // Blocks of different heights.
-        let heights: std::collections::BTreeSet<_> =
-            bounds.casters().iter().filter(|b| b.max().y > 7.0).map(|b| (b.max().y * 10.0) as i64).collect();
+        let heights: std::collections::BTreeSet<_> = bounds
+            .casters()
+            .iter()
+            .filter(|b| b.max().y > 7.0)
+            .map(|b| (b.max().y * 10.0) as i64)
+            .collect();
         assert!(heights.len() > 10);
     }
 

@@ -65,16 +65,31 @@ impl Shape {
         match *self {
             Shape::Cuboid { half_extents } => (-half_extents, half_extents),
             Shape::Sphere { radius } => (DVec3::splat(-radius), DVec3::splat(radius)),
-            Shape::Torus { major_radius, minor_radius } => {
-                let h = DVec3::new(major_radius + minor_radius, minor_radius, major_radius + minor_radius);
+            Shape::Torus {
+                major_radius,
+                minor_radius,
+            } => {
+                let h = DVec3::new(
+                    major_radius + minor_radius,
+                    minor_radius,
+                    major_radius + minor_radius,
+                );
                 (-h, h)
             }
-            Shape::TorusKnot { major_radius, minor_radius, tube_radius, .. } => {
+            Shape::TorusKnot {
+                major_radius,
+                minor_radius,
+                tube_radius,
+                ..
+            } => {
                 let r = major_radius + minor_radius + tube_radius;
                 let h = DVec3::new(r, minor_radius + tube_radius, r);
                 (-h, h)
             }
-            Shape::Pole { radius, height } => (DVec3::new(-radius, 0.0, -radius), DVec3::new(radius, height, radius)),
+            Shape::Pole { radius, height } => (
+                DVec3::new(-radius, 0.0, -radius),
+                DVec3::new(radius, height, radius),
+            ),
         }
     }
 

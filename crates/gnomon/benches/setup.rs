@@ -7,8 +7,8 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use gnomon::{
-    Aabb, Camera, DirectionalLight, Focused, Lens, Light, MapSettings, SceneBounds, SpotLight, Uniform,
-    compute_setup,
+    Aabb, Camera, DirectionalLight, Focused, Lens, Light, MapSettings, SceneBounds, SpotLight,
+    Uniform, compute_setup,
 };
 
 /// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, all casters and receivers.
@@ -22,27 +22,52 @@ fn city(n: usize) -> SceneBounds {
         let min = DVec3::new(-190.0 + i * pitch, 0.0, -190.0 + j * pitch);
         boxes.push(Aabb::new(min, min + DVec3::new(0.6 * pitch, h, 0.6 * pitch)).unwrap());
     }
-    let ground = Aabb::new(DVec3::new(-200.0, -1.0, -200.0), DVec3::new(200.0, 0.0, 200.0)).unwrap();
+    let ground = Aabb::new(
+        DVec3::new(-200.0, -1.0, -200.0),
+        DVec3::new(200.0, 0.0, 200.0),
+    )
+    .unwrap();
     let mut receivers = boxes.clone();
     receivers.push(ground);
     SceneBounds::new(boxes, receivers, None).unwrap()
 }
 
 fn bench(c: &mut Criterion) {
-    let camera = Camera::look_at(DVec3::new(-150.0, 30.0, 180.0), DVec3::new(20.0, 0.0, -20.0), DVec3::Y, Lens::default())
-        .unwrap();
+    let camera = Camera::look_at(
+        DVec3::new(-150.0, 30.0, 180.0),
+        DVec3::new(20.0, 0.0, -20.0),
+        DVec3::Y,
+        Lens::default(),
+    )
+    .unwrap();
     let sun = Light::Directional(DirectionalLight::new(DVec3::new(0.5, -1.0, -0.3)).unwrap());
-    let spot = Light::Spot(SpotLight::new(DVec3::new(0.0, 120.0, 100.0), DVec3::new(0.0, -1.0, -0.8), 45.0, 400.0).unwrap());
+    let spot = Light::Spot(
+        SpotLight::new(
+            DVec3::new(0.0, 120.0, 100.0),
+            DVec3::new(0.0, -1.0, -0.8),
+            45.0,
+            400.0,
+        )
+        .unwrap(),
+    );
     let settings = MapSettings::with_resolution(2048);
     let mut group = c.benchmark_group("setup");
     for n in [10usize, 100, 1000] {
         let scene = city(n);
-        group.bench_with_input(BenchmarkId::new("uniform_directional", n), &scene, |b, s| {
-            b.iter(|| compute_setup(&Uniform, black_box(&camera), &sun, s, settings).unwrap())
-        });
-        group.bench_with_input(BenchmarkId::new("focused_directional", n), &scene, |b, s| {
-            b.iter(|| compute_setup(&Focused, black_box(&camera), &sun, s, settings).unwrap())
-        });
+        group.bench_with_input(
+            BenchmarkId::new("uniform_directional", n),
+            &scene,
+            |b, s| {
+                b.iter(|| compute_setup(&Uniform, black_box(&camera), &sun, s, settings).unwrap())
+            },
+        );
+        group.bench_with_input(
+            BenchmarkId::new("focused_directional", n),
+            &scene,
+            |b, s| {
+                b.iter(|| compute_setup(&Focused, black_box(&camera), &sun, s, settings).unwrap())
+            },
+        );
         group.bench_with_input(BenchmarkId::new("focused_spot", n), &scene, |b, s| {
             b.iter(|| compute_setup(&Focused, black_box(&camera), &spot, s, settings).unwrap())
         });

@@ -39,7 +39,8 @@ pub fn convex_body_b(camera: &Camera, light: &Light, scene: &SceneBounds) -> Con
         Light::Spot(spot) => Some(spot.frustum_planes(projector.frame().up)),
     };
     let visible = VisibleScene::new(camera, scene, light_planes.as_ref(), tolerance);
-    let region = ConvexPolyhedron::from_box(&scene.scene_box()).clip_all(light_planes.iter().flatten(), tolerance);
+    let region = ConvexPolyhedron::from_box(&scene.scene_box())
+        .clip_all(light_planes.iter().flatten(), tolerance);
     focus_body(&visible.view_body, &region, &projector, tolerance)
 }
 
@@ -60,7 +61,11 @@ pub(crate) fn focus_body(
 }
 
 /// The half-spaces whose intersection is P extended toward the light.
-pub(crate) fn extension_planes(view_body: &ConvexPolyhedron, projector: &Projector, tolerance: f64) -> Vec<Plane> {
+pub(crate) fn extension_planes(
+    view_body: &ConvexPolyhedron,
+    projector: &Projector,
+    tolerance: f64,
+) -> Vec<Plane> {
     let vertices = view_body.vertices(tolerance);
     let centroid = vertices.iter().copied().sum::<glam::DVec3>() / vertices.len().max(1) as f64;
     let mut planes: Vec<Plane> = view_body
@@ -73,7 +78,10 @@ pub(crate) fn extension_planes(view_body: &ConvexPolyhedron, projector: &Project
             Projector::Point { position, .. } => plane.distance(*position) > tolerance,
         })
         .collect();
-    let projected: Vec<DVec2> = vertices.iter().map(|p| projector.project(*p).truncate()).collect();
+    let projected: Vec<DVec2> = vertices
+        .iter()
+        .map(|p| projector.project(*p).truncate())
+        .collect();
     let hull = convex_hull_2d(&projected);
     if hull.len() >= 3 {
         for (k, &i) in hull.iter().enumerate() {
@@ -100,13 +108,22 @@ mod tests {
     /// Camera at the origin looking down -Z, 90 degrees, square, near 1, far 10: the frustum's
     /// cross-section at depth d is [-d, d]^2.
     fn camera() -> Camera {
-        let lens = Lens { fov_y_degrees: 90.0, aspect: 1.0, near: 1.0, far: 10.0 };
+        let lens = Lens {
+            fov_y_degrees: 90.0,
+            aspect: 1.0,
+            near: 1.0,
+            far: 10.0,
+        };
         Camera::look_at(DVec3::ZERO, -DVec3::Z, DVec3::Y, lens).unwrap()
     }
 
     fn scene(half: f64) -> SceneBounds {
-        SceneBounds::new(vec![], vec![], Some(Aabb::new(DVec3::splat(-half), DVec3::splat(half)).unwrap()))
-            .unwrap()
+        SceneBounds::new(
+            vec![],
+            vec![],
+            Some(Aabb::new(DVec3::splat(-half), DVec3::splat(half)).unwrap()),
+        )
+        .unwrap()
     }
 
     fn directional(x: f64, y: f64, z: f64) -> Light {
@@ -116,9 +133,18 @@ mod tests {
     /// Asserts that the vertex sets are equal (within 1e-6).
     fn assert_vertices(body: &ConvexPolyhedron, expected: &[DVec3]) {
         let got = body.vertices(1e-9);
-        let missing: Vec<_> = expected.iter().filter(|e| !got.iter().any(|g| g.distance(**e) < 1e-6)).collect();
-        let extra: Vec<_> = got.iter().filter(|g| !expected.iter().any(|e| g.distance(*e) < 1e-6)).collect();
-        assert!(missing.is_empty() && extra.is_empty(), "missing {missing:?}, extra {extra:?}, got {got:?}");
+        let missing: Vec<_> = expected
+            .iter()
+            .filter(|e| !got.iter().any(|g| g.distance(**e) < 1e-6))
+            .collect();
+        let extra: Vec<_> = got
+            .iter()
+            .filter(|g| !expected.iter().any(|e| g.distance(*e) < 1e-6))
+            .collect();
+        assert!(
+            missing.is_empty() && extra.is_empty(),
+            "missing {missing:?}, extra {extra:?}, got {got:?}"
+        );
     }
 
     /// The corners (+-x, +-y, z).
@@ -149,11 +175,23 @@ mod tests {
 
     #[test]
     fn box_inside_frustum_is_its_own_body() {
-        let lens = Lens { fov_y_degrees: 90.0, aspect: 1.0, near: 0.1, far: 100.0 };
+        let lens = Lens {
+            fov_y_degrees: 90.0,
+            aspect: 1.0,
+            near: 0.1,
+            far: 100.0,
+        };
         let cam = Camera::look_at(DVec3::new(0.0, 0.0, 10.0), DVec3::ZERO, DVec3::Y, lens).unwrap();
-        for light in [directional(1.0, -2.0, 0.5), directional(0.0, 0.0, 1.0), directional(0.0, -1.0, 0.0)] {
+        for light in [
+            directional(1.0, -2.0, 0.5),
+            directional(0.0, 0.0, 1.0),
+            directional(0.0, -1.0, 0.0),
+        ] {
             let body = convex_body_b(&cam, &light, &scene(1.0));
-            assert_vertices(&body, &Aabb::new(DVec3::splat(-1.0), DVec3::ONE).unwrap().corners());
+            assert_vertices(
+                &body,
+                &Aabb::new(DVec3::splat(-1.0), DVec3::ONE).unwrap().corners(),
+            );
         }
     }
 
@@ -182,7 +220,13 @@ mod tests {
         let scene = SceneBounds::new(
             vec![],
             vec![],
-            Some(Aabb::new(DVec3::new(-100.0, -100.0, -100.0), DVec3::new(100.0, 4.0, 100.0)).unwrap()),
+            Some(
+                Aabb::new(
+                    DVec3::new(-100.0, -100.0, -100.0),
+                    DVec3::new(100.0, 4.0, 100.0),
+                )
+                .unwrap(),
+            ),
         )
         .unwrap();
         let body = convex_body_b(&camera(), &directional(0.0, -1.0, 0.0), &scene);
@@ -202,8 +246,13 @@ mod tests {
         // |z + 5| <= 0.1 d with d = 20 - y. Inside the view frustum (|x|, |y| <= -z) the lowest
         // point is y = z = -70/9; the largest z is -30/11 (on the bottom plane y = z); the
         // widest x is 0.1 (20 + 70/9) = 25/9; the top is the light's near plane.
-        let spot = SpotLight::new(DVec3::new(0.0, 20.0, -5.0), -DVec3::Y, 0.1f64.atan().to_degrees(), 40.0)
-            .unwrap();
+        let spot = SpotLight::new(
+            DVec3::new(0.0, 20.0, -5.0),
+            -DVec3::Y,
+            0.1f64.atan().to_degrees(),
+            40.0,
+        )
+        .unwrap();
         let light = Light::Spot(spot);
         let body = convex_body_b(&camera(), &light, &scene(100.0));
         assert!(!body.is_empty());
@@ -212,19 +261,34 @@ mod tests {
         let max = v.iter().copied().reduce(DVec3::max).unwrap();
         let expected_min = DVec3::new(-25.0 / 9.0, -70.0 / 9.0, -70.0 / 9.0);
         let expected_max = DVec3::new(25.0 / 9.0, 20.0 - spot.near(), -30.0 / 11.0);
-        assert!((min - expected_min).abs().max_element() < 1e-6, "min {min}, expected {expected_min}");
-        assert!((max - expected_max).abs().max_element() < 1e-6, "max {max}, expected {expected_max}");
+        assert!(
+            (min - expected_min).abs().max_element() < 1e-6,
+            "min {min}, expected {expected_min}"
+        );
+        assert!(
+            (max - expected_max).abs().max_element() < 1e-6,
+            "max {max}, expected {expected_max}"
+        );
         // Every vertex is inside the spot light's frustum.
         let up = crate::techniques::fixed_projector(&light).frame().up;
         for p in &v {
-            assert!(spot.frustum_planes(up).iter().all(|pl| pl.distance(*p) > -1e-9));
+            assert!(
+                spot.frustum_planes(up)
+                    .iter()
+                    .all(|pl| pl.distance(*p) > -1e-9)
+            );
         }
     }
 
     #[test]
     fn camera_looking_away_from_the_scene_gives_empty_body() {
-        let cam = Camera::look_at(DVec3::new(0.0, 0.0, 50.0), DVec3::new(0.0, 0.0, 100.0), DVec3::Y, camera().lens())
-            .unwrap();
+        let cam = Camera::look_at(
+            DVec3::new(0.0, 0.0, 50.0),
+            DVec3::new(0.0, 0.0, 100.0),
+            DVec3::Y,
+            camera().lens(),
+        )
+        .unwrap();
         let body = convex_body_b(&cam, &directional(0.0, -1.0, 0.0), &scene(10.0));
         assert!(body.is_empty());
     }

@@ -32,7 +32,10 @@ impl Aabb {
     }
 
     /// A box from its centre and half extents (each `>= 0`, not all zero).
-    pub fn from_center_half_extents(center: DVec3, half_extents: DVec3) -> Result<Self, SetupError> {
+    pub fn from_center_half_extents(
+        center: DVec3,
+        half_extents: DVec3,
+    ) -> Result<Self, SetupError> {
         check_vec("box centre", center)?;
         check_vec("box half extents", half_extents)?;
         Self::new(center - half_extents, center + half_extents)
@@ -76,7 +79,10 @@ impl Aabb {
 
     /// The smallest box holding both.
     pub fn union(&self, other: &Aabb) -> Aabb {
-        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
+        Aabb {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
     }
 
     /// Whether `other` lies inside this box.
@@ -91,7 +97,10 @@ impl Aabb {
 
     /// The box grown by `margin` on every side (`margin >= 0`).
     pub(crate) fn grown(&self, margin: DVec3) -> Aabb {
-        Aabb { min: self.min - margin, max: self.max + margin }
+        Aabb {
+            min: self.min - margin,
+            max: self.max + margin,
+        }
     }
 }
 
@@ -146,7 +155,11 @@ impl SceneBounds {
         receivers: Vec<Aabb>,
         scene_box: Option<Aabb>,
     ) -> Result<Self, SetupError> {
-        let union = casters.iter().chain(receivers.iter()).copied().reduce(|a, b| a.union(&b));
+        let union = casters
+            .iter()
+            .chain(receivers.iter())
+            .copied()
+            .reduce(|a, b| a.union(&b));
         let (scene_box, grown) = match (scene_box, union) {
             (Some(s), Some(u)) => {
                 let grown = !s.contains_box(&u);
@@ -158,7 +171,11 @@ impl SceneBounds {
         };
         let size = scene_box.max - scene_box.min;
         let thickness = 1e-6 * size.length();
-        let pad = DVec3::select(size.cmplt(DVec3::splat(thickness)), DVec3::splat(thickness), DVec3::ZERO);
+        let pad = DVec3::select(
+            size.cmplt(DVec3::splat(thickness)),
+            DVec3::splat(thickness),
+            DVec3::ZERO,
+        );
         Ok(Self {
             caster_arrays: BoxArrays::new(&casters),
             receiver_arrays: BoxArrays::new(&receivers),
@@ -208,7 +225,10 @@ mod tests {
             Aabb::new(DVec3::ONE, DVec3::ZERO),
             Err(SetupError::InvertedBox { .. })
         ));
-        assert!(matches!(Aabb::new(DVec3::ONE, DVec3::ONE), Err(SetupError::EmptyBox { .. })));
+        assert!(matches!(
+            Aabb::new(DVec3::ONE, DVec3::ONE),
+            Err(SetupError::EmptyBox { .. })
+        ));
         assert!(matches!(
             Aabb::new(DVec3::new(f64::NAN, 0.0, 0.0), DVec3::ONE),
             Err(SetupError::NonFinite { .. })
@@ -233,6 +253,9 @@ mod tests {
         let flat = SceneBounds::new(vec![], vec![ground], None).unwrap();
         assert!(!flat.scene_box_grown());
         assert!(flat.scene_box().max().y > 0.0 && flat.scene_box().min().y < 0.0);
-        assert_eq!(SceneBounds::new(vec![], vec![], None), Err(SetupError::EmptyScene));
+        assert_eq!(
+            SceneBounds::new(vec![], vec![], None),
+            Err(SetupError::EmptyScene)
+        );
     }
 }

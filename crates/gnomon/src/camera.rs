@@ -24,7 +24,12 @@ pub struct Lens {
 impl Default for Lens {
     /// 60 degrees, 16:9, near 1, far 400 (the LiSPSM paper's set-up, widened to 16:9).
     fn default() -> Self {
-        Self { fov_y_degrees: 60.0, aspect: 16.0 / 9.0, near: 1.0, far: 400.0 }
+        Self {
+            fov_y_degrees: 60.0,
+            aspect: 16.0 / 9.0,
+            near: 1.0,
+            far: 400.0,
+        }
     }
 }
 
@@ -32,21 +37,30 @@ impl Lens {
     fn validate(&self) -> Result<(), SetupError> {
         let fov = self.fov_y_degrees;
         if !fov.is_finite() {
-            return Err(SetupError::NonFinite { what: "field of view" });
+            return Err(SetupError::NonFinite {
+                what: "field of view",
+            });
         }
         if !(fov > 0.0 && fov < 180.0) {
             return Err(SetupError::InvalidFieldOfView { degrees: fov });
         }
         if !self.aspect.is_finite() {
-            return Err(SetupError::NonFinite { what: "aspect ratio" });
+            return Err(SetupError::NonFinite {
+                what: "aspect ratio",
+            });
         }
-        if !(self.aspect > 0.0) || self.aspect > 1e6 || self.aspect < 1e-6 {
-            return Err(SetupError::InvalidAspect { aspect: self.aspect });
+        if !(1e-6..=1e6).contains(&self.aspect) {
+            return Err(SetupError::InvalidAspect {
+                aspect: self.aspect,
+            });
         }
         check_scalar("near plane", self.near)?;
         check_scalar("far plane", self.far)?;
         if !(self.near > 0.0 && self.near < self.far) {
-            return Err(SetupError::InvalidNearFar { near: self.near, far: self.far });
+            return Err(SetupError::InvalidNearFar {
+                near: self.near,
+                far: self.far,
+            });
         }
         Ok(())
     }
@@ -76,8 +90,8 @@ impl Camera {
         check_vec("camera target", target)?;
         let up = check_direction("camera up", up)?;
         lens.validate()?;
-        let forward =
-            check_direction("camera view direction", target - eye).map_err(|_| SetupError::DegenerateView)?;
+        let forward = check_direction("camera view direction", target - eye)
+            .map_err(|_| SetupError::DegenerateView)?;
         let right = forward.cross(up);
         if right.length() < 1e-9 {
             return Err(SetupError::DegenerateView);
@@ -93,7 +107,9 @@ impl Camera {
     /// ([`SetupError::NotRigid`]), or a bad lens.
     pub fn from_view_from_world(view_from_world: DMat4, lens: Lens) -> Result<Self, SetupError> {
         if !view_from_world.is_finite() {
-            return Err(SetupError::NonFinite { what: "view_from_world" });
+            return Err(SetupError::NonFinite {
+                what: "view_from_world",
+            });
         }
         lens.validate()?;
         let rotation = DMat3::from_mat4(view_from_world);
@@ -123,7 +139,14 @@ impl Camera {
             DVec4::W,
         )
         .transpose();
-        Self { view_from_world, eye, forward, up, right, lens }
+        Self {
+            view_from_world,
+            eye,
+            forward,
+            up,
+            right,
+            lens,
+        }
     }
 
     /// World to view space (right-handed, looking down -Z).
@@ -133,7 +156,12 @@ impl Camera {
 
     /// View to clip space, depth in [0, 1].
     pub fn clip_from_view(&self) -> DMat4 {
-        let Lens { fov_y_degrees, aspect, near, far } = self.lens;
+        let Lens {
+            fov_y_degrees,
+            aspect,
+            near,
+            far,
+        } = self.lens;
         let cot = 1.0 / (0.5 * fov_y_degrees.to_radians()).tan();
         // z_clip = far (z_view + near) / (near - far), w = -z_view: 0 at the near plane, 1 at
         // the far plane.
@@ -206,7 +234,9 @@ impl Camera {
         let (f, r, u, e) = (self.forward, self.right, self.up, self.eye);
         // A side plane through the eye containing the edge direction forward + t * side has
         // inward normal proportional to (t * forward - side) (for the +side plane).
-        let side = |axis: DVec3, tan: f64, sign: f64| Plane::through_point(e, (tan * f - sign * axis).normalize());
+        let side = |axis: DVec3, tan: f64, sign: f64| {
+            Plane::through_point(e, (tan * f - sign * axis).normalize())
+        };
         [
             Plane::through_point(e + self.lens.near * f, f),
             Plane::through_point(e + self.lens.far * f, -f),
@@ -223,13 +253,23 @@ mod tests {
     use super::*;
 
     fn lens() -> Lens {
-        Lens { fov_y_degrees: 90.0, aspect: 1.0, near: 1.0, far: 10.0 }
+        Lens {
+            fov_y_degrees: 90.0,
+            aspect: 1.0,
+            near: 1.0,
+            far: 10.0,
+        }
     }
 
     #[test]
     fn look_at_matches_view_matrix() {
-        let cam = Camera::look_at(DVec3::new(1.0, 2.0, 3.0), DVec3::new(4.0, 0.0, -1.0), DVec3::Y, lens())
-            .unwrap();
+        let cam = Camera::look_at(
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(4.0, 0.0, -1.0),
+            DVec3::Y,
+            lens(),
+        )
+        .unwrap();
         let again = Camera::from_view_from_world(cam.view_from_world(), lens()).unwrap();
         assert!((again.eye() - cam.eye()).length() < 1e-12);
         assert!((again.forward() - cam.forward()).length() < 1e-12);
@@ -249,21 +289,54 @@ mod tests {
     fn rejects_bad_input() {
         let l = lens();
         let e = DVec3::ZERO;
-        assert_eq!(Camera::look_at(e, e, DVec3::Y, l), Err(SetupError::DegenerateView));
-        assert_eq!(Camera::look_at(e, DVec3::Y, DVec3::Y, l), Err(SetupError::DegenerateView));
+        assert_eq!(
+            Camera::look_at(e, e, DVec3::Y, l),
+            Err(SetupError::DegenerateView)
+        );
+        assert_eq!(
+            Camera::look_at(e, DVec3::Y, DVec3::Y, l),
+            Err(SetupError::DegenerateView)
+        );
         assert!(matches!(
             Camera::look_at(e, -DVec3::Z, DVec3::ZERO, l),
             Err(SetupError::ZeroDirection { .. })
         ));
         let bad = |lens: Lens| Camera::look_at(e, -DVec3::Z, DVec3::Y, lens);
-        assert!(matches!(bad(Lens { near: 0.0, ..l }), Err(SetupError::InvalidNearFar { .. })));
-        assert!(matches!(bad(Lens { near: 10.0, ..l }), Err(SetupError::InvalidNearFar { .. })));
-        assert!(matches!(bad(Lens { fov_y_degrees: 180.0, ..l }), Err(SetupError::InvalidFieldOfView { .. })));
-        assert!(matches!(bad(Lens { fov_y_degrees: 0.0, ..l }), Err(SetupError::InvalidFieldOfView { .. })));
-        assert!(matches!(bad(Lens { aspect: -1.0, ..l }), Err(SetupError::InvalidAspect { .. })));
-        assert!(matches!(bad(Lens { far: f64::NAN, ..l }), Err(SetupError::NonFinite { .. })));
+        assert!(matches!(
+            bad(Lens { near: 0.0, ..l }),
+            Err(SetupError::InvalidNearFar { .. })
+        ));
+        assert!(matches!(
+            bad(Lens { near: 10.0, ..l }),
+            Err(SetupError::InvalidNearFar { .. })
+        ));
+        assert!(matches!(
+            bad(Lens {
+                fov_y_degrees: 180.0,
+                ..l
+            }),
+            Err(SetupError::InvalidFieldOfView { .. })
+        ));
+        assert!(matches!(
+            bad(Lens {
+                fov_y_degrees: 0.0,
+                ..l
+            }),
+            Err(SetupError::InvalidFieldOfView { .. })
+        ));
+        assert!(matches!(
+            bad(Lens { aspect: -1.0, ..l }),
+            Err(SetupError::InvalidAspect { .. })
+        ));
+        assert!(matches!(
+            bad(Lens { far: f64::NAN, ..l }),
+            Err(SetupError::NonFinite { .. })
+        ));
         let mut skewed = DMat4::IDENTITY;
         skewed.x_axis.y = 0.5;
-        assert_eq!(Camera::from_view_from_world(skewed, l), Err(SetupError::NotRigid));
+        assert_eq!(
+            Camera::from_view_from_world(skewed, l),
+            Err(SetupError::NotRigid)
+        );
     }
 }

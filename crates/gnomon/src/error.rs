@@ -106,16 +106,25 @@ impl fmt::Display for SetupError {
             ),
             SetupError::ZeroDirection { what } => write!(f, "{what} has zero length"),
             SetupError::InvalidNearFar { near, far } => {
-                write!(f, "near and far must satisfy 0 < near < far (got near = {near}, far = {far})")
+                write!(
+                    f,
+                    "near and far must satisfy 0 < near < far (got near = {near}, far = {far})"
+                )
             }
             SetupError::InvalidFieldOfView { degrees } => {
-                write!(f, "field of view must be in (0, 180) degrees (got {degrees})")
+                write!(
+                    f,
+                    "field of view must be in (0, 180) degrees (got {degrees})"
+                )
             }
             SetupError::InvalidAspect { aspect } => {
                 write!(f, "aspect ratio must be positive (got {aspect})")
             }
             SetupError::NotRigid => {
-                write!(f, "view_from_world must be a rigid transform (rotation and translation)")
+                write!(
+                    f,
+                    "view_from_world must be a rigid transform (rotation and translation)"
+                )
             }
             SetupError::DegenerateView => write!(
                 f,
@@ -127,18 +136,31 @@ impl fmt::Display for SetupError {
                 min.x, min.y, min.z, max.x, max.y, max.z
             ),
             SetupError::EmptyBox { at } => {
-                write!(f, "box is empty: zero size at ({}, {}, {})", at.x, at.y, at.z)
+                write!(
+                    f,
+                    "box is empty: zero size at ({}, {}, {})",
+                    at.x, at.y, at.z
+                )
             }
             SetupError::EmptyScene => {
-                write!(f, "scene is empty: no scene box and no caster or receiver box")
+                write!(
+                    f,
+                    "scene is empty: no scene box and no caster or receiver box"
+                )
             }
             SetupError::InvalidSpotAngle { degrees } => {
-                write!(f, "spot light half-angle must be in (0, 89] degrees (got {degrees})")
+                write!(
+                    f,
+                    "spot light half-angle must be in (0, 89] degrees (got {degrees})"
+                )
             }
             SetupError::InvalidRange { range } => {
                 write!(f, "spot light range must be positive (got {range})")
             }
-            SetupError::InvalidResolution { resolution, viewport_inset } => write!(
+            SetupError::InvalidResolution {
+                resolution,
+                viewport_inset,
+            } => write!(
                 f,
                 "shadow map resolution {resolution} with viewport inset {viewport_inset} is unusable \
                  (resolution must be in [{}, {}] and the inset below a quarter of it)",

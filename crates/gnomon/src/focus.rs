@@ -44,7 +44,11 @@ pub(crate) fn classify_box(aabb: &Aabb, planes: &[Plane], tolerance: f64) -> Box
             mask |= 1 << i;
         }
     }
-    if mask == 0 { BoxSide::Inside } else { BoxSide::Straddles(mask) }
+    if mask == 0 {
+        BoxSide::Inside
+    } else {
+        BoxSide::Straddles(mask)
+    }
 }
 
 /// [`classify_boxes`]'s code for a box wholly outside one of the planes.
@@ -53,12 +57,25 @@ pub(crate) const OUTSIDE: u32 = u32::MAX;
 /// Classifies every box against up to 31 planes, as [`classify_box`] does one: [`OUTSIDE`],
 /// 0 (inside all planes) or the mask of the planes it straddles. One pass per plane over the
 /// box arrays, without branches, so that it vectorises.
-pub(crate) fn classify_boxes(boxes: &BoxArrays, planes: &[Plane], tolerance: f64, out: &mut Vec<u32>) {
+pub(crate) fn classify_boxes(
+    boxes: &BoxArrays,
+    planes: &[Plane],
+    tolerance: f64,
+    out: &mut Vec<u32>,
+) {
     let n = boxes.center[0].len();
     out.clear();
     out.resize(n, 0);
-    let (cx, cy, cz) = (&boxes.center[0][..n], &boxes.center[1][..n], &boxes.center[2][..n]);
-    let (hx, hy, hz) = (&boxes.half[0][..n], &boxes.half[1][..n], &boxes.half[2][..n]);
+    let (cx, cy, cz) = (
+        &boxes.center[0][..n],
+        &boxes.center[1][..n],
+        &boxes.center[2][..n],
+    );
+    let (hx, hy, hz) = (
+        &boxes.half[0][..n],
+        &boxes.half[1][..n],
+        &boxes.half[2][..n],
+    );
     for (k, plane) in planes.iter().enumerate().take(31) {
         let (m, a, o) = (plane.normal, plane.normal.abs(), plane.offset);
         for i in 0..n {
@@ -76,14 +93,22 @@ pub(crate) fn classify_boxes(boxes: &BoxArrays, planes: &[Plane], tolerance: f64
 
 /// The extents of the boxes `indices` (all when `None`) under an orthographic frame: per
 /// box the projected centre plus and minus the projected half extents.
-pub(crate) fn parallel_extents(boxes: &BoxArrays, frame: &LightFrame, indices: &[usize]) -> Extents {
+pub(crate) fn parallel_extents(
+    boxes: &BoxArrays,
+    frame: &LightFrame,
+    indices: &[usize],
+) -> Extents {
     let axes = [frame.right, frame.up, frame.forward];
     let mut ext = Extents::EMPTY;
     for &i in indices {
         let c = DVec3::new(boxes.center[0][i], boxes.center[1][i], boxes.center[2][i]);
         let h = DVec3::new(boxes.half[0][i], boxes.half[1][i], boxes.half[2][i]);
         let pc = DVec3::new(axes[0].dot(c), axes[1].dot(c), axes[2].dot(c));
-        let ph = DVec3::new(axes[0].abs().dot(h), axes[1].abs().dot(h), axes[2].abs().dot(h));
+        let ph = DVec3::new(
+            axes[0].abs().dot(h),
+            axes[1].abs().dot(h),
+            axes[2].abs().dot(h),
+        );
         ext.min = ext.min.min(pc - ph);
         ext.max = ext.max.max(pc + ph);
     }
@@ -104,7 +129,10 @@ pub(crate) fn box_cut_vertices(
     tolerance: f64,
     out: &mut Vec<DVec3>,
 ) -> bool {
-    let mut cut = [Plane { normal: DVec3::ZERO, offset: 0.0 }; 32];
+    let mut cut = [Plane {
+        normal: DVec3::ZERO,
+        offset: 0.0,
+    }; 32];
     let mut k = 0;
     for (i, plane) in planes.iter().enumerate() {
         if mask & (1 << i) != 0 {
@@ -115,7 +143,9 @@ pub(crate) fn box_cut_vertices(
     let cut = &cut[..k];
     let start = out.len();
     let in_cut = |p: DVec3, skip: &[usize]| {
-        cut.iter().enumerate().all(|(i, pl)| skip.contains(&i) || pl.distance(p) >= -tolerance)
+        cut.iter()
+            .enumerate()
+            .all(|(i, pl)| skip.contains(&i) || pl.distance(p) >= -tolerance)
     };
     let corners = aabb.corners();
     // Three box faces: corners.
@@ -174,7 +204,10 @@ fn meet(a: &Plane, b: &Plane, c: &Plane) -> Option<DVec3> {
     if det.abs() < 1e-12 {
         return None;
     }
-    let p = (-a.offset * bc - b.offset * c.normal.cross(a.normal) - c.offset * a.normal.cross(b.normal)) / det;
+    let p = (-a.offset * bc
+        - b.offset * c.normal.cross(a.normal)
+        - c.offset * a.normal.cross(b.normal))
+        / det;
     p.is_finite().then_some(p)
 }
 
@@ -193,7 +226,12 @@ pub(crate) struct VisibleScene {
 
 impl VisibleScene {
     /// `light_planes`: the spot light's frustum, if any.
-    pub fn new(camera: &Camera, scene: &SceneBounds, light_planes: Option<&[Plane; 6]>, tolerance: f64) -> Self {
+    pub fn new(
+        camera: &Camera,
+        scene: &SceneBounds,
+        light_planes: Option<&[Plane; 6]>,
+        tolerance: f64,
+    ) -> Self {
         let mut planes: Vec<Plane> = camera.frustum_planes().to_vec();
         if let Some(lp) = light_planes {
             planes.extend_from_slice(lp);
@@ -213,14 +251,25 @@ impl VisibleScene {
                     OUTSIDE => {}
                     0 => whole.push(i),
                     mask => {
-                        if box_cut_vertices(&scene.receivers()[i], &planes, mask, tolerance, &mut points) {
+                        if box_cut_vertices(
+                            &scene.receivers()[i],
+                            &planes,
+                            mask,
+                            tolerance,
+                            &mut points,
+                        ) {
                             clipped += 1;
                         }
                     }
                 }
             }
         }
-        Self { view_body, whole, clipped, points }
+        Self {
+            view_body,
+            whole,
+            clipped,
+            points,
+        }
     }
 
     /// How many receiver boxes have a visible part.
@@ -231,7 +280,9 @@ impl VisibleScene {
     /// The extents of the visible receiver parts under `projector`.
     pub fn receiver_extents(&self, scene: &SceneBounds, projector: &Projector) -> Extents {
         let mut ext = match projector {
-            Projector::Parallel(frame) => parallel_extents(scene.receiver_arrays(), frame, &self.whole),
+            Projector::Parallel(frame) => {
+                parallel_extents(scene.receiver_arrays(), frame, &self.whole)
+            }
             Projector::Point { .. } => {
                 let mut ext = Extents::EMPTY;
                 for &i in &self.whole {
@@ -286,7 +337,10 @@ pub(crate) fn caster_extents(
             let h = DVec3::new(boxes.half[0][i], boxes.half[1][i], boxes.half[2][i]);
             let pc = DVec3::new(axes[0].dot(c), axes[1].dot(c), axes[2].dot(c));
             let ph = DVec3::new(abs_axes[0].dot(h), abs_axes[1].dot(h), abs_axes[2].dot(h));
-            let box_ext = Extents { min: pc - ph, max: pc + ph };
+            let box_ext = Extents {
+                min: pc - ph,
+                max: pc + ph,
+            };
             if receivers.xy_overlaps(&box_ext, xy_slack) && box_ext.min.z <= receivers.max.z {
                 relevant += 1;
                 ext = ext.union(&box_ext);
@@ -335,7 +389,11 @@ pub(crate) fn caster_extents(
 /// the visible receivers' and the relevant casters' extents. `body`, B's extents when B is
 /// usable, raises the near plane to B's nearest point: caster points nearer to the light lie
 /// outside B and can shadow nothing visible. `None` when no caster is relevant.
-pub(crate) fn unit_cube_clip(receivers: &Extents, casters: &Extents, body: Option<&Extents>) -> Option<Extents> {
+pub(crate) fn unit_cube_clip(
+    receivers: &Extents,
+    casters: &Extents,
+    body: Option<&Extents>,
+) -> Option<Extents> {
     if casters.is_empty() || receivers.is_empty() {
         return None;
     }
@@ -351,7 +409,10 @@ pub(crate) fn unit_cube_clip(receivers: &Extents, casters: &Extents, body: Optio
     let mid = 0.5 * (lo + hi);
     lo = lo.min(mid);
     hi = hi.max(mid);
-    Some(Extents { min: lo.extend(near.min(far)), max: hi.extend(far) })
+    Some(Extents {
+        min: lo.extend(near.min(far)),
+        max: hi.extend(far),
+    })
 }
 
 #[cfg(test)]
@@ -362,7 +423,11 @@ mod tests {
 
     fn unit(v: [f64; 3]) -> DVec3 {
         let v = DVec3::from_array(v);
-        if v.length() < 1e-3 { DVec3::X } else { v.normalize() }
+        if v.length() < 1e-3 {
+            DVec3::X
+        } else {
+            v.normalize()
+        }
     }
 
     proptest! {

@@ -47,9 +47,9 @@ pub use camera::{Camera, Lens};
 pub use error::SetupError;
 pub use light::{DirectionalLight, Light, SPOT_NEAR_FRACTION, SpotLight};
 pub use setup::{
-    Diagnostics, Fallback, LightFrameKind, MAX_RESOLUTION, MIN_RESOLUTION, MapProjection, MapSelection,
-    MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique, Technique, UnknownTechnique,
-    compute_setup,
+    Diagnostics, Fallback, LightFrameKind, MAX_RESOLUTION, MIN_RESOLUTION, MapProjection,
+    MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique, Technique,
+    UnknownTechnique, compute_setup,
 };
 pub use techniques::{Focused, Uniform};
 

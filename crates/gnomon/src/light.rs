@@ -19,7 +19,9 @@ pub struct DirectionalLight {
 impl DirectionalLight {
     /// A directional light whose rays travel along `direction` (need not be normalised).
     pub fn new(direction: DVec3) -> Result<Self, SetupError> {
-        Ok(Self { direction: check_direction("light direction", direction)? })
+        Ok(Self {
+            direction: check_direction("light direction", direction)?,
+        })
     }
 
     /// The unit direction the light travels.
@@ -49,16 +51,25 @@ impl SpotLight {
         let position = check_vec("spot light position", position)?;
         let direction = check_direction("spot light direction", direction)?;
         if !half_angle_degrees.is_finite() {
-            return Err(SetupError::NonFinite { what: "spot light half-angle" });
+            return Err(SetupError::NonFinite {
+                what: "spot light half-angle",
+            });
         }
         if !(half_angle_degrees > 0.0 && half_angle_degrees <= 89.0) {
-            return Err(SetupError::InvalidSpotAngle { degrees: half_angle_degrees });
+            return Err(SetupError::InvalidSpotAngle {
+                degrees: half_angle_degrees,
+            });
         }
         check_scalar("spot light range", range)?;
-        if !(range > 0.0) {
+        if range <= 0.0 {
             return Err(SetupError::InvalidRange { range });
         }
-        Ok(Self { position, direction, half_angle: half_angle_degrees.to_radians(), range })
+        Ok(Self {
+            position,
+            direction,
+            half_angle: half_angle_degrees.to_radians(),
+            range,
+        })
     }
 
     /// Where the light is.
@@ -134,7 +145,10 @@ mod tests {
 
     #[test]
     fn rejects_bad_lights() {
-        assert!(matches!(DirectionalLight::new(DVec3::ZERO), Err(SetupError::ZeroDirection { .. })));
+        assert!(matches!(
+            DirectionalLight::new(DVec3::ZERO),
+            Err(SetupError::ZeroDirection { .. })
+        ));
         assert!(matches!(
             DirectionalLight::new(DVec3::new(f64::NAN, 1.0, 0.0)),
             Err(SetupError::NonFinite { .. })
@@ -142,21 +156,40 @@ mod tests {
         let p = DVec3::ZERO;
         let d = -DVec3::Y;
         assert!(SpotLight::new(p, d, 30.0, 10.0).is_ok());
-        assert!(matches!(SpotLight::new(p, d, 0.0, 10.0), Err(SetupError::InvalidSpotAngle { .. })));
-        assert!(matches!(SpotLight::new(p, d, 90.0, 10.0), Err(SetupError::InvalidSpotAngle { .. })));
-        assert!(matches!(SpotLight::new(p, d, 30.0, 0.0), Err(SetupError::InvalidRange { .. })));
-        assert!(matches!(SpotLight::new(p, DVec3::ZERO, 30.0, 1.0), Err(SetupError::ZeroDirection { .. })));
+        assert!(matches!(
+            SpotLight::new(p, d, 0.0, 10.0),
+            Err(SetupError::InvalidSpotAngle { .. })
+        ));
+        assert!(matches!(
+            SpotLight::new(p, d, 90.0, 10.0),
+            Err(SetupError::InvalidSpotAngle { .. })
+        ));
+        assert!(matches!(
+            SpotLight::new(p, d, 30.0, 0.0),
+            Err(SetupError::InvalidRange { .. })
+        ));
+        assert!(matches!(
+            SpotLight::new(p, DVec3::ZERO, 30.0, 1.0),
+            Err(SetupError::ZeroDirection { .. })
+        ));
     }
 
     #[test]
     fn spot_frustum_contains_its_cone() {
-        let s = SpotLight::new(DVec3::new(1.0, 5.0, 2.0), DVec3::new(0.2, -1.0, 0.1), 40.0, 20.0).unwrap();
+        let s = SpotLight::new(
+            DVec3::new(1.0, 5.0, 2.0),
+            DVec3::new(0.2, -1.0, 0.1),
+            40.0,
+            20.0,
+        )
+        .unwrap();
         let up = s.direction().any_orthonormal_vector();
         let planes = s.frustum_planes(up);
         let a = s.direction().any_orthonormal_pair();
         for k in 0..32 {
             let phi = k as f64 / 32.0 * std::f64::consts::TAU;
-            let ray = s.direction() + 0.999 * s.half_angle().tan() * (phi.cos() * a.0 + phi.sin() * a.1);
+            let ray =
+                s.direction() + 0.999 * s.half_angle().tan() * (phi.cos() * a.0 + phi.sin() * a.1);
             let p = s.position() + 10.0 * ray;
             assert!(planes.iter().all(|pl| pl.distance(p) >= 0.0));
         }

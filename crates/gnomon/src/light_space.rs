@@ -24,7 +24,11 @@ impl LightFrame {
     /// The frame fixed by the light direction alone: `up` is world +Y (or +Z when the light is
     /// nearly vertical) made perpendicular to `forward`.
     pub fn fixed(forward: DVec3) -> Self {
-        let hint = if forward.y.abs() < 0.9 { DVec3::Y } else { DVec3::Z };
+        let hint = if forward.y.abs() < 0.9 {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        };
         Self::from_up_hint(forward, hint)
     }
 
@@ -80,8 +84,15 @@ impl Projector {
                 // The image of a box under a rotation: centre plus |R| times the half extents.
                 let c = self.project(aabb.center());
                 let e = aabb.half_extents();
-                let h = DVec3::new(f.right.abs().dot(e), f.up.abs().dot(e), f.forward.abs().dot(e));
-                Extents { min: c - h, max: c + h }
+                let h = DVec3::new(
+                    f.right.abs().dot(e),
+                    f.up.abs().dot(e),
+                    f.forward.abs().dot(e),
+                );
+                Extents {
+                    min: c - h,
+                    max: c + h,
+                }
             }
             Projector::Point { .. } => {
                 let mut ext = Extents::EMPTY;
@@ -105,7 +116,10 @@ impl Projector {
             }
         };
         let len = normal.length();
-        (len > 0.0 && len.is_finite()).then(|| Plane { normal: normal / len, offset: offset / len })
+        (len > 0.0 && len.is_finite()).then(|| Plane {
+            normal: normal / len,
+            offset: offset / len,
+        })
     }
 }
 
@@ -117,7 +131,10 @@ pub(crate) struct Extents {
 }
 
 impl Extents {
-    pub const EMPTY: Extents = Extents { min: DVec3::INFINITY, max: DVec3::NEG_INFINITY };
+    pub const EMPTY: Extents = Extents {
+        min: DVec3::INFINITY,
+        max: DVec3::NEG_INFINITY,
+    };
 
     #[inline]
     pub fn add(&mut self, p: DVec3) {
@@ -127,7 +144,10 @@ impl Extents {
 
     #[inline]
     pub fn union(&self, o: &Extents) -> Extents {
-        Extents { min: self.min.min(o.min), max: self.max.max(o.max) }
+        Extents {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -179,7 +199,12 @@ pub(crate) fn build_map(
         Projector::Parallel(_) => {
             let dz = z1 - z0;
             let depth = (f.forward / dz).extend(-z0 / dz);
-            let rows = [(ax * f.right).extend(bx), (ay * f.up).extend(by), depth, DVec4::W];
+            let rows = [
+                (ax * f.right).extend(bx),
+                (ay * f.up).extend(by),
+                depth,
+                DVec4::W,
+            ];
             (rows, depth, MapProjection::Orthographic)
         }
         Projector::Point { position, .. } => {
@@ -197,7 +222,11 @@ pub(crate) fn build_map(
                 row(f.forward * (z1 / dz), -z1 * z0 / dz),
                 row(f.forward, 0.0),
             ];
-            (rows, row(f.forward / dz, -z0 / dz), MapProjection::Perspective)
+            (
+                rows,
+                row(f.forward / dz, -z0 / dz),
+                MapProjection::Perspective,
+            )
         }
     };
     ShadowMap {

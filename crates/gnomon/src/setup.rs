@@ -30,14 +30,20 @@ pub struct MapSettings {
 impl Default for MapSettings {
     /// 1024 x 1024 with a one-texel border.
     fn default() -> Self {
-        Self { resolution: 1024, viewport_inset: 1 }
+        Self {
+            resolution: 1024,
+            viewport_inset: 1,
+        }
     }
 }
 
 impl MapSettings {
     /// A square map of `resolution` texels with the default one-texel border.
     pub fn with_resolution(resolution: u32) -> Self {
-        Self { resolution, ..Self::default() }
+        Self {
+            resolution,
+            ..Self::default()
+        }
     }
 
     pub(crate) fn validate(&self) -> Result<(), SetupError> {
@@ -109,7 +115,11 @@ impl ShadowMap {
 
     /// Half-size of the inset square in normalised device coordinates.
     pub fn inset_ndc(&self) -> f64 {
-        MapSettings { resolution: self.resolution, viewport_inset: self.viewport_inset }.inset_ndc()
+        MapSettings {
+            resolution: self.resolution,
+            viewport_inset: self.viewport_inset,
+        }
+        .inset_ndc()
     }
 
     /// Whether every entry is finite.
@@ -321,7 +331,10 @@ impl Technique {
 
     /// Each technique with default parameters.
     pub fn all() -> Vec<Technique> {
-        Self::NAMES.iter().map(|n| n.parse().expect("every listed name parses")).collect()
+        Self::NAMES
+            .iter()
+            .map(|n| n.parse().expect("every listed name parses"))
+            .collect()
     }
 
     fn as_dyn(&self) -> &dyn ShadowTechnique {
@@ -348,7 +361,12 @@ pub struct UnknownTechnique(pub String);
 
 impl fmt::Display for UnknownTechnique {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "unknown technique '{}' (known: {})", self.0, Technique::NAMES.join(", "))
+        write!(
+            f,
+            "unknown technique '{}' (known: {})",
+            self.0,
+            Technique::NAMES.join(", ")
+        )
     }
 }
 
@@ -376,10 +394,17 @@ pub fn compute_setup(
     map: MapSettings,
 ) -> Result<ShadowSetup, SetupError> {
     map.validate()?;
-    let setup = technique.setup(&SetupInput { camera, light, scene, map })?;
+    let setup = technique.setup(&SetupInput {
+        camera,
+        light,
+        scene,
+        map,
+    })?;
     if setup.maps.iter().all(ShadowMap::is_finite) {
         Ok(setup)
     } else {
-        Err(SetupError::NumericalFailure { technique: technique.name() })
+        Err(SetupError::NumericalFailure {
+            technique: technique.name(),
+        })
     }
 }

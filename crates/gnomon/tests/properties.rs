@@ -15,8 +15,8 @@
 
 use glam::{DVec3, DVec4};
 use gnomon::{
-    Aabb, Camera, DirectionalLight, Focused, Lens, Light, MapSettings, SceneBounds, ShadowMap, ShadowSetup,
-    SpotLight, Technique, Uniform, compute_setup,
+    Aabb, Camera, DirectionalLight, Focused, Lens, Light, MapSettings, SceneBounds, ShadowMap,
+    ShadowSetup, SpotLight, Technique, Uniform, compute_setup,
 };
 use proptest::prelude::*;
 use proptest::test_runner::TestRng;
@@ -45,7 +45,11 @@ const CASES: &[&str] = &[
 
 fn unit_vector(rng: &mut TestRng) -> DVec3 {
     loop {
-        let v = DVec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+        let v = DVec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
         let l = v.length();
         if l > 0.1 && l <= 1.0 {
             return v / l;
@@ -54,16 +58,27 @@ fn unit_vector(rng: &mut TestRng) -> DVec3 {
 }
 
 fn random_box(rng: &mut TestRng, s: f64) -> Aabb {
-    let c = DVec3::new(rng.random_range(-0.5..0.5) * s, 0.0, rng.random_range(-0.5..0.5) * s);
+    let c = DVec3::new(
+        rng.random_range(-0.5..0.5) * s,
+        0.0,
+        rng.random_range(-0.5..0.5) * s,
+    );
     let size = DVec3::new(
         s * 10f64.powf(rng.random_range(-3.0..-0.7)),
         s * 10f64.powf(rng.random_range(-3.0..-0.7)),
         s * 10f64.powf(rng.random_range(-3.0..-0.7)),
     );
     // Some float above the ground.
-    let lift = if rng.random_bool(0.3) { rng.random_range(0.0..0.2) * s } else { 0.0 };
-    Aabb::new(c + DVec3::new(-size.x, lift, -size.z) * DVec3::new(0.5, 1.0, 0.5), c + DVec3::new(size.x * 0.5, lift + size.y, size.z * 0.5))
-        .unwrap()
+    let lift = if rng.random_bool(0.3) {
+        rng.random_range(0.0..0.2) * s
+    } else {
+        0.0
+    };
+    Aabb::new(
+        c + DVec3::new(-size.x, lift, -size.z) * DVec3::new(0.5, 1.0, 0.5),
+        c + DVec3::new(size.x * 0.5, lift + size.y, size.z * 0.5),
+    )
+    .unwrap()
 }
 
 fn config(seed: u64) -> Config {
@@ -75,7 +90,11 @@ fn config(seed: u64) -> Config {
     let case = CASES[rng.random_range(0..CASES.len())];
     // Scene size: 1 m to 100 km.
     let s = 10f64.powf(rng.random_range(0.0..5.0));
-    let ground = Aabb::new(DVec3::new(-0.5 * s, -0.01 * s, -0.5 * s), DVec3::new(0.5 * s, 0.0, 0.5 * s)).unwrap();
+    let ground = Aabb::new(
+        DVec3::new(-0.5 * s, -0.01 * s, -0.5 * s),
+        DVec3::new(0.5 * s, 0.0, 0.5 * s),
+    )
+    .unwrap();
     let mut casters = Vec::new();
     let mut receivers = vec![ground];
     if rng.random_bool(0.3) {
@@ -120,12 +139,22 @@ fn config(seed: u64) -> Config {
     if case == "camera_inside_box" {
         let all: Vec<Aabb> = casters.iter().chain(receivers.iter()).copied().collect();
         let b = all[rng.random_range(0..all.len())];
-        eye = b.min() + (b.max() - b.min()) * DVec3::new(rng.random_range(0.0..1.0), rng.random_range(0.0..1.0), rng.random_range(0.0..1.0));
+        eye = b.min()
+            + (b.max() - b.min())
+                * DVec3::new(
+                    rng.random_range(0.0..1.0),
+                    rng.random_range(0.0..1.0),
+                    rng.random_range(0.0..1.0),
+                );
     }
     let mut view = unit_vector(&mut rng);
     if rng.random_bool(0.7) {
         // Mostly look toward the scene.
-        let target = DVec3::new(rng.random_range(-0.5..0.5) * s, 0.0, rng.random_range(-0.5..0.5) * s);
+        let target = DVec3::new(
+            rng.random_range(-0.5..0.5) * s,
+            0.0,
+            rng.random_range(-0.5..0.5) * s,
+        );
         if (target - eye).length() > 1e-6 * s {
             view = (target - eye).normalize();
         }
@@ -134,16 +163,28 @@ fn config(seed: u64) -> Config {
     if light_dir.y > 0.0 && rng.random_bool(0.8) {
         light_dir.y = -light_dir.y;
     }
-    let jitter = |rng: &mut TestRng, v: DVec3, amount: f64| (v + amount * unit_vector(rng)).normalize();
+    let jitter =
+        |rng: &mut TestRng, v: DVec3, amount: f64| (v + amount * unit_vector(rng)).normalize();
     match case {
         "light_parallel_to_view" => {
-            light_dir = if rng.random_bool(0.5) { view } else { jitter(&mut rng, view, 1e-4) };
+            light_dir = if rng.random_bool(0.5) {
+                view
+            } else {
+                jitter(&mut rng, view, 1e-4)
+            };
         }
-        "light_toward_camera" => light_dir = if rng.random_bool(0.5) { -view } else { jitter(&mut rng, -view, 0.2) },
+        "light_toward_camera" => {
+            light_dir = if rng.random_bool(0.5) {
+                -view
+            } else {
+                jitter(&mut rng, -view, 0.2)
+            }
+        }
         "light_behind_camera" => light_dir = jitter(&mut rng, view, 0.5),
         "grazing_light" => {
             let a = rng.random_range(0.0..std::f64::consts::TAU);
-            light_dir = DVec3::new(a.cos(), -10f64.powf(rng.random_range(-4.0..-1.0)), a.sin()).normalize();
+            light_dir =
+                DVec3::new(a.cos(), -10f64.powf(rng.random_range(-4.0..-1.0)), a.sin()).normalize();
         }
         "light_straight_down" => {
             light_dir = -DVec3::Y;
@@ -153,27 +194,51 @@ fn config(seed: u64) -> Config {
         }
         _ => {}
     }
-    let up = if view.cross(DVec3::Y).length() > 1e-3 { DVec3::Y } else { DVec3::Z };
+    let up = if view.cross(DVec3::Y).length() > 1e-3 {
+        DVec3::Y
+    } else {
+        DVec3::Z
+    };
     let camera = Camera::look_at(eye, eye + view, up, lens).unwrap();
     let light = match case {
         "spot" | "spot_behind_camera" => {
             let position = if case == "spot" {
-                DVec3::new(rng.random_range(-0.6..0.6) * s, rng.random_range(0.01..0.5) * s, rng.random_range(-0.6..0.6) * s)
+                DVec3::new(
+                    rng.random_range(-0.6..0.6) * s,
+                    rng.random_range(0.01..0.5) * s,
+                    rng.random_range(-0.6..0.6) * s,
+                )
             } else {
-                eye - view * rng.random_range(0.001..0.2) * s + DVec3::Y * rng.random_range(0.0..0.05) * s
+                eye - view * rng.random_range(0.001..0.2) * s
+                    + DVec3::Y * rng.random_range(0.0..0.05) * s
             };
             let aim = if case == "spot" {
-                DVec3::new(rng.random_range(-0.5..0.5) * s, 0.0, rng.random_range(-0.5..0.5) * s) - position
+                DVec3::new(
+                    rng.random_range(-0.5..0.5) * s,
+                    0.0,
+                    rng.random_range(-0.5..0.5) * s,
+                ) - position
             } else {
                 view
             };
-            let direction = if aim.length() > 1e-6 * s { aim } else { -DVec3::Y };
+            let direction = if aim.length() > 1e-6 * s {
+                aim
+            } else {
+                -DVec3::Y
+            };
             let range = s * rng.random_range(0.2..3.0);
-            Light::Spot(SpotLight::new(position, direction, rng.random_range(5.0..80.0), range).unwrap())
+            Light::Spot(
+                SpotLight::new(position, direction, rng.random_range(5.0..80.0), range).unwrap(),
+            )
         }
         _ => Light::Directional(DirectionalLight::new(light_dir).unwrap()),
     };
-    Config { camera, light, scene, case }
+    Config {
+        camera,
+        light,
+        scene,
+        case,
+    }
 }
 
 /// Receiver surface points the camera sees (and, for a spot light, inside its frustum).
@@ -183,11 +248,21 @@ fn visible_receiver_points(cfg: &Config, rng: &mut TestRng) -> Vec<DVec3> {
     for r in cfg.scene.receivers() {
         for k in 0..24 {
             let (lo, hi) = (r.min(), r.max());
-            let mut p = lo + (hi - lo) * DVec3::new(rng.random_range(0.0..1.0), rng.random_range(0.0..1.0), rng.random_range(0.0..1.0));
+            let mut p = lo
+                + (hi - lo)
+                    * DVec3::new(
+                        rng.random_range(0.0..1.0),
+                        rng.random_range(0.0..1.0),
+                        rng.random_range(0.0..1.0),
+                    );
             if k % 2 == 0 {
                 // On a face: snap one coordinate.
                 let axis = rng.random_range(0..3);
-                p[axis] = if rng.random_bool(0.5) { lo[axis] } else { hi[axis] };
+                p[axis] = if rng.random_bool(0.5) {
+                    lo[axis]
+                } else {
+                    hi[axis]
+                };
             }
             if planes.iter().all(|pl| pl.distance(p) >= 0.0) && lit_by_spot(&cfg.light, p) {
                 out.push(p);
@@ -250,10 +325,14 @@ fn shadowing_caster_points(cfg: &Config, r: DVec3) -> Vec<DVec3> {
 const EPS: f64 = 1e-6;
 
 fn lands_inside(map: &ShadowMap, p: DVec3) -> Result<DVec3, String> {
-    let ndc = map.project(p).ok_or_else(|| format!("{p} is behind the map's centre"))?;
+    let ndc = map
+        .project(p)
+        .ok_or_else(|| format!("{p} is behind the map's centre"))?;
     let s = map.inset_ndc() + EPS;
     if ndc.x.abs() > s || ndc.y.abs() > s || ndc.z < -EPS || ndc.z > 1.0 + EPS {
-        return Err(format!("{p} lands at {ndc}, outside the inset square {s} or depth [0, 1]"));
+        return Err(format!(
+            "{p} lands at {ndc}, outside the inset square {s} or depth [0, 1]"
+        ));
     }
     let depth = map.linear_depth(p);
     if !(-EPS..=1.0 + EPS).contains(&depth) {
@@ -265,8 +344,16 @@ fn lands_inside(map: &ShadowMap, p: DVec3) -> Result<DVec3, String> {
 /// The world-space footprint area of the map's inset square on the map plane.
 fn footprint(map: &ShadowMap, light: &Light) -> f64 {
     let m = map.clip_from_world;
-    let (rx, ry, rw) = (m.row(0).truncate(), m.row(1).truncate(), m.row(3).truncate());
-    let axis = if rw.length() > 0.0 { rw.normalize() } else { light.direction() };
+    let (rx, ry, rw) = (
+        m.row(0).truncate(),
+        m.row(1).truncate(),
+        m.row(3).truncate(),
+    );
+    let axis = if rw.length() > 0.0 {
+        rw.normalize()
+    } else {
+        light.direction()
+    };
     let s = 2.0 * map.inset_ndc();
     s * s / (rx.cross(axis).length() * ry.cross(axis).length())
 }
@@ -278,7 +365,10 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
     };
     let uniform = setup(Technique::Uniform(Uniform))?;
     let focused = setup(Technique::Focused(Focused))?;
-    let mut rng = TestRng::from_seed(proptest::test_runner::RngAlgorithm::ChaCha, &[seed as u8; 32]);
+    let mut rng = TestRng::from_seed(
+        proptest::test_runner::RngAlgorithm::ChaCha,
+        &[seed as u8; 32],
+    );
     let points = visible_receiver_points(cfg, &mut rng);
     for setup in [&uniform, &focused] {
         let map = &setup.maps[0];
@@ -286,7 +376,12 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
             return Err(format!("{}: non-finite matrix", setup.technique));
         }
         for &r in &points {
-            let ctx = |e: String| format!("{} ({:?}): receiver: {e}", setup.technique, setup.diagnostics.fallbacks);
+            let ctx = |e: String| {
+                format!(
+                    "{} ({:?}): receiver: {e}",
+                    setup.technique, setup.diagnostics.fallbacks
+                )
+            };
             let casters = shadowing_caster_points(cfg, r);
             if setup.technique == "uniform" || !casters.is_empty() {
                 lands_inside(map, r).map_err(ctx)?;
@@ -299,14 +394,22 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
             }
             for q in casters {
                 lands_inside(map, q).map_err(|e| {
-                    format!("{} ({:?}): caster point shadowing {r}: {e}", setup.technique, setup.diagnostics.fallbacks)
+                    format!(
+                        "{} ({:?}): caster point shadowing {r}: {e}",
+                        setup.technique, setup.diagnostics.fallbacks
+                    )
                 })?;
             }
         }
     }
-    let (fu, ff) = (footprint(&uniform.maps[0], &cfg.light), footprint(&focused.maps[0], &cfg.light));
+    let (fu, ff) = (
+        footprint(&uniform.maps[0], &cfg.light),
+        footprint(&focused.maps[0], &cfg.light),
+    );
     if ff > fu * (1.0 + 1e-6) {
-        return Err(format!("focused footprint {ff} exceeds the uniform footprint {fu}"));
+        return Err(format!(
+            "focused footprint {ff} exceeds the uniform footprint {fu}"
+        ));
     }
     Ok(())
 }
@@ -331,17 +434,33 @@ fn hard_cases_are_drawn_and_name_their_fallbacks() {
     for seed in 0..2000u64 {
         let cfg = config(seed);
         *seen.entry(cfg.case).or_default() += 1;
-        let setup = compute_setup(&Focused, &cfg.camera, &cfg.light, &cfg.scene, MapSettings::default()).unwrap();
+        let setup = compute_setup(
+            &Focused,
+            &cfg.camera,
+            &cfg.light,
+            &cfg.scene,
+            MapSettings::default(),
+        )
+        .unwrap();
         if cfg.case == "light_parallel_to_view"
-            && setup.diagnostics.fallbacks.contains(&gnomon::Fallback::LightParallelToView)
+            && setup
+                .diagnostics
+                .fallbacks
+                .contains(&gnomon::Fallback::LightParallelToView)
         {
             parallel_fallbacks += 1;
         }
     }
     for case in CASES {
-        assert!(seen.get(case).copied().unwrap_or(0) > 100, "case {case} drawn too rarely: {seen:?}");
+        assert!(
+            seen.get(case).copied().unwrap_or(0) > 100,
+            "case {case} drawn too rarely: {seen:?}"
+        );
     }
-    assert!(parallel_fallbacks > 50, "the parallel fallback fired {parallel_fallbacks} times");
+    assert!(
+        parallel_fallbacks > 50,
+        "the parallel fallback fired {parallel_fallbacks} times"
+    );
 }
 
 #[test]
@@ -351,11 +470,22 @@ fn depth_row_matches_the_clip_depth_for_orthographic_maps() {
         if matches!(cfg.light, Light::Spot(_)) {
             continue;
         }
-        let setup = compute_setup(&Focused, &cfg.camera, &cfg.light, &cfg.scene, MapSettings::default()).unwrap();
+        let setup = compute_setup(
+            &Focused,
+            &cfg.camera,
+            &cfg.light,
+            &cfg.scene,
+            MapSettings::default(),
+        )
+        .unwrap();
         let m = setup.maps[0];
         let row = m.clip_from_world.row(2);
         let scale = row.truncate().length().max(1e-300);
-        assert!(((row - m.depth_from_world) / scale).abs().max_element() < 1e-9, "{row} vs {}", m.depth_from_world);
+        assert!(
+            ((row - m.depth_from_world) / scale).abs().max_element() < 1e-9,
+            "{row} vs {}",
+            m.depth_from_world
+        );
         let _ = DVec4::ZERO;
     }
 }
@@ -367,7 +497,10 @@ fn property_checks_are_not_vacuous() {
     let mut per_case = std::collections::BTreeMap::<&str, (usize, usize, usize)>::new();
     for seed in 0..1500u64 {
         let cfg = config(seed);
-        let mut rng = TestRng::from_seed(proptest::test_runner::RngAlgorithm::ChaCha, &[seed as u8; 32]);
+        let mut rng = TestRng::from_seed(
+            proptest::test_runner::RngAlgorithm::ChaCha,
+            &[seed as u8; 32],
+        );
         let points = visible_receiver_points(&cfg, &mut rng);
         let entry = per_case.entry(cfg.case).or_default();
         entry.0 += usize::from(!points.is_empty());
@@ -378,8 +511,16 @@ fn property_checks_are_not_vacuous() {
         }
     }
     for (case, (configs_with_points, shadowable, caster_points)) in &per_case {
-        println!("{case}: {configs_with_points} configurations see receivers, {shadowable} shadowable receiver points, {caster_points} caster points");
-        assert!(*configs_with_points > 40, "{case}: too few configurations see a receiver");
-        assert!(*shadowable > 200, "{case}: too few shadowable receiver points");
+        println!(
+            "{case}: {configs_with_points} configurations see receivers, {shadowable} shadowable receiver points, {caster_points} caster points"
+        );
+        assert!(
+            *configs_with_points > 40,
+            "{case}: too few configurations see a receiver"
+        );
+        assert!(
+            *shadowable > 200,
+            "{case}: too few shadowable receiver points"
+        );
     }
 }

@@ -17,11 +17,18 @@ pub fn convex_hull_2d(points: &[DVec2]) -> Vec<usize> {
     let mut hull: Vec<usize> = Vec::with_capacity(order.len() + 1);
     for pass in 0..2 {
         let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &usize>> =
-            if pass == 0 { Box::new(order.iter()) } else { Box::new(order.iter().rev()) };
+        let iter: Box<dyn Iterator<Item = &usize>> = if pass == 0 {
+            Box::new(order.iter())
+        } else {
+            Box::new(order.iter().rev())
+        };
         for &i in iter {
             while hull.len() >= start + 2
-                && cross(points[hull[hull.len() - 2]], points[hull[hull.len() - 1]], points[i]) <= 0.0
+                && cross(
+                    points[hull[hull.len() - 2]],
+                    points[hull[hull.len() - 1]],
+                    points[i],
+                ) <= 0.0
             {
                 hull.pop();
             }
@@ -49,13 +56,23 @@ mod tests {
         ];
         let hull = convex_hull_2d(&pts);
         assert_eq!(hull.len(), 4);
-        let area: f64 = (0..4).map(|i| pts[hull[i]].perp_dot(pts[hull[(i + 1) % 4]])).sum::<f64>() / 2.0;
-        assert!((area - 1.0).abs() < 1e-12, "counter-clockwise unit square, got area {area}");
+        let area: f64 = (0..4)
+            .map(|i| pts[hull[i]].perp_dot(pts[hull[(i + 1) % 4]]))
+            .sum::<f64>()
+            / 2.0;
+        assert!(
+            (area - 1.0).abs() < 1e-12,
+            "counter-clockwise unit square, got area {area}"
+        );
     }
 
     #[test]
     fn collinear_points_give_a_segment() {
-        let pts = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(2.0, 2.0)];
+        let pts = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(2.0, 2.0),
+        ];
         assert!(convex_hull_2d(&pts).len() < 3);
     }
 }

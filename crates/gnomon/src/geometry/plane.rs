@@ -13,7 +13,10 @@ pub struct Plane {
 impl Plane {
     /// The plane through `point` with (unit) inward `normal`.
     pub fn through_point(point: DVec3, normal: DVec3) -> Self {
-        Self { normal, offset: -normal.dot(point) }
+        Self {
+            normal,
+            offset: -normal.dot(point),
+        }
     }
 
     /// Signed distance of `p` (positive inside).
@@ -24,6 +27,9 @@ impl Plane {
 
     /// The same plane with the inside and outside swapped.
     pub fn flipped(&self) -> Self {
-        Self { normal: -self.normal, offset: -self.offset }
+        Self {
+            normal: -self.normal,
+            offset: -self.offset,
+        }
     }
 }

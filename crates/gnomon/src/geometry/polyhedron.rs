@@ -32,10 +32,19 @@ impl ConvexPolyhedron {
     /// A hexahedron from eight corners: the first four and the last four each a quad (in the
     /// same rotational order), as [`crate::Camera::frustum_corners`] returns them.
     pub fn from_hexahedron(c: &[DVec3; 8]) -> Self {
-        const FACES: [[usize; 4]; 6] =
-            [[0, 1, 2, 3], [4, 7, 6, 5], [0, 4, 5, 1], [1, 5, 6, 2], [2, 6, 7, 3], [3, 7, 4, 0]];
+        const FACES: [[usize; 4]; 6] = [
+            [0, 1, 2, 3],
+            [4, 7, 6, 5],
+            [0, 4, 5, 1],
+            [1, 5, 6, 2],
+            [2, 6, 7, 3],
+            [3, 7, 4, 0],
+        ];
         let points = FACES.iter().flatten().map(|&i| c[i]).collect();
-        Self { points, face_ends: vec![4, 8, 12, 16, 20, 24] }
+        Self {
+            points,
+            face_ends: vec![4, 8, 12, 16, 20, 24],
+        }
     }
 
     /// Whether nothing is left.
@@ -57,7 +66,10 @@ impl ConvexPolyhedron {
     pub fn vertices(&self, tolerance: f64) -> Vec<DVec3> {
         let mut out: Vec<DVec3> = Vec::with_capacity(self.points.len() / 2);
         for p in &self.points {
-            if !out.iter().any(|q| q.distance_squared(*p) <= tolerance * tolerance) {
+            if !out
+                .iter()
+                .any(|q| q.distance_squared(*p) <= tolerance * tolerance)
+            {
                 out.push(*p);
             }
         }
@@ -104,7 +116,11 @@ impl ConvexPolyhedron {
     }
 
     /// Clips by every plane in turn.
-    pub fn clip_all<'a>(&self, planes: impl IntoIterator<Item = &'a Plane>, tolerance: f64) -> ConvexPolyhedron {
+    pub fn clip_all<'a>(
+        &self,
+        planes: impl IntoIterator<Item = &'a Plane>,
+        tolerance: f64,
+    ) -> ConvexPolyhedron {
         let mut out = self.clone();
         let mut scratch = Scratch::default();
         for plane in planes {
@@ -141,7 +157,13 @@ impl ConvexPolyhedron {
             let distances = &scratch.distances[face_start..face_end];
             face_start = face_end;
             let start = scratch.points.len();
-            clip_polygon(face, distances, tolerance, &mut scratch.points, &mut scratch.cap);
+            clip_polygon(
+                face,
+                distances,
+                tolerance,
+                &mut scratch.points,
+                &mut scratch.cap,
+            );
             if scratch.points.len() - start >= 3 {
                 scratch.face_ends.push(scratch.points.len());
             } else {
@@ -179,7 +201,13 @@ impl Aabb {
 
 /// Sutherland-Hodgman against one plane, given each point's signed distance to it; the kept
 /// polygon is appended to `out`, points on the plane (and new intersection points) to `cap`.
-fn clip_polygon(face: &[DVec3], distances: &[f64], tolerance: f64, out: &mut Vec<DVec3>, cap: &mut Vec<DVec3>) {
+fn clip_polygon(
+    face: &[DVec3],
+    distances: &[f64],
+    tolerance: f64,
+    out: &mut Vec<DVec3>,
+    cap: &mut Vec<DVec3>,
+) {
     let n = face.len();
     for i in 0..n {
         let a = face[i];
@@ -195,7 +223,11 @@ fn clip_polygon(face: &[DVec3], distances: &[f64], tolerance: f64, out: &mut Vec
         if (da < -tolerance && db > tolerance) || (da > tolerance && db < -tolerance) {
             // Compute from a canonical endpoint order so that the two faces sharing this edge
             // produce the identical point.
-            let (p, q, dp, dq) = if (a.x, a.y, a.z) < (b.x, b.y, b.z) { (a, b, da, db) } else { (b, a, db, da) };
+            let (p, q, dp, dq) = if (a.x, a.y, a.z) < (b.x, b.y, b.z) {
+                (a, b, da, db)
+            } else {
+                (b, a, db, da)
+            };
             let t = dp / (dp - dq);
             let x = p + (q - p) * t;
             out.push(x);
@@ -210,7 +242,10 @@ fn order_cap(points: &mut Vec<DVec3>, plane: &Plane, tolerance: f64) -> bool {
     let mut n = 0;
     for i in 0..points.len() {
         let p = points[i];
-        if !points[..n].iter().any(|q| q.distance_squared(p) <= tolerance * tolerance) {
+        if !points[..n]
+            .iter()
+            .any(|q| q.distance_squared(p) <= tolerance * tolerance)
+        {
             points[n] = p;
             n += 1;
         }
@@ -274,8 +309,14 @@ mod tests {
     #[test]
     fn clip_outside_and_touching_give_empty() {
         let cube = unit_cube();
-        assert!(cube.clip(&Plane::through_point(DVec3::splat(2.0), DVec3::X), 1e-9).is_empty());
-        assert!(cube.clip(&Plane::through_point(DVec3::ONE, DVec3::X), 1e-9).is_empty());
+        assert!(
+            cube.clip(&Plane::through_point(DVec3::splat(2.0), DVec3::X), 1e-9)
+                .is_empty()
+        );
+        assert!(
+            cube.clip(&Plane::through_point(DVec3::ONE, DVec3::X), 1e-9)
+                .is_empty()
+        );
         let same = cube.clip(&Plane::through_point(DVec3::ZERO, DVec3::X), 1e-9);
         assert_eq!(same, cube);
     }
@@ -287,6 +328,9 @@ mod tests {
             .clip(&Plane::through_point(DVec3::splat(0.75), -DVec3::Y), 1e-9);
         let v = slab.vertices(1e-9);
         assert_eq!(v.len(), 8);
-        assert!(v.iter().all(|p| (p.y - 0.25).abs() < 1e-12 || (p.y - 0.75).abs() < 1e-12));
+        assert!(
+            v.iter()
+                .all(|p| (p.y - 0.25).abs() < 1e-12 || (p.y - 0.75).abs() < 1e-12)
+        );
     }
 }

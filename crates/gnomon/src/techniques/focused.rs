@@ -59,9 +59,20 @@ impl ShadowTechnique for Focused {
                 };
                 build_map(&projector, &region, input.map, xy_padding, tolerance)
             }
-            None => uniform_map(input.light, input.scene, input.map, tolerance, &mut diagnostics),
+            None => uniform_map(
+                input.light,
+                input.scene,
+                input.map,
+                tolerance,
+                &mut diagnostics,
+            ),
         };
-        Ok(ShadowSetup { technique: self.name(), maps: vec![map], selection: MapSelection::Single, diagnostics })
+        Ok(ShadowSetup {
+            technique: self.name(),
+            maps: vec![map],
+            selection: MapSelection::Single,
+            diagnostics,
+        })
     }
 }
 
@@ -81,11 +92,6 @@ pub(crate) fn focus(
     };
     let visible = VisibleScene::new(input.camera, input.scene, light_planes.as_ref(), tolerance);
     diagnostics.visible_receivers = visible.visible_receivers();
-    if let Light::Directional(light) = input.light
-        && LightFrame::view_aligned(light.direction(), input.camera.forward()).is_none()
-    {
-        diagnostics.fallbacks.push(Fallback::LightParallelToView);
-    }
     if visible.view_body.is_empty() && light_planes.is_some() {
         diagnostics.fallbacks.push(Fallback::SpotLightMissesView);
         return None;
@@ -93,6 +99,12 @@ pub(crate) fn focus(
     if visible.visible_receivers() == 0 {
         diagnostics.fallbacks.push(Fallback::NoVisibleReceiver);
         return None;
+    }
+    // Only now, when the map is focused, does the frame matter.
+    if let Light::Directional(light) = input.light
+        && LightFrame::view_aligned(light.direction(), input.camera.forward()).is_none()
+    {
+        diagnostics.fallbacks.push(Fallback::LightParallelToView);
     }
     // B does not depend on the rotation about the light direction: build it in the fixed frame.
     let region = match &light_planes {
@@ -160,7 +172,12 @@ fn choose_frame(
 
 /// B's extents under `projector`, or `None` when B is empty or does not hold the visible
 /// receivers (a flat or numerically broken body: it is then not used).
-fn usable_body_extents(body: &[DVec3], projector: &Projector, receivers: &Extents, tolerance: f64) -> Option<Extents> {
+fn usable_body_extents(
+    body: &[DVec3],
+    projector: &Projector,
+    receivers: &Extents,
+    tolerance: f64,
+) -> Option<Extents> {
     if body.is_empty() {
         return None;
     }

@@ -5,15 +5,16 @@
 //! n -> infinity end of its family. The map does not depend on the camera, so it never swims,
 //! and spends most of its texels on what the camera does not see.
 
+use crate::bounds::SceneBounds;
 use crate::error::SetupError;
 use crate::geometry::ConvexPolyhedron;
 use crate::light::{Light, SpotLight};
 use crate::light_space::{Extents, LightFrame, Projector, build_map};
 use crate::setup::{
-    Diagnostics, Fallback, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
+    Diagnostics, Fallback, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup,
+    ShadowTechnique,
 };
 use crate::techniques::{ANGULAR_PADDING, tolerance};
-use crate::bounds::SceneBounds;
 
 use glam::DVec3;
 
@@ -35,8 +36,19 @@ impl ShadowTechnique for Uniform {
         input.map.validate()?;
         let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
         let tolerance = tolerance(input.scene, None, input.light);
-        let map = uniform_map(input.light, input.scene, input.map, tolerance, &mut diagnostics);
-        Ok(ShadowSetup { technique: self.name(), maps: vec![map], selection: MapSelection::Single, diagnostics })
+        let map = uniform_map(
+            input.light,
+            input.scene,
+            input.map,
+            tolerance,
+            &mut diagnostics,
+        );
+        Ok(ShadowSetup {
+            technique: self.name(),
+            maps: vec![map],
+            selection: MapSelection::Single,
+            diagnostics,
+        })
     }
 }
 
@@ -44,7 +56,10 @@ impl ShadowTechnique for Uniform {
 pub(crate) fn fixed_projector(light: &Light) -> Projector {
     match light {
         Light::Directional(l) => Projector::Parallel(LightFrame::fixed(l.direction())),
-        Light::Spot(s) => Projector::Point { frame: LightFrame::fixed(s.direction()), position: s.position() },
+        Light::Spot(s) => Projector::Point {
+            frame: LightFrame::fixed(s.direction()),
+            position: s.position(),
+        },
     }
 }
 
@@ -84,5 +99,8 @@ pub(crate) fn uniform_map(
 /// The extents of a spot light's whole frustum (tangent units, depth from near to range).
 fn whole_cone(spot: &SpotLight) -> Extents {
     let t = spot.half_angle().tan();
-    Extents { min: DVec3::new(-t, -t, spot.near()), max: DVec3::new(t, t, spot.range()) }
+    Extents {
+        min: DVec3::new(-t, -t, spot.near()),
+        max: DVec3::new(t, t, spot.range()),
+    }
 }
