@@ -1,4 +1,5 @@
-//! Setup time with 10, 100 and 1000 caster boxes (each also a receiver, on a ground slab).
+//! Setup time with 10, 100 and 1000 caster boxes on a ground slab: boxes that only cast
+//! (`_casters_only`) and boxes that cast and receive (the rest).
 //!
 //! `cargo bench -p gnomon --bench setup`
 
@@ -11,8 +12,9 @@ use gnomon::{
     Uniform, compute_setup,
 };
 
-/// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, all casters and receivers.
-fn city(n: usize) -> SceneBounds {
+/// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, on a ground slab: casters, and also
+/// receivers when `boxes_receive`.
+fn city(n: usize, boxes_receive: bool) -> SceneBounds {
     let side = (n as f64).sqrt().ceil() as usize;
     let pitch = 380.0 / side as f64;
     let mut boxes = Vec::with_capacity(n);
@@ -27,7 +29,11 @@ fn city(n: usize) -> SceneBounds {
         DVec3::new(200.0, 0.0, 200.0),
     )
     .unwrap();
-    let mut receivers = boxes.clone();
+    let mut receivers = if boxes_receive {
+        boxes.clone()
+    } else {
+        Vec::new()
+    };
     receivers.push(ground);
     SceneBounds::new(boxes, receivers, None).unwrap()
 }
@@ -53,7 +59,15 @@ fn bench(c: &mut Criterion) {
     let settings = MapSettings::with_resolution(2048);
     let mut group = c.benchmark_group("setup");
     for n in [10usize, 100, 1000] {
-        let scene = city(n);
+        let casters_only = city(n, false);
+        group.bench_with_input(
+            BenchmarkId::new("focused_directional_casters_only", n),
+            &casters_only,
+            |b, s| {
+                b.iter(|| compute_setup(&Focused, black_box(&camera), &sun, s, settings).unwrap())
+            },
+        );
+        let scene = city(n, true);
         group.bench_with_input(
             BenchmarkId::new("uniform_directional", n),
             &scene,

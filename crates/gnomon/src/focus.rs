@@ -148,23 +148,30 @@ pub(crate) fn box_cut_vertices(
             .all(|(i, pl)| skip.contains(&i) || pl.distance(p) >= -tolerance)
     };
     let corners = aabb.corners();
+    // Each corner's distance to each cutting plane, computed once.
+    let mut dist = [[0.0f64; 8]; 32];
+    for (j, pl) in cut.iter().enumerate() {
+        for (c, corner) in corners.iter().enumerate() {
+            dist[j][c] = pl.distance(*corner);
+        }
+    }
     // Three box faces: corners.
-    for c in corners {
-        if in_cut(c, &[]) {
-            out.push(c);
+    for (c, corner) in corners.iter().enumerate() {
+        if (0..k).all(|j| dist[j][c] >= -tolerance) {
+            out.push(*corner);
         }
     }
     // Two box faces and a plane: box edges crossing a plane.
-    for (i, a) in corners.iter().enumerate() {
+    for a in 0..8 {
         for bit in [1, 2, 4] {
-            if i & bit != 0 {
+            if a & bit != 0 {
                 continue;
             }
-            let b = corners[i | bit];
-            for (j, pl) in cut.iter().enumerate() {
-                let (da, db) = (pl.distance(*a), pl.distance(b));
+            let b = a | bit;
+            for j in 0..k {
+                let (da, db) = (dist[j][a], dist[j][b]);
                 if (da < 0.0) != (db < 0.0) && da != db {
-                    let p = *a + (b - *a) * (da / (da - db));
+                    let p = corners[a] + (corners[b] - corners[a]) * (da / (da - db));
                     if in_cut(p, &[j]) {
                         out.push(p);
                     }
