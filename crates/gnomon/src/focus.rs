@@ -168,8 +168,8 @@ pub(crate) fn box_cut_vertices(
                 continue;
             }
             let b = a | bit;
-            for j in 0..k {
-                let (da, db) = (dist[j][a], dist[j][b]);
+            for (j, d) in dist[..k].iter().enumerate() {
+                let (da, db) = (d[a], d[b]);
                 if (da < 0.0) != (db < 0.0) && da != db {
                     let p = corners[a] + (corners[b] - corners[a]) * (da / (da - db));
                     if in_cut(p, &[j]) {

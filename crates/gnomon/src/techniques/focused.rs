@@ -59,13 +59,7 @@ impl ShadowTechnique for Focused {
                 };
                 build_map(&projector, &region, input.map, xy_padding, tolerance)
             }
-            None => uniform_map(
-                input.light,
-                input.scene,
-                input.map,
-                tolerance,
-                &mut diagnostics,
-            ),
+            None => uniform_map(input.light, input.scene, input.map, &mut diagnostics),
         };
         Ok(ShadowSetup {
             technique: self.name(),

@@ -35,14 +35,7 @@ impl ShadowTechnique for Uniform {
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         input.map.validate()?;
         let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
-        let tolerance = tolerance(input.scene, None, input.light);
-        let map = uniform_map(
-            input.light,
-            input.scene,
-            input.map,
-            tolerance,
-            &mut diagnostics,
-        );
+        let map = uniform_map(input.light, input.scene, input.map, &mut diagnostics);
         Ok(ShadowSetup {
             technique: self.name(),
             maps: vec![map],
@@ -63,14 +56,15 @@ pub(crate) fn fixed_projector(light: &Light) -> Projector {
     }
 }
 
-/// The uniform map (also the fallback of the camera-dependent techniques).
+/// The uniform map (also the fallback of the camera-dependent techniques): the same map
+/// whatever the camera.
 pub(crate) fn uniform_map(
     light: &Light,
     scene: &SceneBounds,
     settings: MapSettings,
-    tolerance: f64,
     diagnostics: &mut Diagnostics,
 ) -> ShadowMap {
+    let tolerance = tolerance(scene, None, light);
     let projector = fixed_projector(light);
     let scene_box = scene.scene_box();
     match light {
