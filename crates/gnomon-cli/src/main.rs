@@ -1,13 +1,15 @@
 //! `gnomon`: the command-line tool.
 //!
-//! Subcommands: `setup` (print the shadow-map matrices for a camera, light and scene) and
-//! `demo` (the built-in scene from its named views with every technique). Bad input gives a
-//! one-line error on stderr and exit code 2.
+//! Subcommands: `setup` (print the shadow-map matrices for a camera, light and scene),
+//! `render` (draw it), `export` (the scene as OBJ) and `demo` (the built-in scene from its
+//! named views with every technique). Bad input gives a one-line error on stderr and exit
+//! code 2.
 
 #![forbid(unsafe_code)]
 
 mod args;
 mod demo;
+mod render;
 mod report;
 
 use std::process::ExitCode;
@@ -26,8 +28,13 @@ struct Cli {
 enum Command {
     /// Compute the shadow maps for a camera, a light and a scene, and print them.
     Setup(Box<args::SetupArgs>),
-    /// Set up the built-in demo scene from its named views with every technique and write
-    /// the results to a folder.
+    /// Render a scene with a shadow-map technique (and optionally its light mask and the
+    /// shadow map as the light sees it).
+    Render(Box<render::RenderArgs>),
+    /// Write a scene's world-space triangles as Wavefront OBJ.
+    Export(render::ExportArgs),
+    /// Render the built-in demo scene from its named views with every technique, side by
+    /// side in an HTML page.
     Demo(demo::DemoArgs),
 }
 
@@ -68,6 +75,8 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Setup(a) => args::run_setup(&a),
+        Command::Render(a) => render::run(&a),
+        Command::Export(a) => render::export(&a),
         Command::Demo(a) => demo::run(&a),
     };
     match result {

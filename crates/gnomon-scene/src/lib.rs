@@ -9,11 +9,13 @@
 #![warn(missing_docs)]
 
 mod demo;
+mod mesh;
 
 use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
 
-pub use demo::{DEMO_VIEWS, DemoView, demo};
+pub use demo::{DEMO_VIEWS, DemoView, GROUND_HALF_SIZE, demo};
+pub use mesh::Mesh;
 
 /// The shape of an object, in its own space (centred on the origin unless said otherwise).
 #[derive(Debug, Clone, Copy, PartialEq)]

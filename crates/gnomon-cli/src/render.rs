@@ -1,0 +1,235 @@
+//! `gnomon render` and `gnomon export`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+use gnomon::{MapSettings, ShadowTechnique, compute_setup};
+use gnomon_render::{DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer};
+
+use crate::UsageError;
+use crate::args::{LightArgs, TechniqueArg, ViewArgs};
+
+/// Shadow-map filtering on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PcfArg {
+    /// One tap.
+    None,
+    /// Hardware 2x2 bilinear comparison.
+    #[value(name = "2x2")]
+    Hardware2x2,
+    /// 5x5 percentage closer filtering.
+    #[value(name = "5x5")]
+    Pcf5x5,
+}
+
+impl From<PcfArg> for Filter {
+    fn from(p: PcfArg) -> Self {
+        match p {
+            PcfArg::None => Filter::None,
+            PcfArg::Hardware2x2 => Filter::Hardware2x2,
+            PcfArg::Pcf5x5 => Filter::Pcf5x5,
+        }
+    }
+}
+
+/// `gnomon render`.
+#[derive(Debug, Clone, Args)]
+pub struct RenderArgs {
+    /// The scene: a built-in scene's name.
+    #[arg(long, default_value = "demo")]
+    pub scene: String,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    #[command(flatten)]
+    pub light: LightArgs,
+    /// The shadow-map technique.
+    #[arg(long, value_enum, default_value = "focused")]
+    pub technique: TechniqueArg,
+    /// Shadow-map resolution in texels (square).
+    #[arg(long, default_value_t = 1024)]
+    pub shadow_map: u32,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Shadow-map filtering.
+    #[arg(long, value_enum, default_value = "2x2")]
+    pub pcf: PcfArg,
+    /// Constant depth bias in world units.
+    #[arg(long, default_value_t = DepthBias::default().constant_world)]
+    pub bias_constant: f64,
+    /// Slope-scaled depth bias, in texels of depth slope.
+    #[arg(long, default_value_t = DepthBias::default().slope_texels)]
+    pub bias_slope: f64,
+    /// Normal offset, in texels.
+    #[arg(long, default_value_t = DepthBias::default().normal_offset_texels)]
+    pub normal_offset: f64,
+    /// Where to write the image (PNG).
+    #[arg(long, default_value = "frame.png")]
+    pub out: PathBuf,
+    /// Also write the direct-light mask (PNG, one value per pixel sampled at its centre:
+    /// 255 lit, 0 not lit, 128 no geometry).
+    #[arg(long)]
+    pub mask: Option<PathBuf>,
+    /// Also write the shadow map as the light sees it, with the view frustum over it (PNG).
+    #[arg(long)]
+    pub light_view: Option<PathBuf>,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT, got '{s}'"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("'{v}' is not a size in pixels"))
+    };
+    let (w, h) = (parse(w)?, parse(h)?);
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(format!(
+            "image size {w}x{h} must be within 1..=16384 on each side"
+        ));
+    }
+    Ok((w, h))
+}
+
+/// Loads a built-in scene as a render scene.
+pub fn render_scene(name: &str) -> Result<RenderScene, UsageError> {
+    let layout = gnomon_scene::by_name(name).ok_or_else(|| {
+        UsageError(format!(
+            "unknown scene '{name}' (known: {})",
+            gnomon_scene::SCENE_NAMES.join(", ")
+        ))
+    })?;
+    Ok(RenderScene::from_layout(&layout))
+}
+
+/// Writes an image file.
+pub fn write_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    color: image::ColorType,
+    bytes: &[u8],
+) -> Result<(), UsageError> {
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent)
+            .map_err(|e| UsageError(format!("cannot create {}: {e}", parent.display())))?;
+    }
+    image::save_buffer(path, bytes, width, height, color)
+        .map_err(|e| UsageError(format!("cannot write {}: {e}", path.display())))
+}
+
+/// Writes a frame's image, and its mask and light view where asked.
+pub fn write_frame(
+    frame: &Frame,
+    out: &Path,
+    mask: Option<&Path>,
+    light_view: Option<&Path>,
+) -> Result<(), UsageError> {
+    write_png(
+        out,
+        frame.width,
+        frame.height,
+        image::ColorType::Rgba8,
+        &frame.color,
+    )?;
+    if let Some(path) = mask {
+        write_png(
+            path,
+            frame.width,
+            frame.height,
+            image::ColorType::L8,
+            &frame.mask,
+        )?;
+    }
+    if let (Some(path), Some((size, rgba))) = (light_view, &frame.light_view) {
+        write_png(path, *size, *size, image::ColorType::Rgba8, rgba)?;
+    }
+    Ok(())
+}
+
+/// Runs `gnomon render`.
+pub fn run(args: &RenderArgs) -> Result<(), UsageError> {
+    let scene = render_scene(&args.scene)?;
+    let bounds = scene.bounds()?;
+    let camera = args.view.camera()?;
+    let light = args.light.light()?;
+    let technique = args.technique.technique();
+    let start = Instant::now();
+    let setup = compute_setup(
+        &technique,
+        &camera,
+        &light,
+        &bounds,
+        MapSettings::with_resolution(args.shadow_map),
+    )?;
+    let setup_us = start.elapsed().as_secs_f64() * 1e6;
+    let renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let settings = RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        filter: args.pcf.into(),
+        bias: DepthBias {
+            constant_world: args.bias_constant,
+            slope_texels: args.bias_slope,
+            normal_offset_texels: args.normal_offset,
+            ..DepthBias::default()
+        },
+        light_view: args.light_view.is_some(),
+        ..RenderSettings::default()
+    };
+    let frame = renderer.render(&camera, &light, &setup, &settings)?;
+    write_frame(
+        &frame,
+        &args.out,
+        args.mask.as_deref(),
+        args.light_view.as_deref(),
+    )?;
+    let t = frame.timings;
+    eprintln!(
+        "{} on {}: setup {:.1} us, shadow pass {:.2} ms, main pass {:.2} ms{}; wrote {}",
+        technique.name(),
+        renderer.gpu().describe(),
+        setup_us,
+        t.shadow_pass_ms,
+        t.main_pass_ms,
+        setup
+            .fallback()
+            .map(|f| format!(", fallback {}", f.name()))
+            .unwrap_or_default(),
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// `gnomon export`.
+#[derive(Debug, Clone, Args)]
+pub struct ExportArgs {
+    /// The scene: a built-in scene's name.
+    #[arg(long, default_value = "demo")]
+    pub scene: String,
+    /// Where to write the scene's world-space triangles as Wavefront OBJ.
+    #[arg(long)]
+    pub obj: PathBuf,
+}
+
+/// Runs `gnomon export`.
+pub fn export(args: &ExportArgs) -> Result<(), UsageError> {
+    let layout = gnomon_scene::by_name(&args.scene).ok_or_else(|| {
+        UsageError(format!(
+            "unknown scene '{}' (known: {})",
+            args.scene,
+            gnomon_scene::SCENE_NAMES.join(", ")
+        ))
+    })?;
+    std::fs::write(&args.obj, layout.to_obj())
+        .map_err(|e| UsageError(format!("cannot write {}: {e}", args.obj.display())))?;
+    eprintln!(
+        "wrote {} ({} triangles)",
+        args.obj.display(),
+        layout.world_triangles().len()
+    );
+    Ok(())
+}

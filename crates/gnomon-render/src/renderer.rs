@@ -1,0 +1,597 @@
+use std::time::Instant;
+
+use glam::{DMat4, DVec3};
+use gnomon::{Camera, Light, MapSelection, ShadowMap, ShadowSetup};
+
+use crate::scene::{GpuScene, RenderScene, Vertex};
+use crate::{Gpu, MASK_EMPTY, RenderError, light_view, readback};
+
+/// How the main pass filters shadow-map lookups.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Filter {
+    /// One tap: a texel is in or out.
+    None,
+    /// The hardware's 2x2 bilinear comparison.
+    #[default]
+    Hardware2x2,
+    /// 5x5 taps, averaged (percentage closer filtering).
+    Pcf5x5,
+}
+
+/// Depth bias against shadow acne.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DepthBias {
+    /// Constant bias in world units along the light.
+    pub constant_world: f64,
+    /// Slope-scaled bias: this many texels' worth of the surface's depth slope.
+    pub slope_texels: f64,
+    /// Upper limit of the slope-scaled bias, in world units.
+    pub max_slope_world: f64,
+    /// Normal offset: the lookup moves this many texels along the geometric normal (scaled
+    /// by 1 - N.L, so surfaces facing the light move little).
+    pub normal_offset_texels: f64,
+}
+
+impl Default for DepthBias {
+    /// 2 cm constant, 2 texels of slope (at most 1 m), a 1-texel normal offset.
+    fn default() -> Self {
+        Self {
+            constant_world: 0.02,
+            slope_texels: 2.0,
+            max_slope_world: 1.0,
+            normal_offset_texels: 1.0,
+        }
+    }
+}
+
+/// What to render and how.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderSettings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Shadow-map filtering.
+    pub filter: Filter,
+    /// Depth bias.
+    pub bias: DepthBias,
+    /// Ambient light, 0 to 1.
+    pub ambient: f64,
+    /// Also return the shadow map as the light sees it, with the view frustum drawn over it.
+    pub light_view: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            filter: Filter::default(),
+            bias: DepthBias::default(),
+            ambient: 0.25,
+            light_view: false,
+        }
+    }
+}
+
+/// Wall-clock times of one frame's parts (the GPU waited for after each).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Timings {
+    /// The shadow-map depth pass(es), milliseconds.
+    pub shadow_pass_ms: f64,
+    /// The main pass, milliseconds.
+    pub main_pass_ms: f64,
+    /// Reading the images back, milliseconds.
+    pub readback_ms: f64,
+}
+
+/// A rendered frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// The image: RGBA, 8 bits per channel, sRGB-encoded, rows top to bottom.
+    pub color: Vec<u8>,
+    /// The direct-light mask, one byte per pixel: [`crate::MASK_LIT`], [`crate::MASK_UNLIT`] or
+    /// [`crate::MASK_EMPTY`].
+    pub mask: Vec<u8>,
+    /// The shadow map as the light sees it (RGBA, `resolution` square), if asked for.
+    pub light_view: Option<(u32, Vec<u8>)>,
+    /// Times of the passes.
+    pub timings: Timings,
+}
+
+/// The uniform block of `shadow.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Globals {
+    camera_clip_from_world: [[f32; 4]; 4],
+    light_clip_from_world: [[f32; 4]; 4],
+    depth_from_world: [f32; 4],
+    eye: [f32; 4],
+    light: [f32; 4],
+    spot: [f32; 4],
+    bias: [f32; 4],
+    map: [f32; 4],
+    extra: [f32; 4],
+}
+
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Draws a scene with shadow setups. Holds the GPU, the pipelines and the scene's buffers.
+pub struct Renderer {
+    gpu: Gpu,
+    scene: GpuScene,
+    layout: wgpu::BindGroupLayout,
+    depth_pipeline: wgpu::RenderPipeline,
+    main_pipeline: wgpu::RenderPipeline,
+    linear_sampler: wgpu::Sampler,
+    nearest_sampler: wgpu::Sampler,
+}
+
+impl Renderer {
+    /// Uploads the scene and builds the pipelines.
+    pub fn new(gpu: Gpu, scene: &RenderScene) -> Result<Self, RenderError> {
+        let device = &gpu.device;
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("shadow.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("shadow.wgsl").into()),
+        });
+        let stages = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("globals and shadow map"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: stages,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+            ],
+        });
+        let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("globals"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: stages,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let main_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("main"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let depth_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("depth"),
+                bind_group_layouts: &[Some(&depth_layout)],
+                immediate_size: 0,
+            });
+        let vertex_attributes =
+            wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
+        let vertex_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &vertex_attributes,
+        };
+        let depth_state = |write: bool| wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(write),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        };
+        let depth_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("shadow depth"),
+            layout: Some(&depth_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_depth"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout.clone())],
+            },
+            // Both faces: thin and open geometry casts too, and the depth is biased anyway.
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(depth_state(true)),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_depth"),
+                compilation_options: Default::default(),
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let main_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("main"),
+            layout: Some(&main_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout)],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(depth_state(true)),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let sampler = |filter: wgpu::FilterMode| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("shadow comparison"),
+                address_mode_u: wgpu::AddressMode::ClampToEdge,
+                address_mode_v: wgpu::AddressMode::ClampToEdge,
+                mag_filter: filter,
+                min_filter: filter,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            })
+        };
+        let linear_sampler = sampler(wgpu::FilterMode::Linear);
+        let nearest_sampler = sampler(wgpu::FilterMode::Nearest);
+        let scene = GpuScene::new(device, scene);
+        Ok(Self {
+            gpu,
+            scene,
+            layout,
+            depth_pipeline,
+            main_pipeline,
+            linear_sampler,
+            nearest_sampler,
+        })
+    }
+
+    /// The GPU this renderer draws on.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// Renders one frame of `camera` lit by `light`, with the shadow maps of `setup` (computed
+    /// by the core crate for the same camera, light and scene).
+    pub fn render(
+        &self,
+        camera: &Camera,
+        light: &Light,
+        setup: &ShadowSetup,
+        settings: &RenderSettings,
+    ) -> Result<Frame, RenderError> {
+        let (width, height) = (settings.width, settings.height);
+        let max = self.gpu.device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(RenderError::Invalid(format!(
+                "image size {width}x{height} is outside 1..={max}"
+            )));
+        }
+        let map = match (setup.selection, setup.maps.as_slice()) {
+            (MapSelection::Single, [map]) => *map,
+            _ => {
+                return Err(RenderError::Invalid(format!(
+                    "setup '{}' has no single map",
+                    setup.technique
+                )));
+            }
+        };
+        if map.resolution > max {
+            return Err(RenderError::Invalid(format!(
+                "shadow map {} exceeds the GPU's limit {max}",
+                map.resolution
+            )));
+        }
+        let device = &self.gpu.device;
+        let error_scope = self
+            .gpu
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+
+        let globals = globals(camera, light, &map, settings);
+        let uniform = {
+            use wgpu::util::DeviceExt;
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("globals"),
+                contents: bytemuck::bytes_of(&globals),
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        };
+        let texture = |label, w, h, format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let shadow_texture = texture(
+            "shadow map",
+            map.resolution,
+            map.resolution,
+            DEPTH_FORMAT,
+            attachment | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let shadow_view = shadow_texture.create_view(&Default::default());
+
+        // Depth pass.
+        let start = Instant::now();
+        let depth_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals"),
+            layout: &self.depth_pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            }],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow depth"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &shadow_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            // The border texels stay cleared to the far depth: lookups outside the focus
+            // region read as lit.
+            let inset = map.viewport_inset;
+            let inner = map.resolution - 2 * inset;
+            pass.set_scissor_rect(inset, inset, inner, inner);
+            pass.set_pipeline(&self.depth_pipeline);
+            pass.set_bind_group(0, &depth_bind_group, &[]);
+            pass.set_vertex_buffer(0, self.scene.vertices.slice(..));
+            pass.set_index_buffer(self.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(self.scene.caster_indices.clone(), 0, 0..1);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.wait()?;
+        let shadow_pass_ms = start.elapsed().as_secs_f64() * 1e3;
+
+        // Main pass.
+        let start = Instant::now();
+        let color = texture("color", width, height, COLOR_FORMAT, attachment);
+        let mask = texture("mask", width, height, MASK_FORMAT, attachment);
+        let depth = texture(
+            "depth",
+            width,
+            height,
+            DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        let (color_view, mask_view, depth_view) = (
+            color.create_view(&Default::default()),
+            mask.create_view(&Default::default()),
+            depth.create_view(&Default::default()),
+        );
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals and shadow map"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&shadow_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(&self.linear_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&self.nearest_sampler),
+                },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let empty = MASK_EMPTY as f64 / 255.0;
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("main"),
+                color_attachments: &[
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &color_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: 0.55,
+                                g: 0.7,
+                                b: 0.9,
+                                a: 1.0,
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    }),
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &mask_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: empty,
+                                g: 0.0,
+                                b: 0.0,
+                                a: 1.0,
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    }),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            pass.set_pipeline(&self.main_pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_vertex_buffer(0, self.scene.vertices.slice(..));
+            pass.set_index_buffer(self.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(self.scene.all_indices.clone(), 0, 0..1);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.wait()?;
+        let main_pass_ms = start.elapsed().as_secs_f64() * 1e3;
+        if let Some(error) = pollster::block_on(error_scope.pop()) {
+            return Err(RenderError::Gpu(error.to_string()));
+        }
+
+        let start = Instant::now();
+        let color_bytes = readback::read_texture(&self.gpu, &color, wgpu::TextureAspect::All, 4)?;
+        let mask_bytes = readback::read_texture(&self.gpu, &mask, wgpu::TextureAspect::All, 1)?;
+        let light_view = if settings.light_view {
+            let depth = readback::read_texture(
+                &self.gpu,
+                &shadow_texture,
+                wgpu::TextureAspect::DepthOnly,
+                4,
+            )?;
+            Some((
+                map.resolution,
+                light_view::draw(&depth, map.resolution, camera, &map),
+            ))
+        } else {
+            None
+        };
+        let readback_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(Frame {
+            width,
+            height,
+            color: color_bytes,
+            mask: mask_bytes,
+            light_view,
+            timings: Timings {
+                shadow_pass_ms,
+                main_pass_ms,
+                readback_ms,
+            },
+        })
+    }
+}
+
+fn mat(m: DMat4) -> [[f32; 4]; 4] {
+    m.as_mat4().to_cols_array_2d()
+}
+
+fn vec4(v: DVec3, w: f64) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w as f32]
+}
+
+/// The uniform block for one frame.
+fn globals(camera: &Camera, light: &Light, map: &ShadowMap, settings: &RenderSettings) -> Globals {
+    let m = map.clip_from_world;
+    let depth_per_world = map.depth_from_world.truncate().length();
+    // World size of one texel per unit of clip w: the map's x row, perpendicular to the
+    // projection axis (the w row for a perspective map, the depth row for an orthographic one).
+    let axis = if m.row(3).truncate().length() > 0.0 {
+        m.row(3).truncate()
+    } else {
+        map.depth_from_world.truncate()
+    };
+    let row_x = m.row(0).truncate();
+    let perpendicular = row_x - axis * row_x.dot(axis) / axis.length_squared();
+    let texel_world = 2.0 / (map.resolution as f64 * perpendicular.length());
+    let (light_vector, spot, extra) = match light {
+        Light::Directional(d) => (vec4(d.direction(), 0.0), [0.0; 4], [0.0; 4]),
+        Light::Spot(s) => (
+            vec4(s.position(), 1.0),
+            vec4(s.direction(), s.half_angle().cos()),
+            [s.range() as f32, s.near() as f32, 0.0, 0.0],
+        ),
+    };
+    let bias = settings.bias;
+    let filter = match settings.filter {
+        Filter::None => 0.0,
+        Filter::Hardware2x2 => 1.0,
+        Filter::Pcf5x5 => 2.0,
+    };
+    Globals {
+        camera_clip_from_world: mat(camera.clip_from_world()),
+        light_clip_from_world: mat(m),
+        depth_from_world: map.depth_from_world.as_vec4().to_array(),
+        eye: vec4(camera.eye(), 1.0),
+        light: light_vector,
+        spot,
+        bias: [
+            (bias.constant_world * depth_per_world) as f32,
+            bias.slope_texels as f32,
+            (bias.max_slope_world * depth_per_world) as f32,
+            bias.normal_offset_texels as f32,
+        ],
+        map: [
+            map.resolution as f32,
+            texel_world as f32,
+            filter,
+            settings.ambient as f32,
+        ],
+        extra,
+    }
+}

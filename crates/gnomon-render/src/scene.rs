@@ -1,0 +1,174 @@
+use glam::{DMat3, DMat4, DVec3};
+use gnomon::{Aabb, SceneBounds, SetupError};
+use gnomon_scene::{Mesh, SceneLayout};
+
+/// One placed mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Instance {
+    /// A name for listings.
+    pub name: String,
+    /// Index into [`RenderScene::meshes`].
+    pub mesh: usize,
+    /// Object to world (rotation and translation).
+    pub world_from_object: DMat4,
+    /// Whether it is drawn into shadow maps.
+    pub casts: bool,
+    /// Whether shadows fall on it.
+    pub receives: bool,
+    /// Its colour (linear RGB).
+    pub color: [f32; 3],
+}
+
+/// Meshes and their instances: what the renderer draws.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RenderScene {
+    /// The meshes, in object space.
+    pub meshes: Vec<Mesh>,
+    /// The placed meshes.
+    pub instances: Vec<Instance>,
+}
+
+impl RenderScene {
+    /// A scene from a layout: one mesh per object, generated from its shape.
+    pub fn from_layout(layout: &SceneLayout) -> Self {
+        let mut scene = Self::default();
+        for (k, object) in layout.objects.iter().enumerate() {
+            scene.meshes.push(object.shape.mesh());
+            scene.instances.push(Instance {
+                name: object.name.clone(),
+                mesh: k,
+                world_from_object: object.world_from_object,
+                casts: object.casts,
+                receives: object.receives,
+                color: palette(&object.name),
+            });
+        }
+        scene
+    }
+
+    /// The world bounds of an instance (its mesh's vertices transformed).
+    pub fn instance_bounds(&self, instance: &Instance) -> Result<Aabb, SetupError> {
+        let mesh = &self.meshes[instance.mesh];
+        let mut min = DVec3::INFINITY;
+        let mut max = DVec3::NEG_INFINITY;
+        for p in &mesh.positions {
+            let w = instance.world_from_object.transform_point3(*p);
+            min = min.min(w);
+            max = max.max(w);
+        }
+        Aabb::new(min, max)
+    }
+
+    /// The bounds the core's setup needs: caster and receiver boxes, and their union.
+    pub fn bounds(&self) -> Result<SceneBounds, SetupError> {
+        let mut casters = Vec::new();
+        let mut receivers = Vec::new();
+        for instance in &self.instances {
+            let b = self.instance_bounds(instance)?;
+            if instance.casts {
+                casters.push(b);
+            }
+            if instance.receives {
+                receivers.push(b);
+            }
+        }
+        SceneBounds::new(casters, receivers, None)
+    }
+
+    /// Every triangle in world space, with its instance's index.
+    pub fn world_triangles(&self) -> Vec<([DVec3; 3], usize)> {
+        let mut out = Vec::new();
+        for (k, instance) in self.instances.iter().enumerate() {
+            let mesh = &self.meshes[instance.mesh];
+            for t in mesh.indices.chunks_exact(3) {
+                let p = |i: u32| {
+                    instance
+                        .world_from_object
+                        .transform_point3(mesh.positions[i as usize])
+                };
+                out.push(([p(t[0]), p(t[1]), p(t[2])], k));
+            }
+        }
+        out
+    }
+}
+
+/// A muted colour from a name, so that objects are told apart.
+fn palette(name: &str) -> [f32; 3] {
+    if name == "ground" {
+        return [0.55, 0.55, 0.5];
+    }
+    let h = name
+        .bytes()
+        .fold(2166136261u32, |h, b| (h ^ b as u32).wrapping_mul(16777619));
+    let c = |shift: u32| 0.45 + 0.4 * ((h >> shift) & 0xff) as f32 / 255.0;
+    [c(0), c(8), c(16)]
+}
+
+/// The vertex the GPU reads: world position, normal, colour (alpha: receives shadows).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub color: [f32; 4],
+}
+
+/// The scene baked into world space on the GPU: one vertex and one index buffer; casters
+/// first so that the depth pass draws one range.
+pub(crate) struct GpuScene {
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    /// Indices of the casters (the depth pass draws these).
+    pub caster_indices: std::ops::Range<u32>,
+    /// All indices (the main pass draws these).
+    pub all_indices: std::ops::Range<u32>,
+}
+
+impl GpuScene {
+    pub fn new(device: &wgpu::Device, scene: &RenderScene) -> Self {
+        use wgpu::util::DeviceExt;
+        let mut vertices: Vec<Vertex> = Vec::new();
+        let mut indices: Vec<u32> = Vec::new();
+        let mut order: Vec<&Instance> = scene.instances.iter().filter(|i| i.casts).collect();
+        let caster_count = order.len();
+        order.extend(scene.instances.iter().filter(|i| !i.casts));
+        let mut caster_index_count = 0;
+        for (k, instance) in order.iter().enumerate() {
+            let mesh = &scene.meshes[instance.mesh];
+            let m = instance.world_from_object;
+            let normal_matrix = DMat3::from_mat4(m).inverse().transpose();
+            let base = vertices.len() as u32;
+            for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+                let w = m.transform_point3(*p);
+                let wn = (normal_matrix * *n).normalize_or_zero();
+                let [r, g, b] = instance.color;
+                vertices.push(Vertex {
+                    position: w.as_vec3().to_array(),
+                    normal: wn.as_vec3().to_array(),
+                    color: [r, g, b, if instance.receives { 1.0 } else { 0.0 }],
+                });
+            }
+            indices.extend(mesh.indices.iter().map(|i| base + i));
+            if k + 1 == caster_count {
+                caster_index_count = indices.len() as u32;
+            }
+        }
+        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene vertices"),
+            contents: bytemuck::cast_slice(&vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        Self {
+            vertices: vertex_buffer,
+            indices: index_buffer,
+            caster_indices: 0..caster_index_count,
+            all_indices: 0..indices.len() as u32,
+        }
+    }
+}

@@ -1,0 +1,158 @@
+// gnomon's shadow-map passes.
+//
+// Depth pass (vs_depth / fs_depth): writes the linear light depth of `depth_from_world` plus a
+// constant and slope-scaled bias, so that the bias is in world units whatever the map's warp.
+// Main pass (vs_main / fs_main): ambient plus Lambert, the shadow factor from a comparison
+// sampler (one tap, hardware 2x2 or 5x5 PCF), and the direct-light mask.
+
+struct Globals {
+    camera_clip_from_world: mat4x4<f32>,
+    light_clip_from_world: mat4x4<f32>,
+    depth_from_world: vec4<f32>,
+    // xyz: the eye position.
+    eye: vec4<f32>,
+    // xyz: direction the light travels (w = 0) or the spot light's position (w = 1).
+    light: vec4<f32>,
+    // xyz: the spot's axis; w: cos of its half-angle.
+    spot: vec4<f32>,
+    // x: constant bias (depth units), y: slope scale (texels), z: largest slope bias (depth
+    // units), w: normal offset (texels).
+    bias: vec4<f32>,
+    // x: resolution, y: world size of a texel per unit of clip w, z: filter (0 one tap,
+    // 1 hardware 2x2, 2 5x5 PCF), w: ambient.
+    map: vec4<f32>,
+    // x: spot range, y: spot near distance.
+    extra: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> g: Globals;
+@group(0) @binding(1) var shadow_map: texture_depth_2d;
+@group(0) @binding(2) var shadow_linear: sampler_comparison;
+@group(0) @binding(3) var shadow_nearest: sampler_comparison;
+
+struct DepthOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) depth: f32,
+};
+
+@vertex
+fn vs_depth(@location(0) position: vec3<f32>) -> DepthOut {
+    var out: DepthOut;
+    let p = vec4<f32>(position, 1.0);
+    out.clip = g.light_clip_from_world * p;
+    out.depth = dot(g.depth_from_world, p);
+    return out;
+}
+
+@fragment
+fn fs_depth(in: DepthOut) -> @builtin(frag_depth) f32 {
+    // Slope-scaled bias: the depth change across one texel (the pass renders texels).
+    let slope = max(abs(dpdx(in.depth)), abs(dpdy(in.depth)));
+    let bias = g.bias.x + min(g.bias.y * slope, g.bias.z);
+    return clamp(in.depth + bias, 0.0, 1.0);
+}
+
+struct MainOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec4<f32>,
+};
+
+@vertex
+fn vs_main(
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec4<f32>,
+) -> MainOut {
+    var out: MainOut;
+    out.clip = g.camera_clip_from_world * vec4<f32>(position, 1.0);
+    out.world = position;
+    out.normal = normal;
+    out.color = color;
+    return out;
+}
+
+struct Targets {
+    @location(0) color: vec4<f32>,
+    @location(1) mask: vec4<f32>,
+};
+
+// 1 where the point is lit according to the shadow map, 0 where it is shadowed.
+fn shadow_lookup(world: vec3<f32>, mode: i32) -> f32 {
+    let clip = g.light_clip_from_world * vec4<f32>(world, 1.0);
+    if (clip.w <= 0.0) {
+        return 1.0;
+    }
+    let ndc = clip.xyz / clip.w;
+    let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+    let reference = dot(g.depth_from_world, vec4<f32>(world, 1.0));
+    if (mode == 1) {
+        return textureSampleCompareLevel(shadow_map, shadow_linear, uv, reference);
+    }
+    if (mode == 2) {
+        let texel = 1.0 / g.map.x;
+        var sum = 0.0;
+        for (var y = -2; y <= 2; y++) {
+            for (var x = -2; x <= 2; x++) {
+                let offset = vec2<f32>(f32(x), f32(y)) * texel;
+                sum += textureSampleCompareLevel(shadow_map, shadow_nearest, uv + offset, reference);
+            }
+        }
+        return sum / 25.0;
+    }
+    return textureSampleCompareLevel(shadow_map, shadow_nearest, uv, reference);
+}
+
+@fragment
+fn fs_main(in: MainOut) -> Targets {
+    // The geometric normal (the triangle's plane), turned toward the camera.
+    var n_geo = normalize(cross(dpdx(in.world), dpdy(in.world)));
+    let to_eye = g.eye.xyz - in.world;
+    if (dot(n_geo, to_eye) < 0.0) {
+        n_geo = -n_geo;
+    }
+    var n = normalize(in.normal);
+    if (dot(n, to_eye) < 0.0) {
+        n = -n;
+    }
+
+    var to_light: vec3<f32>;
+    var cone = 1.0;
+    var in_light = true;
+    var w_at_point = 1.0;
+    if (g.light.w < 0.5) {
+        to_light = -g.light.xyz;
+    } else {
+        let d = g.light.xyz - in.world;
+        to_light = normalize(d);
+        let along = dot(-d, g.spot.xyz);
+        let cos_angle = dot(-to_light, g.spot.xyz);
+        in_light = cos_angle >= g.spot.w && along <= g.extra.x && along >= g.extra.y;
+        cone = smoothstep(g.spot.w, min(g.spot.w + 0.03, 1.0), cos_angle);
+        w_at_point = along;
+    }
+    let n_dot_l_geo = dot(n_geo, to_light);
+    let facing = n_dot_l_geo > 0.0 && in_light;
+
+    // Normal offset: move the lookup along the geometric normal by a fraction of a texel,
+    // more where the light grazes the surface.
+    let texel_world = g.map.y * w_at_point;
+    let offset = g.bias.w * texel_world * clamp(1.0 - n_dot_l_geo, 0.0, 1.0);
+    let lookup = in.world + n_geo * offset;
+
+    var lit_one_tap = 1.0;
+    var shadow = 1.0;
+    if (in.color.w > 0.5) {
+        lit_one_tap = shadow_lookup(lookup, 0);
+        shadow = shadow_lookup(lookup, i32(g.map.z));
+    }
+
+    var out: Targets;
+    let diffuse = max(dot(n, to_light), 0.0) * cone * shadow;
+    let light = g.map.w + (1.0 - g.map.w) * select(0.0, diffuse, in_light);
+    out.color = vec4<f32>(in.color.rgb * light, 1.0);
+    let lit = facing && lit_one_tap > 0.5;
+    out.mask = vec4<f32>(select(0.0, 1.0, lit), 0.0, 0.0, 1.0);
+    return out;
+}

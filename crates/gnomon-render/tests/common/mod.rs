@@ -1,0 +1,195 @@
+//! Shared by the GPU tests: an exact-shadow oracle (a CPU ray caster on parry3d-f64), mask
+//! comparison, and a renderer that refuses to run without an adapter (no silent skips).
+
+#![allow(dead_code)]
+
+use glam::{DVec3, DVec4};
+use gnomon::{Camera, Light, MapSettings, ShadowSetup, ShadowTechnique, compute_setup};
+use gnomon_render::{
+    Frame, Gpu, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderScene, RenderSettings, Renderer,
+};
+use parry3d_f64::math::Vector;
+use parry3d_f64::query::{Ray, RayCast};
+use parry3d_f64::shape::TriMesh;
+
+/// A renderer on whatever adapter there is; panics (fails the test) without one.
+pub fn renderer(scene: &RenderScene) -> Renderer {
+    let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    Renderer::new(gpu, scene).expect("renderer")
+}
+
+fn vector(p: DVec3) -> Vector {
+    Vector::new(p.x, p.y, p.z)
+}
+
+fn dvec(v: Vector) -> DVec3 {
+    DVec3::new(v.x, v.y, v.z)
+}
+
+/// The exact direct-light mask and N.L of every pixel.
+pub struct OracleMask {
+    pub width: u32,
+    pub height: u32,
+    /// 255 lit, 0 not lit, 128 no geometry.
+    pub mask: Vec<u8>,
+    /// N.L with the geometric normal turned toward the camera (0 where no geometry).
+    pub n_dot_l: Vec<f64>,
+}
+
+/// Ray casts the mask the renderer's `--mask` draws: primary rays through pixel centres,
+/// then a shadow ray from 1e-5 x the scene diagonal off the surface along the normal.
+pub fn oracle(
+    scene: &RenderScene,
+    camera: &Camera,
+    light: &Light,
+    width: u32,
+    height: u32,
+) -> OracleMask {
+    let triangles = scene.world_triangles();
+    let mut all_vertices = Vec::new();
+    let mut all_indices = Vec::new();
+    let mut caster_vertices = Vec::new();
+    let mut caster_indices = Vec::new();
+    for (t, k) in &triangles {
+        let base = all_vertices.len() as u32;
+        all_vertices.extend(t.iter().map(|p| vector(*p)));
+        all_indices.push([base, base + 1, base + 2]);
+        if scene.instances[*k].casts {
+            let base = caster_vertices.len() as u32;
+            caster_vertices.extend(t.iter().map(|p| vector(*p)));
+            caster_indices.push([base, base + 1, base + 2]);
+        }
+    }
+    let everything = TriMesh::new(all_vertices, all_indices).expect("scene mesh");
+    let casters = TriMesh::new(caster_vertices, caster_indices).expect("caster mesh");
+    let bounds = scene.bounds().expect("bounds").scene_box();
+    let diagonal = bounds.diagonal();
+    let world_from_clip = camera.clip_from_world().inverse();
+    let unproject = |x: f64, y: f64, z: f64| {
+        let p: DVec4 = world_from_clip * DVec4::new(x, y, z, 1.0);
+        p.truncate() / p.w
+    };
+    let n = (width * height) as usize;
+    let mut mask = vec![MASK_EMPTY; n];
+    let mut n_dot_l = vec![0.0; n];
+    for py in 0..height {
+        for px in 0..width {
+            let x = (px as f64 + 0.5) / width as f64 * 2.0 - 1.0;
+            let y = 1.0 - (py as f64 + 0.5) / height as f64 * 2.0;
+            let near = unproject(x, y, 0.0);
+            let far = unproject(x, y, 1.0);
+            let ray = Ray::new(vector(near), vector(far - near));
+            let Some(hit) = everything.cast_local_ray_and_get_normal(&ray, 1.0, false) else {
+                continue;
+            };
+            let i = (py * width + px) as usize;
+            let p = near + (far - near) * hit.time_of_impact;
+            let mut normal = dvec(hit.normal).normalize();
+            if normal.dot(near - p) < 0.0 {
+                normal = -normal;
+            }
+            let (to_light, max_distance, in_light) = match light {
+                Light::Directional(d) => (-d.direction(), 4.0 * diagonal + 1e6, true),
+                Light::Spot(s) => {
+                    let d = s.position() - p;
+                    let along = (-d).dot(s.direction());
+                    let inside = along >= s.near()
+                        && along <= s.range()
+                        && (-d).normalize().dot(s.direction()) >= s.half_angle().cos();
+                    (d.normalize(), d.length(), inside)
+                }
+            };
+            let ndl = normal.dot(to_light);
+            n_dot_l[i] = ndl;
+            if ndl <= 0.0 || !in_light {
+                mask[i] = MASK_UNLIT;
+                continue;
+            }
+            let origin = p + normal * 1e-5 * diagonal;
+            let shadow_ray = Ray::new(vector(origin), vector(to_light));
+            mask[i] = if casters.intersects_local_ray(&shadow_ray, max_distance) {
+                MASK_UNLIT
+            } else {
+                MASK_LIT
+            };
+        }
+    }
+    OracleMask {
+        width,
+        height,
+        mask,
+        n_dot_l,
+    }
+}
+
+/// How a rendered mask compares with the oracle.
+#[derive(Debug, Clone, Copy)]
+pub struct Agreement {
+    /// Pixels compared: N.L > 0.1 (or all with geometry when the threshold is None), away
+    /// from lit/shadow and geometry boundaries.
+    pub compared: usize,
+    /// Of those, how many agree.
+    pub agreeing: usize,
+    /// Oracle pixels compared that are in shadow (so that a test is not all lit).
+    pub shadowed: usize,
+}
+
+impl Agreement {
+    pub fn fraction(&self) -> f64 {
+        self.agreeing as f64 / self.compared.max(1) as f64
+    }
+}
+
+/// Compares on the pixels with N.L > `min_n_dot_l` whose 3x3 oracle neighbourhood has one
+/// value (not next to a lit/shadow or geometry boundary).
+pub fn agreement(frame: &Frame, oracle: &OracleMask, min_n_dot_l: f64) -> Agreement {
+    assert_eq!((frame.width, frame.height), (oracle.width, oracle.height));
+    let (w, h) = (oracle.width as i64, oracle.height as i64);
+    let mut result = Agreement {
+        compared: 0,
+        agreeing: 0,
+        shadowed: 0,
+    };
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            let i = (y * w + x) as usize;
+            let value = oracle.mask[i];
+            if value == MASK_EMPTY || oracle.n_dot_l[i] <= min_n_dot_l {
+                continue;
+            }
+            let uniform = (-1..=1).all(|dy| {
+                (-1..=1).all(|dx| oracle.mask[((y + dy) * w + x + dx) as usize] == value)
+            });
+            if !uniform {
+                continue;
+            }
+            result.compared += 1;
+            result.shadowed += usize::from(value == MASK_UNLIT);
+            result.agreeing += usize::from(frame.mask[i] == value);
+        }
+    }
+    result
+}
+
+/// Computes the setup and renders the frame.
+pub fn render(
+    renderer: &Renderer,
+    scene: &RenderScene,
+    technique: &dyn ShadowTechnique,
+    camera: &Camera,
+    light: &Light,
+    resolution: u32,
+    settings: &RenderSettings,
+) -> (ShadowSetup, Frame) {
+    let bounds = scene.bounds().unwrap();
+    let setup = compute_setup(
+        technique,
+        camera,
+        light,
+        &bounds,
+        MapSettings::with_resolution(resolution),
+    )
+    .unwrap();
+    let frame = renderer.render(camera, light, &setup, settings).unwrap();
+    (setup, frame)
+}

@@ -1,0 +1,135 @@
+//! `render --mask` against the ray-cast oracle: for views where the focused map is not
+//! undersampled, at least 99.5% of the pixels with N.L > 0.1 that are not next to a
+//! lit/shadow boundary agree, directional and spot lights.
+
+mod common;
+
+use glam::DVec3;
+use gnomon::{Camera, DirectionalLight, Focused, Lens, Light, SpotLight};
+use gnomon_render::{RenderScene, RenderSettings};
+
+const SIZE: u32 = 256;
+
+struct View {
+    name: &'static str,
+    eye: DVec3,
+    target: DVec3,
+    far: f64,
+    light: Light,
+}
+
+fn sun(x: f64, y: f64, z: f64) -> Light {
+    Light::Directional(DirectionalLight::new(DVec3::new(x, y, z)).unwrap())
+}
+
+fn views() -> Vec<View> {
+    vec![
+        View {
+            name: "overview, high sun",
+            eye: DVec3::new(230.0, 200.0, 230.0),
+            target: DVec3::ZERO,
+            far: 800.0,
+            light: sun(0.5, -1.0, 0.3),
+        },
+        View {
+            name: "overview, low sun",
+            eye: DVec3::new(-230.0, 220.0, 200.0),
+            target: DVec3::new(0.0, 0.0, 0.0),
+            far: 800.0,
+            light: sun(1.0, -0.45, -0.35),
+        },
+        View {
+            name: "park from above, sun toward the camera",
+            eye: DVec3::new(140.0, 120.0, 40.0),
+            target: DVec3::new(130.0, 0.0, 130.0),
+            far: 400.0,
+            light: sun(-0.3, -0.8, -0.6),
+        },
+        View {
+            name: "city, spot light",
+            eye: DVec3::new(-40.0, 150.0, 120.0),
+            target: DVec3::new(-80.0, 0.0, -60.0),
+            far: 500.0,
+            light: Light::Spot(
+                SpotLight::new(
+                    DVec3::new(0.0, 120.0, 40.0),
+                    DVec3::new(-0.6, -1.0, -0.8),
+                    40.0,
+                    400.0,
+                )
+                .unwrap(),
+            ),
+        },
+        View {
+            name: "park, spot light",
+            eye: DVec3::new(60.0, 90.0, 60.0),
+            target: DVec3::new(130.0, 0.0, 130.0),
+            far: 400.0,
+            light: Light::Spot(
+                SpotLight::new(
+                    DVec3::new(170.0, 60.0, 60.0),
+                    DVec3::new(-0.5, -1.0, 1.0),
+                    35.0,
+                    300.0,
+                )
+                .unwrap(),
+            ),
+        },
+    ]
+}
+
+#[test]
+fn focused_masks_agree_with_exact_shadows() {
+    let scene = RenderScene::from_layout(&gnomon_scene::demo());
+    let renderer = common::renderer(&scene);
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    let mut failures = Vec::new();
+    for view in views() {
+        let lens = Lens {
+            fov_y_degrees: 60.0,
+            aspect: 1.0,
+            near: 1.0,
+            far: view.far,
+        };
+        let camera = Camera::look_at(view.eye, view.target, DVec3::Y, lens).unwrap();
+        let (setup, frame) = common::render(
+            &renderer,
+            &scene,
+            &Focused,
+            &camera,
+            &view.light,
+            2048,
+            &settings,
+        );
+        let oracle = common::oracle(&scene, &camera, &view.light, SIZE, SIZE);
+        let a = common::agreement(&frame, &oracle, 0.1);
+        println!(
+            "{}: {:.3}% of {} pixels agree ({} shadowed in the oracle), fallback {:?}",
+            view.name,
+            100.0 * a.fraction(),
+            a.compared,
+            a.shadowed,
+            setup.fallback()
+        );
+        assert!(
+            a.compared > 5000,
+            "{}: too few pixels compared ({})",
+            view.name,
+            a.compared
+        );
+        assert!(
+            a.shadowed > 100,
+            "{}: the view shows too little shadow ({})",
+            view.name,
+            a.shadowed
+        );
+        if a.fraction() < 0.995 {
+            failures.push(format!("{}: {:.3}%", view.name, 100.0 * a.fraction()));
+        }
+    }
+    assert!(failures.is_empty(), "below 99.5% agreement: {failures:?}");
+}

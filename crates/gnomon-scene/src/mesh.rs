@@ -1,0 +1,322 @@
+//! Triangle meshes for the layouts' shapes: positions, normals and indices, counter-clockwise
+//! seen from outside. Every mesh is closed.
+
+use std::f64::consts::{PI, TAU};
+
+use glam::{DMat4, DVec3};
+
+use crate::{SceneLayout, Shape};
+
+/// A triangle mesh in object space.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions.
+    pub positions: Vec<DVec3>,
+    /// Unit vertex normals (for shading).
+    pub normals: Vec<DVec3>,
+    /// Triangles, three indices each, counter-clockwise seen from outside.
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    fn vertex(&mut self, p: DVec3, n: DVec3) -> u32 {
+        self.positions.push(p);
+        self.normals.push(n.normalize_or_zero());
+        (self.positions.len() - 1) as u32
+    }
+
+    fn triangle(&mut self, a: u32, b: u32, c: u32) {
+        self.indices.extend_from_slice(&[a, b, c]);
+    }
+
+    fn quad(&mut self, a: u32, b: u32, c: u32, d: u32) {
+        self.triangle(a, b, c);
+        self.triangle(a, c, d);
+    }
+
+    /// The number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// A grid of `rows x cols` quads from a parametric surface, wrapping in both directions
+    /// when asked (the seam shares vertices, so the mesh stays closed).
+    fn parametric(
+        &mut self,
+        rows: u32,
+        cols: u32,
+        wrap_rows: bool,
+        surface: impl Fn(f64, f64) -> (DVec3, DVec3),
+    ) {
+        let base = self.positions.len() as u32;
+        let row_count = if wrap_rows { rows } else { rows + 1 };
+        for i in 0..row_count {
+            for j in 0..cols {
+                let (p, n) = surface(i as f64 / rows as f64, j as f64 / cols as f64);
+                self.vertex(p, n);
+            }
+        }
+        let index = |i: u32, j: u32| base + (i % row_count) * cols + (j % cols);
+        let first_index = self.indices.len();
+        for i in 0..rows {
+            for j in 0..cols {
+                self.quad(
+                    index(i, j),
+                    index(i, j + 1),
+                    index(i + 1, j + 1),
+                    index(i + 1, j),
+                );
+            }
+        }
+        // Wind outward whatever the parametrisation's orientation: the signed volume of a
+        // closed surface is positive when its triangles face out.
+        let volume: f64 = self.indices[first_index..]
+            .chunks_exact(3)
+            .map(|t| {
+                let [a, b, c] = [t[0], t[1], t[2]].map(|i| self.positions[i as usize]);
+                a.dot(b.cross(c))
+            })
+            .sum();
+        if volume < 0.0 {
+            for t in self.indices[first_index..].chunks_exact_mut(3) {
+                t.swap(1, 2);
+            }
+        }
+    }
+}
+
+/// Tessellation of curved shapes: segments around a full turn.
+const SEGMENTS: u32 = 24;
+
+impl Shape {
+    /// The shape's triangle mesh in object space.
+    pub fn mesh(&self) -> Mesh {
+        let mut m = Mesh::default();
+        match *self {
+            Shape::Cuboid { half_extents: h } => {
+                // Four vertices per face so that each face has its own normal.
+                for axis in 0..3 {
+                    for sign in [-1.0, 1.0] {
+                        let mut n = DVec3::ZERO;
+                        n[axis] = sign;
+                        let u = DVec3::from_array(std::array::from_fn(|k| {
+                            if k == (axis + 1) % 3 { 1.0 } else { 0.0 }
+                        }));
+                        let v = n.cross(u);
+                        let c = n * h;
+                        let (hu, hv) = (u * h, v * h);
+                        let a = m.vertex(c - hu - hv, n);
+                        let b = m.vertex(c + hu - hv, n);
+                        let cc = m.vertex(c + hu + hv, n);
+                        let d = m.vertex(c - hu + hv, n);
+                        m.quad(a, b, cc, d);
+                    }
+                }
+            }
+            Shape::Sphere { radius } => {
+                // Latitude rings between the poles; the poles are single vertices.
+                let rings = SEGMENTS / 2;
+                let top = m.vertex(DVec3::Y * radius, DVec3::Y);
+                let bottom = m.vertex(-DVec3::Y * radius, -DVec3::Y);
+                let first = m.positions.len() as u32;
+                for i in 1..rings {
+                    let theta = PI * i as f64 / rings as f64;
+                    for j in 0..SEGMENTS {
+                        let phi = TAU * j as f64 / SEGMENTS as f64;
+                        let n = DVec3::new(
+                            theta.sin() * phi.cos(),
+                            theta.cos(),
+                            -theta.sin() * phi.sin(),
+                        );
+                        m.vertex(n * radius, n);
+                    }
+                }
+                let at = |i: u32, j: u32| first + (i - 1) * SEGMENTS + j % SEGMENTS;
+                for j in 0..SEGMENTS {
+                    m.triangle(top, at(1, j), at(1, j + 1));
+                    m.triangle(bottom, at(rings - 1, j + 1), at(rings - 1, j));
+                }
+                for i in 1..rings - 1 {
+                    for j in 0..SEGMENTS {
+                        m.quad(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                    }
+                }
+            }
+            Shape::Torus {
+                major_radius,
+                minor_radius,
+            } => {
+                m.parametric(SEGMENTS * 2, SEGMENTS / 2, true, |u, v| {
+                    let (phi, theta) = (TAU * u, TAU * v);
+                    let ring = DVec3::new(phi.cos(), 0.0, -phi.sin());
+                    let n = ring * theta.cos() + DVec3::Y * theta.sin();
+                    (ring * major_radius + n * minor_radius, n)
+                });
+            }
+            Shape::TorusKnot {
+                p,
+                q,
+                major_radius,
+                minor_radius,
+                tube_radius,
+            } => {
+                let curve = |t: f64| {
+                    let r = major_radius + minor_radius * (q as f64 * t).cos();
+                    DVec3::new(
+                        r * (p as f64 * t).cos(),
+                        minor_radius * (q as f64 * t).sin(),
+                        -r * (p as f64 * t).sin(),
+                    )
+                };
+                let steps = SEGMENTS * 8;
+                m.parametric(steps, SEGMENTS / 2, true, |u, v| {
+                    let t = TAU * u;
+                    let dt = 1e-4;
+                    let c = curve(t);
+                    let tangent = (curve(t + dt) - curve(t - dt)).normalize();
+                    // A frame around the tangent from the direction away from the axis.
+                    let outward = DVec3::new(c.x, 0.0, c.z).normalize();
+                    let normal = (outward - tangent * tangent.dot(outward)).normalize();
+                    let binormal = tangent.cross(normal);
+                    let theta = TAU * v;
+                    let n = normal * theta.cos() + binormal * theta.sin();
+                    (c + n * tube_radius, n)
+                });
+            }
+            Shape::Pole { radius, height } => {
+                let bottom_center = m.vertex(DVec3::ZERO, -DVec3::Y);
+                let top_center = m.vertex(DVec3::Y * height, DVec3::Y);
+                let n_sides = SEGMENTS / 2;
+                let mut ring = Vec::new();
+                for j in 0..n_sides {
+                    let phi = TAU * j as f64 / n_sides as f64;
+                    let dir = DVec3::new(phi.cos(), 0.0, -phi.sin());
+                    ring.push([
+                        m.vertex(dir * radius, dir),
+                        m.vertex(dir * radius + DVec3::Y * height, dir),
+                        m.vertex(dir * radius, -DVec3::Y),
+                        m.vertex(dir * radius + DVec3::Y * height, DVec3::Y),
+                    ]);
+                }
+                for j in 0..n_sides as usize {
+                    let (a, b) = (ring[j], ring[(j + 1) % n_sides as usize]);
+                    m.quad(a[0], b[0], b[1], a[1]);
+                    m.triangle(top_center, a[3], b[3]);
+                    m.triangle(bottom_center, b[2], a[2]);
+                }
+            }
+        }
+        m
+    }
+}
+
+impl SceneLayout {
+    /// Every triangle of the scene in world space, with the index of its object.
+    pub fn world_triangles(&self) -> Vec<([DVec3; 3], usize)> {
+        let mut out = Vec::new();
+        for (k, object) in self.objects.iter().enumerate() {
+            let mesh = object.shape.mesh();
+            let m: DMat4 = object.world_from_object;
+            for t in mesh.indices.chunks_exact(3) {
+                let p = |i: u32| m.transform_point3(mesh.positions[i as usize]);
+                out.push(([p(t[0]), p(t[1]), p(t[2])], k));
+            }
+        }
+        out
+    }
+
+    /// The scene as a Wavefront OBJ text (world-space triangles, one group per object).
+    pub fn to_obj(&self) -> String {
+        use std::fmt::Write;
+        let mut s = format!("# gnomon scene '{}': world-space triangles\n", self.name);
+        let mut base = 1;
+        for object in &self.objects {
+            let mesh = object.shape.mesh();
+            let _ = writeln!(s, "o {}", object.name);
+            for p in &mesh.positions {
+                let w = object.world_from_object.transform_point3(*p);
+                let _ = writeln!(s, "v {} {} {}", w.x, w.y, w.z);
+            }
+            for t in mesh.indices.chunks_exact(3) {
+                let _ = writeln!(s, "f {} {} {}", base + t[0], base + t[1], base + t[2]);
+            }
+            base += mesh.positions.len() as u32;
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+
+    use super::*;
+
+    /// Closed and consistently wound: every edge (by position) is used once in each
+    /// direction; and outward: the signed volume is positive.
+    fn assert_closed_outward(shape: Shape) {
+        let m = shape.mesh();
+        let key = |i: u32| {
+            let p = m.positions[i as usize];
+            (
+                (p.x * 1e6).round() as i64,
+                (p.y * 1e6).round() as i64,
+                (p.z * 1e6).round() as i64,
+            )
+        };
+        let mut edges: HashMap<_, i32> = HashMap::new();
+        let mut volume = 0.0;
+        for t in m.indices.chunks_exact(3) {
+            for k in 0..3 {
+                let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
+                *edges.entry((a, b)).or_default() += 1;
+                *edges.entry((b, a)).or_default() -= 1;
+            }
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| m.positions[i as usize]);
+            volume += a.dot(b.cross(c)) / 6.0;
+        }
+        assert!(
+            edges.values().all(|&v| v == 0),
+            "{shape:?} is not closed and consistently wound"
+        );
+        assert!(volume > 0.0, "{shape:?} winds inward (volume {volume})");
+        let (lo, hi) = shape.local_bounds();
+        for p in &m.positions {
+            assert!(
+                p.cmpge(lo - 1e-9).all() && p.cmple(hi + 1e-9).all(),
+                "{shape:?}: {p} outside its bounds"
+            );
+        }
+    }
+
+    #[test]
+    fn every_shape_is_closed_outward_and_inside_its_bounds() {
+        assert_closed_outward(Shape::Cuboid {
+            half_extents: DVec3::new(1.0, 2.0, 3.0),
+        });
+        assert_closed_outward(Shape::Sphere { radius: 2.0 });
+        assert_closed_outward(Shape::Torus {
+            major_radius: 3.0,
+            minor_radius: 1.0,
+        });
+        assert_closed_outward(Shape::TorusKnot {
+            p: 2,
+            q: 3,
+            major_radius: 6.0,
+            minor_radius: 3.0,
+            tube_radius: 1.2,
+        });
+        assert_closed_outward(Shape::Pole {
+            radius: 0.2,
+            height: 8.0,
+        });
+    }
+
+    #[test]
+    fn obj_export_has_every_triangle() {
+        let scene = crate::demo();
+        let obj = scene.to_obj();
+        let faces = obj.lines().filter(|l| l.starts_with("f ")).count();
+        assert_eq!(faces, scene.world_triangles().len());
+    }
+}
