@@ -1,7 +1,5 @@
-//! `gnomon demo`: the built-in scene from its named views with every technique.
-//!
-//! Until the renderer lands this writes the shadow setups (JSON) and an index page that
-//! lists them; the renderer issue turns it into images side by side.
+//! `gnomon demo`: the built-in scene from its named views with every technique, written as
+//! images with an `index.html` that shows them side by side.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -11,10 +9,12 @@ use glam::DVec3;
 use gnomon::{
     Camera, DirectionalLight, Lens, Light, MapSettings, ShadowTechnique, Technique, compute_setup,
 };
+use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer};
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
 use crate::UsageError;
+use crate::render::{write_frame, write_png};
 use crate::report;
 
 /// `gnomon demo`.
@@ -26,80 +26,144 @@ pub struct DemoArgs {
     /// Shadow-map resolution in texels.
     #[arg(long, default_value_t = 2048)]
     pub shadow_map: u32,
+    /// Image width in pixels (the height follows at 16:9).
+    #[arg(long, default_value_t = 960)]
+    pub width: u32,
 }
 
 /// Runs `gnomon demo`.
 pub fn run(args: &DemoArgs) -> Result<(), UsageError> {
+    let started = Instant::now();
     let layout = gnomon_scene::demo();
-    let scene = layout.bounds()?;
+    let scene = RenderScene::from_layout(&layout);
+    let bounds = scene.bounds()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| UsageError(format!("cannot create {}: {e}", args.out.display())))?;
-    let mut rows = Vec::new();
+    let renderer = Renderer::new(Gpu::new()?, &scene)?;
+    eprintln!("gnomon demo: rendering on {}", renderer.gpu().describe());
+    let width = args.width.clamp(16, 8192);
+    let height = (width * 9 / 16).max(9);
+    let settings = RenderSettings {
+        width,
+        height,
+        light_view: true,
+        ..RenderSettings::default()
+    };
+    let techniques = Technique::all();
+    let total = DEMO_VIEWS.len() * techniques.len();
+    let mut rows = String::new();
     let mut all = Vec::new();
-    for view in DEMO_VIEWS {
+    let mut sums = [0.0f64; 3];
+    for (v, view) in DEMO_VIEWS.iter().enumerate() {
+        let lens = Lens {
+            far: view.far,
+            aspect: width as f64 / height as f64,
+            ..Lens::default()
+        };
         let camera = Camera::look_at(
             DVec3::from_array(view.eye),
             DVec3::from_array(view.target),
             DVec3::Y,
-            Lens {
-                far: view.far,
-                ..Lens::default()
-            },
+            lens,
         )?;
         let light = Light::Directional(DirectionalLight::new(DVec3::from_array(
             view.light_direction,
         ))?);
-        for technique in Technique::all() {
+        let mut cells = String::new();
+        for (t, technique) in techniques.iter().enumerate() {
             let start = Instant::now();
             let setup = compute_setup(
-                &technique,
+                technique,
                 &camera,
                 &light,
-                &scene,
+                &bounds,
                 MapSettings::with_resolution(args.shadow_map),
             )?;
-            let micros = start.elapsed().as_secs_f64() * 1e6;
+            let setup_us = start.elapsed().as_secs_f64() * 1e6;
+            let frame = renderer.render(&camera, &light, &setup, &settings)?;
+            let stem = format!("{}_{}", view.name, technique.name());
+            write_frame(&frame, &args.out.join(format!("{stem}.png")), None, None)?;
+            if let Some((size, rgba)) = &frame.light_view {
+                write_png(
+                    &args.out.join(format!("{stem}_light.png")),
+                    *size,
+                    *size,
+                    image::ColorType::Rgba8,
+                    rgba,
+                )?;
+            }
+            let timings = frame.timings;
+            sums[0] += setup_us;
+            sums[1] += timings.shadow_pass_ms;
+            sums[2] += timings.main_pass_ms;
             let fallback = setup.fallback().map_or("none", |f| f.name());
-            println!(
-                "{:<15} {:<8} {:>8.1} us  fallback {:<24} frame {}",
+            eprintln!(
+                "[{:>2}/{total}] {:<15} {:<8} setup {:>7.1} us  shadow pass {:>6.1} ms  main pass {:>6.1} ms  fallback {fallback}",
+                v * techniques.len() + t + 1,
                 view.name,
                 technique.name(),
-                micros,
-                fallback,
-                setup.diagnostics.light_frame.name()
+                setup_us,
+                timings.shadow_pass_ms,
+                timings.main_pass_ms,
             );
-            rows.push(format!(
-                "<tr><td>{}</td><td>{}</td><td>{:.1}</td><td>{}</td><td>{}</td></tr>",
-                view.name,
+            cells.push_str(&format!(
+                "<td><img src=\"{stem}.png\" width=480><br><img src=\"{stem}_light.png\" width=240>\
+                 <br>{} &middot; setup {setup_us:.0} &micro;s &middot; shadow pass {:.1} ms &middot; \
+                 main pass {:.1} ms &middot; fallback {fallback}</td>",
                 technique.name(),
-                micros,
-                fallback,
-                setup.diagnostics.relevant_casters
+                timings.shadow_pass_ms,
+                timings.main_pass_ms
             ));
-            all.push(json!({"view": view.name, "description": view.description, "setup": report::setup_json(&setup)}));
+            all.push(json!({
+                "view": view.name,
+                "technique": technique.name(),
+                "setup_us": setup_us,
+                "shadow_pass_ms": timings.shadow_pass_ms,
+                "main_pass_ms": timings.main_pass_ms,
+                "setup": report::setup_json(&setup),
+            }));
         }
+        rows.push_str(&format!(
+            "<tr><th>{}<br><small>{}</small></th>{cells}</tr>",
+            view.name, view.description
+        ));
     }
-    let json_path = args.out.join("setups.json");
-    let html_path = args.out.join("index.html");
+    let header: String = techniques
+        .iter()
+        .map(|t| format!("<th>{}</th>", t.name()))
+        .collect();
+    let html = format!(
+        "<!doctype html><meta charset=utf-8><title>gnomon demo</title>\
+         <style>body{{font-family:sans-serif}} td,th{{vertical-align:top;padding:6px}}</style>\
+         <h1>gnomon demo: {} scene</h1><p>Each cell: the frame, and below it the shadow map as the \
+         light sees it with the camera's view frustum in red. {}x{} pixels, {}x{} shadow maps, \
+         rendered on {}.</p><table><tr><th>view</th>{header}</tr>{rows}</table>\
+         <p>Setups and timings: <a href=setups.json>setups.json</a></p>",
+        layout.name,
+        width,
+        height,
+        args.shadow_map,
+        args.shadow_map,
+        renderer.gpu().describe()
+    );
+    let write = |name: &str, text: &str| {
+        let path = args.out.join(name);
+        std::fs::write(&path, text)
+            .map_err(|e| UsageError(format!("cannot write {}: {e}", path.display())))
+    };
+    write("index.html", &html)?;
     write(
-        &json_path,
+        "setups.json",
         &serde_json::to_string_pretty(&all).expect("JSON of plain values"),
     )?;
-    let html = format!(
-        "<!doctype html><meta charset=utf-8><title>gnomon demo</title><h1>gnomon demo: {}</h1>\
-         <p>Shadow setups of the demo scene's named views (images come with the renderer).</p>\
-         <table border=1 cellpadding=4><tr><th>view</th><th>technique</th><th>setup (us)</th>\
-         <th>fallback</th><th>relevant casters</th></tr>{}</table>\
-         <p>Matrices: <a href=setups.json>setups.json</a></p>",
-        layout.name,
-        rows.join("")
+    let n = total as f64;
+    eprintln!(
+        "mean over {total} frames: setup {:.1} us, shadow pass {:.1} ms, main pass {:.1} ms; {:.1} s in all",
+        sums[0] / n,
+        sums[1] / n,
+        sums[2] / n,
+        started.elapsed().as_secs_f64()
     );
-    write(&html_path, &html)?;
-    println!("wrote {} and {}", html_path.display(), json_path.display());
+    println!("wrote {}", args.out.join("index.html").display());
     Ok(())
-}
-
-fn write(path: &std::path::Path, text: &str) -> Result<(), UsageError> {
-    std::fs::write(path, text)
-        .map_err(|e| UsageError(format!("cannot write {}: {e}", path.display())))
 }

@@ -133,3 +133,57 @@ fn focused_masks_agree_with_exact_shadows() {
     }
     assert!(failures.is_empty(), "below 99.5% agreement: {failures:?}");
 }
+
+/// Agreement of both techniques for every named view of the demo (printed with
+/// `--nocapture`), each at least 99.5% at 320x180 with 2048 maps.
+#[test]
+fn named_views_report() {
+    let scene = RenderScene::from_layout(&gnomon_scene::demo());
+    let renderer = common::renderer(&scene);
+    let (width, height) = (320, 180);
+    let settings = RenderSettings {
+        width,
+        height,
+        ..RenderSettings::default()
+    };
+    for view in gnomon_scene::DEMO_VIEWS {
+        let lens = Lens {
+            far: view.far,
+            aspect: width as f64 / height as f64,
+            ..Lens::default()
+        };
+        let camera = Camera::look_at(
+            DVec3::from_array(view.eye),
+            DVec3::from_array(view.target),
+            DVec3::Y,
+            lens,
+        )
+        .unwrap();
+        let light = sun(
+            view.light_direction[0],
+            view.light_direction[1],
+            view.light_direction[2],
+        );
+        let oracle = common::oracle(&scene, &camera, &light, width, height);
+        for technique in gnomon::Technique::all() {
+            let (_, frame) = common::render(
+                &renderer, &scene, &technique, &camera, &light, 2048, &settings,
+            );
+            let a = common::agreement(&frame, &oracle, 0.1);
+            println!(
+                "{:<15} {:<8} {:.3}% of {} pixels agree ({} shadowed)",
+                view.name,
+                gnomon::ShadowTechnique::name(&technique),
+                100.0 * a.fraction(),
+                a.compared,
+                a.shadowed
+            );
+            assert!(
+                a.fraction() >= 0.995,
+                "{} {technique:?}: {:.3}%",
+                view.name,
+                100.0 * a.fraction()
+            );
+        }
+    }
+}

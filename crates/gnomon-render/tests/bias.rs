@@ -1,0 +1,172 @@
+//! The default bias: no acne (a plane with no other caster under a grazing light is at most
+//! 0.1% shadowed) and no peter-panning (the shadow of a box standing on the plane touches its
+//! base).
+
+mod common;
+
+use glam::{DMat4, DVec3};
+use gnomon::{Camera, DirectionalLight, Focused, Lens, Light, SpotLight, Technique, Uniform};
+use gnomon_render::{Instance, MASK_EMPTY, MASK_UNLIT, RenderScene, RenderSettings};
+use gnomon_scene::Shape;
+
+const SIZE: u32 = 256;
+
+fn instance(name: &str, mesh: usize, at: DVec3) -> Instance {
+    Instance {
+        name: name.into(),
+        mesh,
+        world_from_object: DMat4::from_translation(at),
+        casts: true,
+        receives: true,
+        color: [0.7, 0.7, 0.7],
+    }
+}
+
+/// A 100 m plane (a 0.2 m slab whose top is at y = 0), and optionally a 4 m box on it.
+fn scene(with_box: bool) -> RenderScene {
+    let mut scene = RenderScene {
+        meshes: vec![
+            Shape::Cuboid {
+                half_extents: DVec3::new(50.0, 0.1, 50.0),
+            }
+            .mesh(),
+            Shape::Cuboid {
+                half_extents: DVec3::splat(2.0),
+            }
+            .mesh(),
+        ],
+        instances: vec![instance("ground", 0, DVec3::new(0.0, -0.1, 0.0))],
+    };
+    if with_box {
+        scene
+            .instances
+            .push(instance("box", 1, DVec3::new(0.0, 2.0, 0.0)));
+    }
+    scene
+}
+
+fn camera(eye: DVec3, target: DVec3) -> Camera {
+    Camera::look_at(
+        eye,
+        target,
+        DVec3::Y,
+        Lens {
+            fov_y_degrees: 60.0,
+            aspect: 1.0,
+            near: 0.5,
+            far: 300.0,
+        },
+    )
+    .unwrap()
+}
+
+#[test]
+fn grazing_light_on_a_plane_gives_no_acne() {
+    let scene = scene(false);
+    let renderer = common::renderer(&scene);
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    let cam = camera(DVec3::new(-30.0, 25.0, 30.0), DVec3::new(5.0, 0.0, -5.0));
+    let mut lights: Vec<(String, Light)> = [1.0f64, 3.0, 10.0, 30.0]
+        .iter()
+        .map(|deg| {
+            let e = deg.to_radians();
+            (
+                format!("sun at {deg} degrees"),
+                Light::Directional(
+                    DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), 0.3)).unwrap(),
+                ),
+            )
+        })
+        .collect();
+    lights.push((
+        "spot 2 m above the plane".into(),
+        Light::Spot(
+            SpotLight::new(
+                DVec3::new(-40.0, 2.0, 0.0),
+                DVec3::new(1.0, -0.05, 0.0),
+                60.0,
+                150.0,
+            )
+            .unwrap(),
+        ),
+    ));
+    for technique in [Technique::Focused(Focused), Technique::Uniform(Uniform)] {
+        for (name, light) in &lights {
+            let (_, frame) =
+                common::render(&renderer, &scene, &technique, &cam, light, 1024, &settings);
+            let oracle = common::oracle(&scene, &cam, light, SIZE, SIZE);
+            // Plane pixels the light reaches (the oracle: N.L > 0, nothing casts on the plane).
+            let lit: Vec<usize> = (0..frame.mask.len())
+                .filter(|&i| oracle.mask[i] == gnomon_render::MASK_LIT)
+                .collect();
+            let shadowed = lit.iter().filter(|&&i| frame.mask[i] == MASK_UNLIT).count();
+            let fraction = shadowed as f64 / lit.len() as f64;
+            println!(
+                "{technique:?}, {name}: {shadowed} of {} lit plane pixels shadowed ({:.4}%)",
+                lit.len(),
+                100.0 * fraction
+            );
+            assert!(
+                lit.len() > 10_000,
+                "{name}: the plane covers too little of the image"
+            );
+            assert!(
+                fraction <= 0.001,
+                "{technique:?}, {name}: acne on {:.3}% of the plane",
+                100.0 * fraction
+            );
+        }
+    }
+}
+
+#[test]
+fn shadow_of_a_box_touches_its_base() {
+    let scene = scene(true);
+    let renderer = common::renderer(&scene);
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    // The camera looks at the box's +x side, where the shadow of a light travelling +x falls.
+    let cam = camera(DVec3::new(14.0, 9.0, 10.0), DVec3::new(3.0, 0.0, 0.0));
+    for elevation in [20.0f64, 45.0, 70.0] {
+        let e = elevation.to_radians();
+        let light =
+            Light::Directional(DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), 0.0)).unwrap());
+        let (_, frame) = common::render(&renderer, &scene, &Focused, &cam, &light, 1024, &settings);
+        // Ground points a few centimetres beside the base, on the shadow side: in shadow.
+        let clip_from_world = cam.clip_from_world();
+        let mut checked = 0;
+        for k in 0..=20 {
+            let z = -1.8 + 3.6 * k as f64 / 20.0;
+            for gap in [0.05, 0.15, 0.3] {
+                let p = clip_from_world.project_point3(DVec3::new(2.0 + gap, 0.0, z));
+                let (px, py) = (
+                    ((p.x + 1.0) * 0.5 * SIZE as f64) as usize,
+                    ((1.0 - p.y) * 0.5 * SIZE as f64) as usize,
+                );
+                let value = frame.mask[py * SIZE as usize + px];
+                assert_ne!(value, MASK_EMPTY);
+                assert_eq!(
+                    value, MASK_UNLIT,
+                    "sun at {elevation} deg: ground {gap} m from the base at z = {z} is lit"
+                );
+                checked += 1;
+            }
+        }
+        // And the whole frame agrees with the exact shadows.
+        let oracle = common::oracle(&scene, &cam, &light, SIZE, SIZE);
+        let a = common::agreement(&frame, &oracle, 0.1);
+        println!(
+            "sun at {elevation} deg: {checked} base points shadowed; {:.3}% of {} pixels agree",
+            100.0 * a.fraction(),
+            a.compared
+        );
+        assert!(a.fraction() >= 0.995);
+    }
+}
