@@ -5,6 +5,8 @@
 # which the renderer's GPU tests run on (this needs root and apt-get, as on CI).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Mesa's device-select layer warns about XDG_RUNTIME_DIR on headless machines; harmless.
+export NODEVICE_SELECT=1
 
 if ! ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1; then
     if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then

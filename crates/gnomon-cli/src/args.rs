@@ -7,7 +7,7 @@ use gnomon::{
     compute_setup,
 };
 
-use crate::UsageError;
+use crate::CliError;
 use crate::report;
 
 /// A camera, given by eye, target and up, and its lens.
@@ -38,7 +38,7 @@ pub struct ViewArgs {
 
 impl ViewArgs {
     /// The validated camera.
-    pub fn camera(&self) -> Result<Camera, UsageError> {
+    pub fn camera(&self) -> Result<Camera, CliError> {
         let lens = Lens {
             fov_y_degrees: self.fov,
             aspect: self.aspect,
@@ -64,7 +64,7 @@ pub struct LightArgs {
 
 impl LightArgs {
     /// The validated light.
-    pub fn light(&self) -> Result<Light, UsageError> {
+    pub fn light(&self) -> Result<Light, CliError> {
         match (self.light_dir, self.spot) {
             (Some(d), None) => Ok(Light::Directional(DirectionalLight::new(d)?)),
             (None, Some(s)) => Ok(Light::Spot(SpotLight::new(
@@ -73,8 +73,8 @@ impl LightArgs {
                 s[6],
                 s[7],
             )?)),
-            _ => Err(UsageError(
-                "give exactly one of --light-dir and --spot".into(),
+            _ => Err(CliError::usage(
+                "give exactly one of --light-dir and --spot",
             )),
         }
     }
@@ -124,9 +124,9 @@ pub struct SetupArgs {
 }
 
 /// Loads a built-in scene's bounds.
-pub fn scene_bounds(name: &str) -> Result<SceneBounds, UsageError> {
+pub fn scene_bounds(name: &str) -> Result<SceneBounds, CliError> {
     let layout = gnomon_scene::by_name(name).ok_or_else(|| {
-        UsageError(format!(
+        CliError::usage(format!(
             "unknown scene '{name}' (known: {})",
             gnomon_scene::SCENE_NAMES.join(", ")
         ))
@@ -135,7 +135,7 @@ pub fn scene_bounds(name: &str) -> Result<SceneBounds, UsageError> {
 }
 
 /// Runs `gnomon setup`.
-pub fn run_setup(args: &SetupArgs) -> Result<(), UsageError> {
+pub fn run_setup(args: &SetupArgs) -> Result<(), CliError> {
     let scene = scene_bounds(&args.scene)?;
     let camera = args.view.camera()?;
     let light = args.light.light()?;

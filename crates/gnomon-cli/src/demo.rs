@@ -13,7 +13,7 @@ use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer};
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
-use crate::UsageError;
+use crate::CliError;
 use crate::render::{write_frame, write_png};
 use crate::report;
 
@@ -32,13 +32,13 @@ pub struct DemoArgs {
 }
 
 /// Runs `gnomon demo`.
-pub fn run(args: &DemoArgs) -> Result<(), UsageError> {
+pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let started = Instant::now();
     let layout = gnomon_scene::demo();
     let scene = RenderScene::from_layout(&layout);
     let bounds = scene.bounds()?;
     std::fs::create_dir_all(&args.out)
-        .map_err(|e| UsageError(format!("cannot create {}: {e}", args.out.display())))?;
+        .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
     let renderer = Renderer::new(Gpu::new()?, &scene)?;
     eprintln!("gnomon demo: rendering on {}", renderer.gpu().describe());
     let width = args.width.clamp(16, 8192);
@@ -149,7 +149,7 @@ pub fn run(args: &DemoArgs) -> Result<(), UsageError> {
     let write = |name: &str, text: &str| {
         let path = args.out.join(name);
         std::fs::write(&path, text)
-            .map_err(|e| UsageError(format!("cannot write {}: {e}", path.display())))
+            .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))
     };
     write("index.html", &html)?;
     write(

@@ -38,13 +38,46 @@ enum Command {
     Demo(demo::DemoArgs),
 }
 
-/// An error the user can fix: printed on one line, exit code 2.
+/// An error, printed on one line: exit code 2 for bad input, 1 for a failure at run time
+/// (no GPU adapter, a file that cannot be written).
 #[derive(Debug)]
-pub struct UsageError(pub String);
+pub struct CliError {
+    /// What went wrong.
+    pub message: String,
+    /// The process's exit code.
+    pub code: u8,
+}
 
-impl<E: std::fmt::Display> From<E> for UsageError {
-    fn from(e: E) -> Self {
-        UsageError(e.to_string())
+impl CliError {
+    /// Bad input: exit code 2.
+    pub fn usage(message: impl Into<String>) -> Self {
+        Self {
+            message: message.into(),
+            code: 2,
+        }
+    }
+
+    /// A failure at run time: exit code 1.
+    pub fn runtime(message: impl Into<String>) -> Self {
+        Self {
+            message: message.into(),
+            code: 1,
+        }
+    }
+}
+
+impl From<gnomon::SetupError> for CliError {
+    fn from(e: gnomon::SetupError) -> Self {
+        Self::usage(e.to_string())
+    }
+}
+
+impl From<gnomon_render::RenderError> for CliError {
+    fn from(e: gnomon_render::RenderError) -> Self {
+        match e {
+            gnomon_render::RenderError::Invalid(_) => Self::usage(e.to_string()),
+            _ => Self::runtime(e.to_string()),
+        }
     }
 }
 
@@ -81,9 +114,9 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(UsageError(message)) => {
+        Err(CliError { message, code }) => {
             eprintln!("error: {}", message.replace('\n', " "));
-            ExitCode::from(2)
+            ExitCode::from(code)
         }
     }
 }

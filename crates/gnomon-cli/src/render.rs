@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use gnomon::{MapSettings, ShadowTechnique, compute_setup};
 use gnomon_render::{DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer};
 
-use crate::UsageError;
+use crate::CliError;
 use crate::args::{LightArgs, TechniqueArg, ViewArgs};
 
 /// Shadow-map filtering on the command line.
@@ -95,9 +95,9 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 /// Loads a built-in scene as a render scene.
-pub fn render_scene(name: &str) -> Result<RenderScene, UsageError> {
+pub fn render_scene(name: &str) -> Result<RenderScene, CliError> {
     let layout = gnomon_scene::by_name(name).ok_or_else(|| {
-        UsageError(format!(
+        CliError::usage(format!(
             "unknown scene '{name}' (known: {})",
             gnomon_scene::SCENE_NAMES.join(", ")
         ))
@@ -112,13 +112,13 @@ pub fn write_png(
     height: u32,
     color: image::ColorType,
     bytes: &[u8],
-) -> Result<(), UsageError> {
+) -> Result<(), CliError> {
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent)
-            .map_err(|e| UsageError(format!("cannot create {}: {e}", parent.display())))?;
+            .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", parent.display())))?;
     }
     image::save_buffer(path, bytes, width, height, color)
-        .map_err(|e| UsageError(format!("cannot write {}: {e}", path.display())))
+        .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))
 }
 
 /// Writes a frame's image, and its mask and light view where asked.
@@ -127,7 +127,7 @@ pub fn write_frame(
     out: &Path,
     mask: Option<&Path>,
     light_view: Option<&Path>,
-) -> Result<(), UsageError> {
+) -> Result<(), CliError> {
     write_png(
         out,
         frame.width,
@@ -151,7 +151,7 @@ pub fn write_frame(
 }
 
 /// Runs `gnomon render`.
-pub fn run(args: &RenderArgs) -> Result<(), UsageError> {
+pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let scene = render_scene(&args.scene)?;
     let bounds = scene.bounds()?;
     let camera = args.view.camera()?;
@@ -216,16 +216,16 @@ pub struct ExportArgs {
 }
 
 /// Runs `gnomon export`.
-pub fn export(args: &ExportArgs) -> Result<(), UsageError> {
+pub fn export(args: &ExportArgs) -> Result<(), CliError> {
     let layout = gnomon_scene::by_name(&args.scene).ok_or_else(|| {
-        UsageError(format!(
+        CliError::usage(format!(
             "unknown scene '{}' (known: {})",
             args.scene,
             gnomon_scene::SCENE_NAMES.join(", ")
         ))
     })?;
     std::fs::write(&args.obj, layout.to_obj())
-        .map_err(|e| UsageError(format!("cannot write {}: {e}", args.obj.display())))?;
+        .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", args.obj.display())))?;
     eprintln!(
         "wrote {} ({} triangles)",
         args.obj.display(),

@@ -278,7 +278,15 @@ fn bad_input_gives_one_line_and_exit_code_2() {
 #[test]
 fn demo_writes_every_view_and_technique() {
     let dir = std::env::temp_dir().join(format!("gnomon-demo-test-{}", std::process::id()));
-    let out = gnomon(&["demo", "--out", dir.to_str().unwrap()]);
+    let out = gnomon(&[
+        "demo",
+        "--out",
+        dir.to_str().unwrap(),
+        "--width",
+        "320",
+        "--shadow-map",
+        "512",
+    ]);
     assert!(
         out.status.success(),
         "{}",
@@ -296,5 +304,151 @@ fn demo_writes_every_view_and_technique() {
             .unwrap()
             .contains("overview")
     );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("gnomon-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const RENDER: &[&str] = &[
+    "render",
+    "--eye",
+    "-230,220,200",
+    "--target",
+    "0,0,0",
+    "--far",
+    "800",
+    "--light-dir",
+    "1,-0.45,-0.35",
+    "--size",
+    "160x90",
+    "--shadow-map",
+    "1024",
+];
+
+#[test]
+fn render_writes_frame_mask_and_light_view() {
+    let dir = temp_dir("render");
+    let (frame, mask, light) = (
+        dir.join("frame.png"),
+        dir.join("mask.png"),
+        dir.join("light.png"),
+    );
+    let mut args = RENDER.to_vec();
+    args.extend([
+        "--out",
+        frame.to_str().unwrap(),
+        "--mask",
+        mask.to_str().unwrap(),
+    ]);
+    args.extend(["--light-view", light.to_str().unwrap()]);
+    let out = gnomon(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(image::image_dimensions(&frame).unwrap(), (160, 90));
+    assert_eq!(image::image_dimensions(&light).unwrap(), (1024, 1024));
+    let mask = image::open(&mask).unwrap().into_luma8();
+    let mut counts = std::collections::BTreeMap::new();
+    for p in mask.pixels() {
+        *counts.entry(p.0[0]).or_insert(0) += 1;
+    }
+    assert!(
+        counts.keys().all(|v| [0u8, 128, 255].contains(v)),
+        "mask values {counts:?}"
+    );
+    assert!(
+        counts.len() == 3,
+        "lit, unlit and empty pixels all appear: {counts:?}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn filters_change_the_image_but_not_the_one_tap_mask() {
+    let dir = temp_dir("filters");
+    let mut masks = Vec::new();
+    let mut frames = Vec::new();
+    for pcf in ["none", "2x2", "5x5"] {
+        let (frame, mask) = (
+            dir.join(format!("{pcf}.png")),
+            dir.join(format!("{pcf}_mask.png")),
+        );
+        let mut args = RENDER.to_vec();
+        args.extend([
+            "--pcf",
+            pcf,
+            "--out",
+            frame.to_str().unwrap(),
+            "--mask",
+            mask.to_str().unwrap(),
+        ]);
+        let out = gnomon(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        masks.push(image::open(&mask).unwrap().into_luma8().into_raw());
+        frames.push(image::open(&frame).unwrap().into_rgba8().into_raw());
+    }
+    assert!(masks.windows(2).all(|w| w[0] == w[1]));
+    assert_ne!(frames[0], frames[2], "5x5 PCF must soften shadow edges");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn render_without_an_adapter_says_what_to_install() {
+    let out = Command::new(env!("CARGO_BIN_EXE_gnomon"))
+        .args(RENDER)
+        .args(["--out", "/nonexistent/never-written.png"])
+        .env("WGPU_BACKEND", "metal")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1);
+    assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+}
+
+#[test]
+fn render_rejects_bad_sizes_with_exit_code_2() {
+    for size in ["0x10", "10", "axb", "99999x10"] {
+        let mut args = RENDER.to_vec();
+        args.extend(["--size", size]);
+        let out = gnomon(&args);
+        assert_eq!(out.status.code(), Some(2), "{size}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr)
+                .trim_end()
+                .lines()
+                .count(),
+            1
+        );
+    }
+}
+
+#[test]
+fn export_writes_every_triangle_as_obj() {
+    let dir = temp_dir("export");
+    let obj = dir.join("scene.obj");
+    let out = gnomon(&["export", "--scene", "demo", "--obj", obj.to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&obj).unwrap();
+    let vertices = text.lines().filter(|l| l.starts_with("v ")).count();
+    let faces: Vec<&str> = text.lines().filter(|l| l.starts_with("f ")).collect();
+    assert_eq!(faces.len(), gnomon_scene::demo().world_triangles().len());
+    // Every face refers to an existing vertex (OBJ indices start at 1).
+    for f in faces {
+        for index in f.split_whitespace().skip(1) {
+            let i: usize = index.parse().unwrap();
+            assert!((1..=vertices).contains(&i));
+        }
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }
