@@ -3,8 +3,8 @@
 use clap::{Args, ValueEnum};
 use glam::DVec3;
 use gnomon::{
-    Camera, DirectionalLight, Lens, Light, MapSettings, SceneBounds, SpotLight, Technique,
-    compute_setup,
+    Camera, DirectionalLight, Lens, Light, MapSettings, SceneBounds, ShadowSetup, SpotLight,
+    Technique, compute_setup,
 };
 
 use crate::CliError;
@@ -123,15 +123,38 @@ pub struct SetupArgs {
     pub json: bool,
 }
 
-/// Loads a built-in scene's bounds.
-pub fn scene_bounds(name: &str) -> Result<SceneBounds, CliError> {
-    let layout = gnomon_scene::by_name(name).ok_or_else(|| {
+/// A built-in scene's layout by name.
+pub fn scene_layout(name: &str) -> Result<gnomon_scene::SceneLayout, CliError> {
+    gnomon_scene::by_name(name).ok_or_else(|| {
         CliError::usage(format!(
             "unknown scene '{name}' (known: {})",
             gnomon_scene::SCENE_NAMES.join(", ")
         ))
-    })?;
-    Ok(layout.bounds()?)
+    })
+}
+
+/// Computes a setup and how long it took, in microseconds.
+pub fn timed_setup(
+    technique: &Technique,
+    camera: &Camera,
+    light: &Light,
+    scene: &SceneBounds,
+    resolution: u32,
+) -> Result<(ShadowSetup, f64), CliError> {
+    let start = std::time::Instant::now();
+    let setup = compute_setup(
+        technique,
+        camera,
+        light,
+        scene,
+        MapSettings::with_resolution(resolution),
+    )?;
+    Ok((setup, start.elapsed().as_secs_f64() * 1e6))
+}
+
+/// A built-in scene's bounds.
+pub fn scene_bounds(name: &str) -> Result<SceneBounds, CliError> {
+    Ok(scene_layout(name)?.bounds()?)
 }
 
 /// Runs `gnomon setup`.

@@ -6,15 +6,14 @@ use std::time::Instant;
 
 use clap::Args;
 use glam::DVec3;
-use gnomon::{
-    Camera, DirectionalLight, Lens, Light, MapSettings, ShadowTechnique, Technique, compute_setup,
-};
+use gnomon::{Camera, DirectionalLight, Lens, Light, ShadowTechnique, Technique};
 use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer};
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
 use crate::CliError;
-use crate::render::{write_frame, write_png};
+use crate::args::timed_setup;
+use crate::render::write_frame;
 use crate::report;
 
 /// `gnomon demo`.
@@ -71,27 +70,17 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         ))?);
         let mut cells = String::new();
         for (t, technique) in techniques.iter().enumerate() {
-            let start = Instant::now();
-            let setup = compute_setup(
-                technique,
-                &camera,
-                &light,
-                &bounds,
-                MapSettings::with_resolution(args.shadow_map),
-            )?;
-            let setup_us = start.elapsed().as_secs_f64() * 1e6;
+            let (setup, setup_us) =
+                timed_setup(technique, &camera, &light, &bounds, args.shadow_map)?;
             let frame = renderer.render(&camera, &light, &setup, &settings)?;
             let stem = format!("{}_{}", view.name, technique.name());
-            write_frame(&frame, &args.out.join(format!("{stem}.png")), None, None)?;
-            if let Some((size, rgba)) = &frame.light_view {
-                write_png(
-                    &args.out.join(format!("{stem}_light.png")),
-                    *size,
-                    *size,
-                    image::ColorType::Rgba8,
-                    rgba,
-                )?;
-            }
+            let light_view = args.out.join(format!("{stem}_light.png"));
+            write_frame(
+                &frame,
+                &args.out.join(format!("{stem}.png")),
+                None,
+                Some(&light_view),
+            )?;
             let timings = frame.timings;
             sums[0] += setup_us;
             sums[1] += timings.shadow_pass_ms;

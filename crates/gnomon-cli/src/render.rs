@@ -1,14 +1,13 @@
 //! `gnomon render` and `gnomon export`.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use gnomon::{MapSettings, ShadowTechnique, compute_setup};
+use gnomon::ShadowTechnique;
 use gnomon_render::{DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer};
 
 use crate::CliError;
-use crate::args::{LightArgs, TechniqueArg, ViewArgs};
+use crate::args::{LightArgs, TechniqueArg, ViewArgs, scene_layout, timed_setup};
 
 /// Shadow-map filtering on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -94,15 +93,9 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// Loads a built-in scene as a render scene.
+/// A built-in scene as a render scene.
 pub fn render_scene(name: &str) -> Result<RenderScene, CliError> {
-    let layout = gnomon_scene::by_name(name).ok_or_else(|| {
-        CliError::usage(format!(
-            "unknown scene '{name}' (known: {})",
-            gnomon_scene::SCENE_NAMES.join(", ")
-        ))
-    })?;
-    Ok(RenderScene::from_layout(&layout))
+    Ok(RenderScene::from_layout(&scene_layout(name)?))
 }
 
 /// Writes an image file.
@@ -157,15 +150,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let camera = args.view.camera()?;
     let light = args.light.light()?;
     let technique = args.technique.technique();
-    let start = Instant::now();
-    let setup = compute_setup(
-        &technique,
-        &camera,
-        &light,
-        &bounds,
-        MapSettings::with_resolution(args.shadow_map),
-    )?;
-    let setup_us = start.elapsed().as_secs_f64() * 1e6;
+    let (setup, setup_us) = timed_setup(&technique, &camera, &light, &bounds, args.shadow_map)?;
     let renderer = Renderer::new(Gpu::new()?, &scene)?;
     let settings = RenderSettings {
         width: args.size.0,
@@ -217,13 +202,7 @@ pub struct ExportArgs {
 
 /// Runs `gnomon export`.
 pub fn export(args: &ExportArgs) -> Result<(), CliError> {
-    let layout = gnomon_scene::by_name(&args.scene).ok_or_else(|| {
-        CliError::usage(format!(
-            "unknown scene '{}' (known: {})",
-            args.scene,
-            gnomon_scene::SCENE_NAMES.join(", ")
-        ))
-    })?;
+    let layout = scene_layout(&args.scene)?;
     std::fs::write(&args.obj, layout.to_obj())
         .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", args.obj.display())))?;
     eprintln!(
