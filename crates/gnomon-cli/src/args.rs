@@ -87,6 +87,30 @@ pub enum TechniqueArg {
     Uniform,
     /// Focused shadow map with unit cube clipping (FSM).
     Focused,
+    /// Light space perspective shadow map (LiSPSM).
+    Lispsm,
+}
+
+/// Technique parameters; each applies to its technique and is ignored by the others.
+#[derive(Debug, Clone, Copy, Default, Args)]
+pub struct TechniqueParams {
+    /// LiSPSM: the distance n of the projection reference point, in world units (default:
+    /// the paper's n_opt / sin(gamma)).
+    #[arg(long, allow_hyphen_values = true)]
+    pub lispsm_n: Option<f64>,
+}
+
+impl TechniqueParams {
+    /// `technique` with these parameters.
+    pub fn apply(&self, technique: Technique) -> Technique {
+        match technique {
+            Technique::Lispsm(mut t) => {
+                t.n = self.lispsm_n.or(t.n);
+                Technique::Lispsm(t)
+            }
+            other => other,
+        }
+    }
 }
 
 impl TechniqueArg {
@@ -115,6 +139,8 @@ pub struct SetupArgs {
     /// The shadow-map technique.
     #[arg(long, value_enum)]
     pub technique: TechniqueArg,
+    #[command(flatten)]
+    pub params: TechniqueParams,
     /// Shadow-map resolution in texels (square).
     #[arg(long, default_value_t = 1024)]
     pub shadow_map: u32,
@@ -162,7 +188,7 @@ pub fn run_setup(args: &SetupArgs) -> Result<(), CliError> {
     let scene = scene_bounds(&args.scene)?;
     let camera = args.view.camera()?;
     let light = args.light.light()?;
-    let technique = args.technique.technique();
+    let technique = args.params.apply(args.technique.technique());
     let setup = compute_setup(
         &technique,
         &camera,

@@ -12,7 +12,7 @@ use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
 use crate::CliError;
-use crate::args::timed_setup;
+use crate::args::{TechniqueParams, timed_setup};
 use crate::render::write_frame;
 use crate::report;
 
@@ -28,6 +28,8 @@ pub struct DemoArgs {
     /// Image width in pixels (the height follows at 16:9).
     #[arg(long, default_value_t = 960)]
     pub width: u32,
+    #[command(flatten)]
+    pub params: TechniqueParams,
 }
 
 /// Runs `gnomon demo`.
@@ -48,7 +50,10 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         light_view: true,
         ..RenderSettings::default()
     };
-    let techniques = Technique::all();
+    let techniques: Vec<Technique> = Technique::all()
+        .into_iter()
+        .map(|t| args.params.apply(t))
+        .collect();
     let total = DEMO_VIEWS.len() * techniques.len();
     let mut rows = String::new();
     let mut all = Vec::new();

@@ -7,7 +7,7 @@ use gnomon::ShadowTechnique;
 use gnomon_render::{DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer};
 
 use crate::CliError;
-use crate::args::{LightArgs, TechniqueArg, ViewArgs, scene_layout, timed_setup};
+use crate::args::{LightArgs, TechniqueArg, TechniqueParams, ViewArgs, scene_layout, timed_setup};
 
 /// Shadow-map filtering on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -45,6 +45,8 @@ pub struct RenderArgs {
     /// The shadow-map technique.
     #[arg(long, value_enum, default_value = "focused")]
     pub technique: TechniqueArg,
+    #[command(flatten)]
+    pub params: TechniqueParams,
     /// Shadow-map resolution in texels (square).
     #[arg(long, default_value_t = 1024)]
     pub shadow_map: u32,
@@ -149,7 +151,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let bounds = scene.bounds()?;
     let camera = args.view.camera()?;
     let light = args.light.light()?;
-    let technique = args.technique.technique();
+    let technique = args.params.apply(args.technique.technique());
     let (setup, setup_us) = timed_setup(&technique, &camera, &light, &bounds, args.shadow_map)?;
     let renderer = Renderer::new(Gpu::new()?, &scene)?;
     let settings = RenderSettings {

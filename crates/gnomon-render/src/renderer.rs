@@ -543,18 +543,7 @@ fn vec4(v: DVec3, w: f64) -> [f32; 4] {
 
 /// The uniform block for one frame.
 fn globals(camera: &Camera, light: &Light, map: &ShadowMap, settings: &RenderSettings) -> Globals {
-    let m = map.clip_from_world;
     let depth_per_world = map.depth_from_world.truncate().length();
-    // World size of one texel per unit of clip w: the map's x row, perpendicular to the
-    // projection axis (the w row for a perspective map, the depth row for an orthographic one).
-    let axis = if m.row(3).truncate().length() > 0.0 {
-        m.row(3).truncate()
-    } else {
-        map.depth_from_world.truncate()
-    };
-    let row_x = m.row(0).truncate();
-    let perpendicular = row_x - axis * row_x.dot(axis) / axis.length_squared();
-    let texel_world = 2.0 / (map.resolution as f64 * perpendicular.length());
     let (light_vector, spot, extra) = match light {
         Light::Directional(d) => (vec4(d.direction(), 0.0), [0.0; 4], [0.0; 4]),
         Light::Spot(s) => (
@@ -571,7 +560,7 @@ fn globals(camera: &Camera, light: &Light, map: &ShadowMap, settings: &RenderSet
     };
     Globals {
         camera_clip_from_world: mat(camera.clip_from_world()),
-        light_clip_from_world: mat(m),
+        light_clip_from_world: mat(map.clip_from_world),
         depth_from_world: map.depth_from_world.as_vec4().to_array(),
         eye: vec4(camera.eye(), 1.0),
         light: light_vector,
@@ -582,12 +571,7 @@ fn globals(camera: &Camera, light: &Light, map: &ShadowMap, settings: &RenderSet
             (bias.max_slope_world * depth_per_world) as f32,
             bias.normal_offset_texels as f32,
         ],
-        map: [
-            map.resolution as f32,
-            texel_world as f32,
-            filter,
-            settings.ambient as f32,
-        ],
+        map: [map.resolution as f32, 0.0, filter, settings.ambient as f32],
         extra,
     }
 }

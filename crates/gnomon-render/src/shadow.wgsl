@@ -18,8 +18,8 @@ struct Globals {
     // x: constant bias (depth units), y: slope scale (texels), z: largest slope bias (depth
     // units), w: normal offset (texels).
     bias: vec4<f32>,
-    // x: resolution, y: world size of a texel per unit of clip w, z: filter (0 one tap,
-    // 1 hardware 2x2, 2 5x5 PCF), w: ambient.
+    // x: resolution, y: unused, z: filter (0 one tap, 1 hardware 2x2, 2 5x5 PCF),
+    // w: ambient.
     map: vec4<f32>,
     // x: spot range, y: spot near distance.
     extra: vec4<f32>,
@@ -78,6 +78,23 @@ struct Targets {
     @location(1) mask: vec4<f32>,
 };
 
+// The world size of the largest texel side at a point: from the gradients of the map's
+// normalised coordinates, (row_i - ndc_i row_w) / w, exact for any projective map (warps
+// stretch texels differently along x and y).
+fn texel_world_size(world: vec3<f32>) -> f32 {
+    let m = g.light_clip_from_world;
+    let clip = m * vec4<f32>(world, 1.0);
+    if (clip.w <= 0.0) {
+        return 0.0;
+    }
+    let row_x = vec3<f32>(m[0][0], m[1][0], m[2][0]);
+    let row_y = vec3<f32>(m[0][1], m[1][1], m[2][1]);
+    let row_w = vec3<f32>(m[0][3], m[1][3], m[2][3]);
+    let gx = (row_x - (clip.x / clip.w) * row_w) / clip.w;
+    let gy = (row_y - (clip.y / clip.w) * row_w) / clip.w;
+    return (2.0 / g.map.x) / max(min(length(gx), length(gy)), 1e-30);
+}
+
 // 1 where the point is lit according to the shadow map, 0 where it is shadowed.
 fn shadow_lookup(world: vec3<f32>, mode: i32) -> f32 {
     let clip = g.light_clip_from_world * vec4<f32>(world, 1.0);
@@ -120,7 +137,6 @@ fn fs_main(in: MainOut) -> Targets {
     var to_light: vec3<f32>;
     var cone = 1.0;
     var in_light = true;
-    var w_at_point = 1.0;
     if (g.light.w < 0.5) {
         to_light = -g.light.xyz;
     } else {
@@ -130,15 +146,13 @@ fn fs_main(in: MainOut) -> Targets {
         let cos_angle = dot(-to_light, g.spot.xyz);
         in_light = cos_angle >= g.spot.w && along <= g.extra.x && along >= g.extra.y;
         cone = smoothstep(g.spot.w, min(g.spot.w + 0.03, 1.0), cos_angle);
-        w_at_point = along;
     }
     let n_dot_l_geo = dot(n_geo, to_light);
     let facing = n_dot_l_geo > 0.0 && in_light;
 
     // Normal offset: move the lookup along the geometric normal by a fraction of a texel,
     // more where the light grazes the surface.
-    let texel_world = g.map.y * w_at_point;
-    let offset = g.bias.w * texel_world * clamp(1.0 - n_dot_l_geo, 0.0, 1.0);
+    let offset = g.bias.w * texel_world_size(in.world) * clamp(1.0 - n_dot_l_geo, 0.0, 1.0);
     let lookup = in.world + n_geo * offset;
 
     var lit_one_tap = 1.0;

@@ -284,6 +284,20 @@ impl VisibleScene {
         self.whole.len() + self.clipped
     }
 
+    /// Calls `f` with every vertex of the visible receiver parts (the corners of wholly
+    /// visible boxes, the vertices of cut ones): their extents under any projective map are
+    /// the extents of these points.
+    pub fn for_each_vertex(&self, scene: &SceneBounds, mut f: impl FnMut(DVec3)) {
+        for &i in &self.whole {
+            for c in scene.receivers()[i].corners() {
+                f(c);
+            }
+        }
+        for p in &self.points {
+            f(*p);
+        }
+    }
+
     /// The extents of the visible receiver parts under `projector`.
     pub fn receiver_extents(&self, scene: &SceneBounds, projector: &Projector) -> Extents {
         let mut ext = match projector {

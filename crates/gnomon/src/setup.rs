@@ -9,7 +9,7 @@ use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::error::SetupError;
 use crate::light::Light;
-use crate::techniques::{Focused, Uniform};
+use crate::techniques::{Focused, Lispsm, Uniform};
 
 /// Smallest supported shadow-map resolution, in texels.
 pub const MIN_RESOLUTION: u32 = 8;
@@ -162,8 +162,10 @@ pub enum Fallback {
     /// be shadowed; the map is fitted to the visible receivers alone.
     NoCasterForReceivers,
     /// The convex body B came out empty or flat (the view frustum only grazes the scene box);
-    /// the depth range is taken from the casters alone.
+    /// the depth range is taken from the casters alone (a warp falls back to the focused map).
     DegenerateFocusBody,
+    /// The technique's warp is not implemented for spot lights yet; the focused map is used.
+    SpotLightNotWarped,
 }
 
 impl Fallback {
@@ -176,6 +178,7 @@ impl Fallback {
             Fallback::SpotLightMissesScene => "spot_light_misses_scene",
             Fallback::NoCasterForReceivers => "no_caster_for_receivers",
             Fallback::DegenerateFocusBody => "degenerate_focus_body",
+            Fallback::SpotLightNotWarped => "spot_light_not_warped",
         }
     }
 
@@ -199,6 +202,9 @@ impl Fallback {
             }
             Fallback::DegenerateFocusBody => {
                 "the focus body B is empty or flat; the depth range comes from the casters alone"
+            }
+            Fallback::SpotLightNotWarped => {
+                "this warp is not implemented for spot lights yet; the focused map is used"
             }
         }
     }
@@ -323,11 +329,13 @@ pub enum Technique {
     Uniform(Uniform),
     /// Focused shadow map with unit cube clipping (FSM).
     Focused(Focused),
+    /// Light space perspective shadow map (LiSPSM).
+    Lispsm(Lispsm),
 }
 
 impl Technique {
     /// The names [`Technique::from_str`] accepts.
-    pub const NAMES: &'static [&'static str] = &["uniform", "focused"];
+    pub const NAMES: &'static [&'static str] = &["uniform", "focused", "lispsm"];
 
     /// Each technique with default parameters.
     pub fn all() -> Vec<Technique> {
@@ -341,6 +349,7 @@ impl Technique {
         match self {
             Technique::Uniform(t) => t,
             Technique::Focused(t) => t,
+            Technique::Lispsm(t) => t,
         }
     }
 }
@@ -379,6 +388,7 @@ impl FromStr for Technique {
         match s.to_ascii_lowercase().as_str() {
             "uniform" | "ssm" => Ok(Technique::Uniform(Uniform)),
             "focused" | "fsm" => Ok(Technique::Focused(Focused)),
+            "lispsm" => Ok(Technique::Lispsm(Lispsm::default())),
             _ => Err(UnknownTechnique(s.to_string())),
         }
     }

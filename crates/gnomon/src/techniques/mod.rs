@@ -1,9 +1,11 @@
 //! The shadow-map techniques, one file each, all behind [`crate::ShadowTechnique`].
 
 mod focused;
+mod lispsm;
 mod uniform;
 
 pub use focused::Focused;
+pub use lispsm::Lispsm;
 pub use uniform::Uniform;
 pub(crate) use uniform::fixed_projector;
 
