@@ -177,7 +177,7 @@ impl ShadowTechnique for Lispsm {
             body_light.add(projector.project(*p));
         }
         let depth_along_view = body_light.max.y - body_light.min.y;
-        if body.len() < 4 || !(depth_along_view > tolerance) {
+        if body.len() < 4 || depth_along_view.is_nan() || depth_along_view <= tolerance {
             return fallback(Fallback::DegenerateFocusBody);
         }
         let sin_gamma = input.camera.forward().cross(light.direction()).length();
