@@ -8,8 +8,8 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use gnomon::{
-    Aabb, Camera, DirectionalLight, Focused, Lens, Light, MapSettings, SceneBounds, SpotLight,
-    Uniform, compute_setup,
+    Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, SceneBounds,
+    SpotLight, Uniform, compute_setup,
 };
 
 /// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, on a ground slab: casters, and also
@@ -67,7 +67,22 @@ fn bench(c: &mut Criterion) {
                 b.iter(|| compute_setup(&Focused, black_box(&camera), &sun, s, settings).unwrap())
             },
         );
+        group.bench_with_input(
+            BenchmarkId::new("lispsm_directional_casters_only", n),
+            &casters_only,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup(&Lispsm::default(), black_box(&camera), &sun, s, settings)
+                        .unwrap()
+                })
+            },
+        );
         let scene = city(n, true);
+        group.bench_with_input(BenchmarkId::new("lispsm_directional", n), &scene, |b, s| {
+            b.iter(|| {
+                compute_setup(&Lispsm::default(), black_box(&camera), &sun, s, settings).unwrap()
+            })
+        });
         group.bench_with_input(
             BenchmarkId::new("uniform_directional", n),
             &scene,

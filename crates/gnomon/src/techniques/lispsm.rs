@@ -98,6 +98,28 @@ impl Warp {
         )
     }
 
+    /// The warped extents of the light-space box [lo, hi], with its Y inside B's range so
+    /// that w > 0. u = (X - X_eye) / w is largest at
+    /// the smallest w when X - X_eye >= 0 and at the largest w otherwise (likewise z); s grows
+    /// with Y. So six divisions give the exact extents of the box's image.
+    fn box_extents(&self, lo: DVec3, hi: DVec3) -> Extents {
+        let w0 = 1.0 + (lo.y - self.y_min) * self.inv_n;
+        let w1 = 1.0 + (hi.y - self.y_min) * self.inv_n;
+        let range = |a: f64, b: f64| {
+            let lo = if a < 0.0 { a / w0 } else { a / w1 };
+            let hi = if b < 0.0 { b / w1 } else { b / w0 };
+            (lo, hi)
+        };
+        let (u0, u1) = range(lo.x - self.x_eye, hi.x - self.x_eye);
+        let (z0, z1) = range(lo.z - self.z_mid, hi.z - self.z_mid);
+        let s0 = (lo.y - self.y_min) * self.k / w0;
+        let s1 = (hi.y - self.y_min) * self.k / w1;
+        Extents {
+            min: DVec3::new(u0, s0, z0),
+            max: DVec3::new(u1, s1, z1),
+        }
+    }
+
     /// The rows of world -> (u w, s w, z w, w).
     fn rows(&self) -> [DVec4; 4] {
         let f = &self.frame;
@@ -222,19 +244,9 @@ impl ShadowTechnique for Lispsm {
             if y0 > y1 {
                 continue;
             }
-            let mut warped = Extents::EMPTY;
-            for (x, y, z) in [
-                (e.min.x, y0, e.min.z),
-                (e.max.x, y0, e.max.z),
-                (e.min.x, y1, e.min.z),
-                (e.max.x, y1, e.max.z),
-                (e.min.x, y0, e.max.z),
-                (e.max.x, y0, e.min.z),
-                (e.min.x, y1, e.max.z),
-                (e.max.x, y1, e.min.z),
-            ] {
-                warped.add(warp.warp(DVec3::new(x, y, z)).0);
-            }
+            let lo = DVec3::new(e.min.x, y0, e.min.z);
+            let hi = DVec3::new(e.max.x, y1, e.max.z);
+            let warped = warp.box_extents(lo, hi);
             if !receivers.xy_overlaps(&warped, xy_slack) || e.min.z > receivers_z {
                 continue;
             }
@@ -317,5 +329,45 @@ fn warped_map(
         } else {
             MapProjection::Orthographic
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// The six-division extents equal the extents of the eight warped corners.
+        #[test]
+        fn box_extents_match_the_warped_corners(
+            lo in prop::array::uniform3(-50.0f64..50.0),
+            size in prop::array::uniform3(0.0f64..40.0),
+            x_eye in -30.0f64..30.0,
+            z_mid in -30.0f64..30.0,
+            n in prop_oneof![Just(f64::INFINITY), 0.01f64..1000.0],
+        ) {
+            let frame = LightFrame::fixed(DVec3::new(0.3, -1.0, 0.2).normalize());
+            let y_min = -60.0;
+            let inv_n = 1.0 / n;
+            let warp = Warp { frame, x_eye, y_min, z_mid, inv_n, k: 1.0 / 120.0 + inv_n };
+            let lo = DVec3::from_array(lo);
+            let hi = lo + DVec3::from_array(size);
+            let fast = warp.box_extents(lo, hi);
+            let mut slow = Extents::EMPTY;
+            for i in 0..8 {
+                let q = DVec3::new(
+                    if i & 1 == 0 { lo.x } else { hi.x },
+                    if i & 2 == 0 { lo.y } else { hi.y },
+                    if i & 4 == 0 { lo.z } else { hi.z },
+                );
+                slow.add(warp.warp(q).0);
+            }
+            prop_assert!((fast.min - slow.min).abs().max_element() < 1e-9, "{fast:?} vs {slow:?}");
+            prop_assert!((fast.max - slow.max).abs().max_element() < 1e-9, "{fast:?} vs {slow:?}");
+        }
     }
 }
