@@ -89,6 +89,8 @@ pub enum TechniqueArg {
     Focused,
     /// Light space perspective shadow map (LiSPSM).
     Lispsm,
+    /// Trapezoidal shadow map (TSM).
+    Tsm,
 }
 
 /// Technique parameters; each applies to its technique and is ignored by the others.
@@ -98,6 +100,10 @@ pub struct TechniqueParams {
     /// the paper's n_opt / sin(gamma)).
     #[arg(long, allow_hyphen_values = true)]
     pub lispsm_n: Option<f64>,
+    /// TSM: where the focus line lands in the map's y, in (-1, 1) (default -0.6, the 80%
+    /// rule).
+    #[arg(long, allow_hyphen_values = true)]
+    pub tsm_xi: Option<f64>,
 }
 
 impl TechniqueParams {
@@ -107,6 +113,10 @@ impl TechniqueParams {
             Technique::Lispsm(mut t) => {
                 t.n = self.lispsm_n.or(t.n);
                 Technique::Lispsm(t)
+            }
+            Technique::Tsm(mut t) => {
+                t.xi = self.tsm_xi.unwrap_or(t.xi);
+                Technique::Tsm(t)
             }
             other => other,
         }

@@ -9,7 +9,7 @@ use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::error::SetupError;
 use crate::light::Light;
-use crate::techniques::{Focused, Lispsm, Uniform};
+use crate::techniques::{Focused, Lispsm, Tsm, Uniform};
 
 /// Smallest supported shadow-map resolution, in texels.
 pub const MIN_RESOLUTION: u32 = 8;
@@ -331,11 +331,13 @@ pub enum Technique {
     Focused(Focused),
     /// Light space perspective shadow map (LiSPSM).
     Lispsm(Lispsm),
+    /// Trapezoidal shadow map (TSM).
+    Tsm(Tsm),
 }
 
 impl Technique {
     /// The names [`Technique::from_str`] accepts.
-    pub const NAMES: &'static [&'static str] = &["uniform", "focused", "lispsm"];
+    pub const NAMES: &'static [&'static str] = &["uniform", "focused", "lispsm", "tsm"];
 
     /// Each technique with default parameters.
     pub fn all() -> Vec<Technique> {
@@ -350,6 +352,7 @@ impl Technique {
             Technique::Uniform(t) => t,
             Technique::Focused(t) => t,
             Technique::Lispsm(t) => t,
+            Technique::Tsm(t) => t,
         }
     }
 }
@@ -389,6 +392,7 @@ impl FromStr for Technique {
             "uniform" | "ssm" => Ok(Technique::Uniform(Uniform)),
             "focused" | "fsm" => Ok(Technique::Focused(Focused)),
             "lispsm" => Ok(Technique::Lispsm(Lispsm::default())),
+            "tsm" => Ok(Technique::Tsm(Tsm::default())),
             _ => Err(UnknownTechnique(s.to_string())),
         }
     }

@@ -52,7 +52,7 @@ use crate::setup::{
 };
 use crate::techniques::focused::Focused;
 use crate::techniques::uniform::uniform_map;
-use crate::techniques::{fixed_projector, tolerance};
+use crate::techniques::{fixed_projector, tolerance, with_fallback};
 
 /// Light space perspective shadow map (LiSPSM, Wimmer et al. 2004): a perspective warp in
 /// light space along the view direction, with the paper's optimal warp strength n, then
@@ -154,11 +154,7 @@ impl ShadowTechnique for Lispsm {
         input.map.validate()?;
         self.validate()?;
         let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
-            let mut setup = Focused.setup(input)?;
-            setup.technique = "lispsm";
-            setup.diagnostics.fallbacks.retain(|f| *f != fallback);
-            setup.diagnostics.fallbacks.insert(0, fallback);
-            Ok(setup)
+            Ok(with_fallback(Focused.setup(input)?, "lispsm", fallback))
         };
         let Light::Directional(light) = input.light else {
             return fallback(Fallback::SpotLightNotWarped);

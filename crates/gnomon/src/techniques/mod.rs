@@ -2,10 +2,12 @@
 
 mod focused;
 mod lispsm;
+mod tsm;
 mod uniform;
 
 pub use focused::Focused;
 pub use lispsm::Lispsm;
+pub use tsm::Tsm;
 pub use uniform::Uniform;
 pub(crate) use uniform::fixed_projector;
 
@@ -30,3 +32,16 @@ pub(crate) fn tolerance(scene: &SceneBounds, camera: Option<&Camera>, light: &Li
 
 /// Padding of a perspective map's xy extents (tangent units).
 pub(crate) const ANGULAR_PADDING: f64 = 1e-9;
+
+/// A setup (usually the focused map a warp falls back to) under another technique's name,
+/// with `fallback` named first among its fallbacks.
+pub(crate) fn with_fallback(
+    mut setup: crate::setup::ShadowSetup,
+    technique: &'static str,
+    fallback: crate::setup::Fallback,
+) -> crate::setup::ShadowSetup {
+    setup.technique = technique;
+    setup.diagnostics.fallbacks.retain(|f| *f != fallback);
+    setup.diagnostics.fallbacks.insert(0, fallback);
+    setup
+}

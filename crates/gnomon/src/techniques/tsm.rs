@@ -1,0 +1,264 @@
+//! Trapezoidal shadow maps (TSM).
+//!
+//! Martin and Tan, "Anti-aliasing and continuity with trapezoidal shadow maps" (EGSR 2004),
+//! as summarised in `shared/papers/README.md`; unit cube clipping as the blog post says:
+//! build the tight focused map first and run TSM in its clip space.
+//!
+//! In the focused map's normalised coordinates: Q = the convex hull of the projected view
+//! body P (view frustum ∩ scene box), clipped to the focused map's inset square (every
+//! shadowable visible receiver and every caster point that shadows one lies in Q). The centre
+//! line runs from the projected centre of the near plane toward the projected centre of the
+//! far plane (direction l). The top and base lines are perpendicular to l and touch Q; lambda
+//! is their distance. The 80% rule: the point on the view axis at `focus` (0.8) of the way
+//! from the near plane to the far end of P, at distance delta' below the top line, must map
+//! to y = xi (-0.6: 80% of the map lies between the top and it). That puts the projection
+//! point q at eta = lambda delta' (1 + xi) / (lambda (1 - xi) - 2 delta') behind the top line;
+//! the side lines pass through q and touch Q. The 2D projective map sends this trapezoid to
+//! the inset square: with t the distance below the top line, a the lateral offset from q and
+//! w = t + eta,
+//!
+//! ```text
+//! x = (2 a - (r_max + r_min) w) / ((r_max - r_min) w),   y = (lambda w - 2 t (lambda + eta)) / (lambda w)
+//! ```
+//!
+//! (r = a / w ranges over [r_min, r_max] inside the wedge). Depth is not warped: the map's
+//! `depth_from_world` is the focused map's linear depth, and its clip-space z is the
+//! constant 0.5 (z = 0.5 w), so the rasteriser never clips a caster by depth; the renderer
+//! writes and compares the linear depth.
+//!
+//! Degenerate cases: the view parallel to the light (the centre line has no length; the
+//! miner's lamp) and spot lights fall back to the focused map; when the 80% rule asks for a
+//! projection point at or beyond infinity (delta' >= lambda (1 - xi) / 2) the side lines are
+//! parallel and the map is the focused rectangle turned along the centre line. Each is named
+//! in the diagnostics.
+
+use glam::{DMat4, DVec2, DVec3, DVec4};
+
+use crate::error::SetupError;
+use crate::focus::VisibleScene;
+use crate::geometry::convex_hull_2d;
+use crate::light::Light;
+use crate::setup::{Fallback, MapProjection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
+use crate::techniques::focused::Focused;
+use crate::techniques::{tolerance, with_fallback};
+
+/// Trapezoidal shadow map (TSM, Martin and Tan 2004) over the focused map, with the 80% rule.
+/// See the module documentation for the construction and each degenerate case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tsm {
+    /// Where the focus line lands in the map's y, in (-1, 1); -0.6 puts 80% of the map
+    /// between the near side and the focus line.
+    pub xi: f64,
+    /// Where the focus point lies along the view, as a fraction of the way from the near plane
+    /// to the far end of the view body, in [0, 1].
+    pub focus: f64,
+}
+
+impl Default for Tsm {
+    /// xi = -0.6, focus at 80% of the view's depth (the paper's 80% rule).
+    fn default() -> Self {
+        Self {
+            xi: -0.6,
+            focus: 0.8,
+        }
+    }
+}
+
+impl Tsm {
+    fn validate(&self) -> Result<(), SetupError> {
+        if !(self.xi > -1.0 && self.xi < 1.0) {
+            return Err(SetupError::InvalidParameter {
+                name: "tsm xi",
+                value: self.xi,
+            });
+        }
+        if !(0.0..=1.0).contains(&self.focus) {
+            return Err(SetupError::InvalidParameter {
+                name: "tsm focus",
+                value: self.focus,
+            });
+        }
+        Ok(())
+    }
+}
+
+impl ShadowTechnique for Tsm {
+    fn name(&self) -> &'static str {
+        "tsm"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        self.validate()?;
+        let mut setup = Focused.setup(input)?;
+        setup.technique = self.name();
+        let fallback_setup = setup.clone();
+        let fall_back =
+            |fallback: Fallback| Ok(with_fallback(fallback_setup.clone(), "tsm", fallback));
+        if matches!(input.light, Light::Spot(_)) {
+            return fall_back(Fallback::SpotLightNotWarped);
+        }
+        // A uniform fallback of the focused map (nothing visible) stays as it is.
+        if setup
+            .diagnostics
+            .fallbacks
+            .iter()
+            .any(|f| matches!(f, Fallback::NoVisibleReceiver))
+        {
+            return Ok(setup);
+        }
+        let focused = setup.maps[0];
+        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
+        let visible = VisibleScene::new(input.camera, input.scene, None, tolerance);
+        let body = visible.view_body.vertices(tolerance);
+        let ndc = |p: DVec3| focused.project(p).map(|v| v.truncate());
+        let Some(q_polygon) = clipped_hull(
+            body.iter().filter_map(|p| ndc(*p)).collect(),
+            focused.inset_ndc(),
+        ) else {
+            return fall_back(Fallback::DegenerateFocusBody);
+        };
+
+        // The centre line, from the near plane's centre toward the far end of P.
+        let camera = input.camera;
+        let (eye, forward, near) = (camera.eye(), camera.forward(), camera.lens().near);
+        let far = body
+            .iter()
+            .map(|p| (*p - eye).dot(forward))
+            .fold(near, f64::max);
+        let (Some(near_center), Some(far_center)) =
+            (ndc(eye + forward * near), ndc(eye + forward * far))
+        else {
+            return fall_back(Fallback::DegenerateFocusBody);
+        };
+        let extent = q_polygon.iter().fold(0.0f64, |m, p| m.max(p.length()));
+        let centre = far_center - near_center;
+        if centre.length() <= 1e-6 * extent.max(1e-300) {
+            return fall_back(Fallback::LightParallelToView);
+        }
+        let l = centre.normalize();
+        let side = l.perp();
+        let t_min = q_polygon
+            .iter()
+            .map(|p| p.dot(l))
+            .fold(f64::INFINITY, f64::min);
+        let t_max = q_polygon
+            .iter()
+            .map(|p| p.dot(l))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let lambda = t_max - t_min;
+        if lambda.is_nan() || lambda <= 0.0 {
+            return fall_back(Fallback::DegenerateFocusBody);
+        }
+        let focus_point =
+            ndc(eye + forward * (near + self.focus * (far - near))).unwrap_or(near_center);
+        // delta' below the top line, kept a little off the top so that eta stays positive.
+        let delta = (focus_point.dot(l) - t_min).clamp(1e-3 * lambda, lambda);
+        let denominator = lambda * (1.0 - self.xi) - 2.0 * delta;
+        let eta =
+            (denominator > 1e-9 * lambda).then(|| lambda * delta * (1.0 + self.xi) / denominator);
+        let centre_lateral = near_center.dot(side);
+        let rows = trapezoid_rows(
+            &focused,
+            &q_polygon,
+            (l, side, centre_lateral),
+            t_min,
+            lambda,
+            eta,
+        );
+        let map = ShadowMap {
+            clip_from_world: DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose(),
+            projection: MapProjection::Perspective,
+            ..focused
+        };
+        setup.maps[0] = map;
+        Ok(setup)
+    }
+}
+
+/// The convex hull of `points`, clipped to the square [-s, s]^2, counter-clockwise; `None`
+/// when less than a polygon remains.
+fn clipped_hull(points: Vec<DVec2>, s: f64) -> Option<Vec<DVec2>> {
+    let hull = convex_hull_2d(&points);
+    if hull.len() < 3 {
+        return None;
+    }
+    let mut polygon: Vec<DVec2> = hull.iter().map(|&i| points[i]).collect();
+    // Sutherland-Hodgman against the four sides: keep n . p <= s.
+    for n in [DVec2::X, -DVec2::X, DVec2::Y, -DVec2::Y] {
+        let mut out = Vec::with_capacity(polygon.len() + 2);
+        for (i, a) in polygon.iter().enumerate() {
+            let b = polygon[(i + 1) % polygon.len()];
+            let (da, db) = (s - n.dot(*a), s - n.dot(b));
+            if da >= 0.0 {
+                out.push(*a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                out.push(*a + (b - *a) * (da / (da - db)));
+            }
+        }
+        polygon = out;
+        if polygon.len() < 3 {
+            return None;
+        }
+    }
+    Some(polygon)
+}
+
+/// The rows of world -> trapezoid clip space, as combinations of the focused map's rows
+/// (its clip x, y and w: for the focused map's normalised coordinates (x_f, y_f) = (X, Y) / W).
+/// `axes`: the centre line's direction, its perpendicular, and the centre line's lateral
+/// coordinate (along the perpendicular).
+fn trapezoid_rows(
+    focused: &ShadowMap,
+    polygon: &[DVec2],
+    axes: (DVec2, DVec2, f64),
+    t_min: f64,
+    lambda: f64,
+    eta: Option<f64>,
+) -> [DVec4; 4] {
+    let (l, side, centre_lateral) = axes;
+    let m = focused.clip_from_world;
+    let (x_row, y_row, w_row) = (m.row(0), m.row(1), m.row(3));
+    let s = focused.inset_ndc();
+    // Homogeneous t (distance below the top line) of a world point: (x_f l.x + y_f l.y - t_min) W.
+    let t_row = x_row * l.x + y_row * l.y - w_row * t_min;
+    let pad = |lo: f64, hi: f64| {
+        let m = 1e-9 * (hi - lo).abs().max(1e-300);
+        (lo - m, hi + m)
+    };
+    match eta {
+        Some(eta) => {
+            // q: on the centre line, eta above the top line; a: the lateral offset from q.
+            let a_row = x_row * side.x + y_row * side.y - w_row * centre_lateral;
+            let (mut r_min, mut r_max) = (f64::INFINITY, f64::NEG_INFINITY);
+            for p in polygon {
+                let r = (p.dot(side) - centre_lateral) / (p.dot(l) - t_min + eta);
+                r_min = r_min.min(r);
+                r_max = r_max.max(r);
+            }
+            let (r_min, r_max) = pad(r_min, r_max);
+            let lambda = lambda * (1.0 + 1e-9);
+            // w = t + eta, scaled by 1 / eta so that the rows stay of moderate size.
+            let w = (t_row + w_row * eta) / eta;
+            let x = (a_row * (2.0 / eta) - w * (r_max + r_min)) * (s / (r_max - r_min));
+            let y = (w * lambda - t_row * (2.0 * (lambda + eta) / eta)) * (s / lambda);
+            [x, y, w * 0.5, w]
+        }
+        None => {
+            // Parallel side lines: the rectangle turned along the centre line.
+            let a_row = x_row * side.x + y_row * side.y;
+            let (a_min, a_max) = polygon
+                .iter()
+                .map(|p| p.dot(side))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), a| {
+                    (lo.min(a), hi.max(a))
+                });
+            let (a_min, a_max) = pad(a_min, a_max);
+            let lambda = lambda * (1.0 + 1e-9);
+            let x = (a_row * 2.0 - w_row * (a_max + a_min)) * (s / (a_max - a_min));
+            let y = (w_row - t_row * (2.0 / lambda)) * s;
+            [x, y, w_row * 0.5, w_row]
+        }
+    }
+}

@@ -1,0 +1,116 @@
+//! TSM's 80% rule, measured from the matrix (Martin and Tan 2004, as summarised in
+//! shared/papers/README.md): the focus point, 80% of the way along the view from the near
+//! plane to the far end of the view body, lands at y = xi; the near plane's centre lands on
+//! the top line or beyond it (y >= 1, inside the inset).
+
+use glam::DVec3;
+use gnomon::{
+    Aabb, Camera, DirectionalLight, Lens, Light, MapSettings, SceneBounds, Tsm, compute_setup,
+};
+
+/// A ground with a tower, in a scene box that holds the whole view frustum (so the far end
+/// of the view body is the far plane).
+fn scene() -> SceneBounds {
+    let ground = Aabb::new(
+        DVec3::new(-200.0, -1.0, -200.0),
+        DVec3::new(200.0, 0.0, 200.0),
+    )
+    .unwrap();
+    let tower = Aabb::new(DVec3::new(-5.0, 0.0, -60.0), DVec3::new(5.0, 30.0, -50.0)).unwrap();
+    let scene_box = Aabb::new(DVec3::splat(-1000.0), DVec3::splat(1000.0)).unwrap();
+    SceneBounds::new(vec![ground, tower], vec![ground, tower], Some(scene_box)).unwrap()
+}
+
+#[test]
+fn focus_point_lands_at_xi_and_the_near_plane_on_top() {
+    let lens = Lens {
+        fov_y_degrees: 60.0,
+        aspect: 1.5,
+        near: 1.0,
+        far: 150.0,
+    };
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 10.0, 100.0),
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::Y,
+        lens,
+    )
+    .unwrap();
+    let light = Light::Directional(DirectionalLight::new(DVec3::new(0.3, -1.0, 0.2)).unwrap());
+    // Here the focus point lies at 76% of lambda below the top line: xi below -0.52 is
+    // attainable; above it the rule would need eta < 0 and the side lines are parallel.
+    for xi in [-0.6, -0.7, -0.9, -0.3] {
+        let tsm = Tsm {
+            xi,
+            ..Tsm::default()
+        };
+        let setup = compute_setup(
+            &tsm,
+            &camera,
+            &light,
+            &scene(),
+            MapSettings::with_resolution(1024),
+        )
+        .unwrap();
+        assert_eq!(setup.fallback(), None, "xi = {xi}");
+        let map = setup.maps[0];
+        let s = map.inset_ndc();
+        let (eye, forward) = (camera.eye(), camera.forward());
+        let focus = eye + forward * (lens.near + 0.8 * (lens.far - lens.near));
+        let y_focus = map.project(focus).unwrap().y;
+        if xi < -0.52 {
+            assert!(
+                (y_focus - xi * s).abs() < 1e-6,
+                "xi = {xi}: focus point at y = {y_focus}"
+            );
+        } else {
+            assert!(y_focus < xi * s, "xi = {xi}: focus point at y = {y_focus}");
+        }
+        let y_near = map.project(eye + forward * lens.near).unwrap().y;
+        // The top line touches the hull of what the map covers; the near plane's centre lies
+        // on the centre line at or beyond it (it may be outside the focus region).
+        assert!(y_near >= s - 1e-9, "xi = {xi}: near centre at y = {y_near}");
+    }
+}
+
+#[test]
+fn bad_parameters_are_typed_errors() {
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 10.0, 100.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        Lens::default(),
+    )
+    .unwrap();
+    let light = Light::Directional(DirectionalLight::new(DVec3::new(0.3, -1.0, 0.2)).unwrap());
+    for xi in [-1.0, 1.0, f64::NAN, 2.0] {
+        let r = compute_setup(
+            &Tsm {
+                xi,
+                ..Tsm::default()
+            },
+            &camera,
+            &light,
+            &scene(),
+            MapSettings::default(),
+        );
+        assert!(
+            matches!(r, Err(gnomon::SetupError::InvalidParameter { .. })),
+            "xi = {xi}"
+        );
+    }
+    let r = compute_setup(
+        &Tsm {
+            focus: 1.5,
+            ..Tsm::default()
+        },
+        &camera,
+        &light,
+        &scene(),
+        MapSettings::default(),
+    );
+    assert!(matches!(
+        r,
+        Err(gnomon::SetupError::InvalidParameter { .. })
+    ));
+}
