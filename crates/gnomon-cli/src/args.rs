@@ -91,6 +91,8 @@ pub enum TechniqueArg {
     Lispsm,
     /// Trapezoidal shadow map (TSM).
     Tsm,
+    /// Extended perspective shadow map (XPSM).
+    Xpsm,
 }
 
 /// Technique parameters; each applies to its technique and is ignored by the others.
@@ -104,6 +106,12 @@ pub struct TechniqueParams {
     /// rule).
     #[arg(long, allow_hyphen_values = true)]
     pub tsm_xi: Option<f64>,
+    /// XPSM: warp strength per world unit (default 0.05, for scenes in metres).
+    #[arg(long, allow_hyphen_values = true)]
+    pub xpsm_coef: Option<f64>,
+    /// XPSM: the smallest warp w allowed over the focus region, in (0, 1) (default 0.085).
+    #[arg(long, allow_hyphen_values = true)]
+    pub xpsm_epsilon_w: Option<f64>,
 }
 
 impl TechniqueParams {
@@ -117,6 +125,11 @@ impl TechniqueParams {
             Technique::Tsm(mut t) => {
                 t.xi = self.tsm_xi.unwrap_or(t.xi);
                 Technique::Tsm(t)
+            }
+            Technique::Xpsm(mut t) => {
+                t.coef = self.xpsm_coef.unwrap_or(t.coef);
+                t.epsilon_w = self.xpsm_epsilon_w.unwrap_or(t.epsilon_w);
+                Technique::Xpsm(t)
             }
             other => other,
         }

@@ -9,7 +9,7 @@ use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::error::SetupError;
 use crate::light::Light;
-use crate::techniques::{Focused, Lispsm, Tsm, Uniform};
+use crate::techniques::{Focused, Lispsm, Tsm, Uniform, Xpsm};
 
 /// Smallest supported shadow-map resolution, in texels.
 pub const MIN_RESOLUTION: u32 = 8;
@@ -333,11 +333,13 @@ pub enum Technique {
     Lispsm(Lispsm),
     /// Trapezoidal shadow map (TSM).
     Tsm(Tsm),
+    /// Extended perspective shadow map (XPSM).
+    Xpsm(Xpsm),
 }
 
 impl Technique {
     /// The names [`Technique::from_str`] accepts.
-    pub const NAMES: &'static [&'static str] = &["uniform", "focused", "lispsm", "tsm"];
+    pub const NAMES: &'static [&'static str] = &["uniform", "focused", "lispsm", "tsm", "xpsm"];
 
     /// Each technique with default parameters.
     pub fn all() -> Vec<Technique> {
@@ -353,6 +355,7 @@ impl Technique {
             Technique::Focused(t) => t,
             Technique::Lispsm(t) => t,
             Technique::Tsm(t) => t,
+            Technique::Xpsm(t) => t,
         }
     }
 }
@@ -393,6 +396,7 @@ impl FromStr for Technique {
             "focused" | "fsm" => Ok(Technique::Focused(Focused)),
             "lispsm" => Ok(Technique::Lispsm(Lispsm::default())),
             "tsm" => Ok(Technique::Tsm(Tsm::default())),
+            "xpsm" => Ok(Technique::Xpsm(Xpsm::default())),
             _ => Err(UnknownTechnique(s.to_string())),
         }
     }

@@ -16,7 +16,7 @@
 use glam::{DVec3, DVec4};
 use gnomon::{
     Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, SceneBounds,
-    ShadowMap, ShadowSetup, SpotLight, Technique, Tsm, Uniform, compute_setup,
+    ShadowMap, ShadowSetup, SpotLight, Technique, Tsm, Uniform, Xpsm, compute_setup,
 };
 use proptest::prelude::*;
 use proptest::test_runner::TestRng;
@@ -367,12 +367,13 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
     let focused = setup(Technique::Focused(Focused))?;
     let lispsm = setup(Technique::Lispsm(Lispsm::default()))?;
     let tsm = setup(Technique::Tsm(Tsm::default()))?;
+    let xpsm = setup(Technique::Xpsm(Xpsm::default()))?;
     let mut rng = TestRng::from_seed(
         proptest::test_runner::RngAlgorithm::ChaCha,
         &[seed as u8; 32],
     );
     let points = visible_receiver_points(cfg, &mut rng);
-    for setup in [&uniform, &focused, &lispsm, &tsm] {
+    for setup in [&uniform, &focused, &lispsm, &tsm, &xpsm] {
         let map = &setup.maps[0];
         if !(map.clip_from_world.is_finite() && map.depth_from_world.is_finite()) {
             return Err(format!("{}: non-finite matrix", setup.technique));

@@ -4,12 +4,15 @@ mod focused;
 mod lispsm;
 mod tsm;
 mod uniform;
+mod view_warp;
+mod xpsm;
 
 pub use focused::Focused;
 pub use lispsm::Lispsm;
 pub use tsm::Tsm;
 pub use uniform::Uniform;
 pub(crate) use uniform::fixed_projector;
+pub use xpsm::Xpsm;
 
 use crate::bounds::SceneBounds;
 use crate::camera::Camera;
