@@ -9,7 +9,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use gnomon::{
     Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, SceneBounds,
-    SpotLight, Uniform, compute_setup,
+    SpotLight, Tsm, Uniform, Xpsm, compute_setup,
 };
 
 /// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, on a ground slab: casters, and also
@@ -78,6 +78,24 @@ fn bench(c: &mut Criterion) {
             },
         );
         let scene = city(n, true);
+        group.bench_with_input(
+            BenchmarkId::new("tsm_directional_casters_only", n),
+            &casters_only,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup(&Tsm::default(), black_box(&camera), &sun, s, settings).unwrap()
+                })
+            },
+        );
+        group.bench_with_input(
+            BenchmarkId::new("xpsm_directional_casters_only", n),
+            &casters_only,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup(&Xpsm::default(), black_box(&camera), &sun, s, settings).unwrap()
+                })
+            },
+        );
         group.bench_with_input(BenchmarkId::new("lispsm_directional", n), &scene, |b, s| {
             b.iter(|| {
                 compute_setup(&Lispsm::default(), black_box(&camera), &sun, s, settings).unwrap()
