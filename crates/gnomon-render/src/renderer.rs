@@ -389,9 +389,8 @@ impl Renderer {
             pass.set_scissor_rect(inset, inset, inner, inner);
             pass.set_pipeline(&self.depth_pipeline);
             pass.set_bind_group(0, &depth_bind_group, &[]);
-            pass.set_vertex_buffer(0, self.scene.vertices.slice(..));
-            pass.set_index_buffer(self.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(self.scene.caster_indices.clone(), 0, 0..1);
+            self.scene
+                .draw(&mut pass, self.scene.caster_indices.clone());
         }
         self.gpu.queue.submit([encoder.finish()]);
         self.gpu.wait()?;
@@ -475,9 +474,7 @@ impl Renderer {
             });
             pass.set_pipeline(&self.main_pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
-            pass.set_vertex_buffer(0, self.scene.vertices.slice(..));
-            pass.set_index_buffer(self.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(self.scene.all_indices.clone(), 0, 0..1);
+            self.scene.draw(&mut pass, self.scene.all_indices.clone());
         }
         self.gpu.queue.submit([encoder.finish()]);
         self.gpu.wait()?;

@@ -126,6 +126,13 @@ pub(crate) struct GpuScene {
 }
 
 impl GpuScene {
+    /// Binds the buffers and draws the triangles of `indices`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, indices: std::ops::Range<u32>) {
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(indices, 0, 0..1);
+    }
+
     pub fn new(device: &wgpu::Device, scene: &RenderScene) -> Self {
         use wgpu::util::DeviceExt;
         let mut vertices: Vec<Vertex> = Vec::new();
