@@ -93,6 +93,8 @@ pub enum TechniqueArg {
     Tsm,
     /// Extended perspective shadow map (XPSM).
     Xpsm,
+    /// Perspective shadow map (PSM).
+    Psm,
 }
 
 /// Technique parameters; each applies to its technique and is ignored by the others.
@@ -112,6 +114,9 @@ pub struct TechniqueParams {
     /// XPSM: the smallest warp w allowed over the focus region, in (0, 1) (default 0.085).
     #[arg(long, allow_hyphen_values = true)]
     pub xpsm_epsilon_w: Option<f64>,
+    /// PSM: how far the virtual camera slides back, in world units (default sqrt(z_n z_f)).
+    #[arg(long, allow_hyphen_values = true)]
+    pub psm_slide_back: Option<f64>,
 }
 
 impl TechniqueParams {
@@ -125,6 +130,10 @@ impl TechniqueParams {
             Technique::Tsm(mut t) => {
                 t.xi = self.tsm_xi.unwrap_or(t.xi);
                 Technique::Tsm(t)
+            }
+            Technique::Psm(mut t) => {
+                t.slide_back = self.psm_slide_back.or(t.slide_back);
+                Technique::Psm(t)
             }
             Technique::Xpsm(mut t) => {
                 t.coef = self.xpsm_coef.unwrap_or(t.coef);

@@ -25,7 +25,7 @@
 //! points to clip space).
 //!
 //! Techniques (each cites its paper): [`Uniform`] (SSM), [`Focused`] (FSM with unit cube
-//! clipping), [`Lispsm`] (LiSPSM), [`Tsm`] (TSM), [`Xpsm`] (XPSM). Every technique implements [`ShadowTechnique`]; [`Technique`] names them all.
+//! clipping), [`Lispsm`] (LiSPSM), [`Tsm`] (TSM), [`Xpsm`] (XPSM), [`Psm`] (PSM). Every technique implements [`ShadowTechnique`]; [`Technique`] names them all.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -51,7 +51,7 @@ pub use setup::{
     MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique, Technique,
     UnknownTechnique, compute_setup,
 };
-pub use techniques::{Focused, Lispsm, Tsm, Uniform, Xpsm};
+pub use techniques::{Focused, Lispsm, Psm, Tsm, Uniform, Xpsm};
 
 /// Largest magnitude accepted for positions and distances (world units). Beyond it `f32`
 /// GPU matrices lose all precision; inputs above it are rejected with

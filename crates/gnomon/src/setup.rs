@@ -9,7 +9,7 @@ use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::error::SetupError;
 use crate::light::Light;
-use crate::techniques::{Focused, Lispsm, Tsm, Uniform, Xpsm};
+use crate::techniques::{Focused, Lispsm, Psm, Tsm, Uniform, Xpsm};
 
 /// Smallest supported shadow-map resolution, in texels.
 pub const MIN_RESOLUTION: u32 = 8;
@@ -335,11 +335,14 @@ pub enum Technique {
     Tsm(Tsm),
     /// Extended perspective shadow map (XPSM).
     Xpsm(Xpsm),
+    /// Perspective shadow map (PSM).
+    Psm(Psm),
 }
 
 impl Technique {
     /// The names [`Technique::from_str`] accepts.
-    pub const NAMES: &'static [&'static str] = &["uniform", "focused", "lispsm", "tsm", "xpsm"];
+    pub const NAMES: &'static [&'static str] =
+        &["uniform", "focused", "psm", "lispsm", "tsm", "xpsm"];
 
     /// Each technique with default parameters.
     pub fn all() -> Vec<Technique> {
@@ -356,6 +359,7 @@ impl Technique {
             Technique::Lispsm(t) => t,
             Technique::Tsm(t) => t,
             Technique::Xpsm(t) => t,
+            Technique::Psm(t) => t,
         }
     }
 }
@@ -397,6 +401,7 @@ impl FromStr for Technique {
             "lispsm" => Ok(Technique::Lispsm(Lispsm::default())),
             "tsm" => Ok(Technique::Tsm(Tsm::default())),
             "xpsm" => Ok(Technique::Xpsm(Xpsm::default())),
+            "psm" => Ok(Technique::Psm(Psm::default())),
             _ => Err(UnknownTechnique(s.to_string())),
         }
     }

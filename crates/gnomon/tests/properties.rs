@@ -15,7 +15,7 @@
 
 use glam::{DVec3, DVec4};
 use gnomon::{
-    Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, SceneBounds,
+    Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, Psm, SceneBounds,
     ShadowMap, ShadowSetup, SpotLight, Technique, Tsm, Uniform, Xpsm, compute_setup,
 };
 use proptest::prelude::*;
@@ -368,12 +368,13 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
     let lispsm = setup(Technique::Lispsm(Lispsm::default()))?;
     let tsm = setup(Technique::Tsm(Tsm::default()))?;
     let xpsm = setup(Technique::Xpsm(Xpsm::default()))?;
+    let psm = setup(Technique::Psm(Psm::default()))?;
     let mut rng = TestRng::from_seed(
         proptest::test_runner::RngAlgorithm::ChaCha,
         &[seed as u8; 32],
     );
     let points = visible_receiver_points(cfg, &mut rng);
-    for setup in [&uniform, &focused, &lispsm, &tsm, &xpsm] {
+    for setup in [&uniform, &focused, &lispsm, &tsm, &xpsm, &psm] {
         let map = &setup.maps[0];
         if !(map.clip_from_world.is_finite() && map.depth_from_world.is_finite()) {
             return Err(format!("{}: non-finite matrix", setup.technique));

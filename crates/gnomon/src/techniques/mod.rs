@@ -2,6 +2,7 @@
 
 mod focused;
 mod lispsm;
+mod psm;
 mod tsm;
 mod uniform;
 mod view_warp;
@@ -9,6 +10,7 @@ mod xpsm;
 
 pub use focused::Focused;
 pub use lispsm::Lispsm;
+pub use psm::Psm;
 pub use tsm::Tsm;
 pub use uniform::Uniform;
 pub(crate) use uniform::fixed_projector;

@@ -1,0 +1,351 @@
+//! Perspective shadow maps (PSM), with Kozlov's fixes as the unit cube clipping blog post
+//! recaps them.
+//!
+//! Stamminger and Drettakis, "Perspective shadow maps" (SIGGRAPH 2002); Kozlov, "Perspective
+//! shadow maps: care and feeding" (GPU Gems, 2004); `shared/papers/unit-cube-clipping-blog-post.txt`.
+//!
+//! The shadow map is built in the post-perspective space (PPS) of a virtual camera: the real
+//! camera slid back along its view direction by `slide_back`, with its near and far planes at
+//! the convex body B's nearest and farthest depth. A directional light becomes, in PPS, the
+//! image of its direction's point at infinity: its vanishing point l, on the image of the
+//! plane at infinity z = f / (f - n), beyond every finite point. Kozlov's three cases:
+//! - directional in PPS (the light perpendicular to the view, l at infinity in PPS): an
+//!   orthographic map along the light's PPS direction;
+//! - a point light in PPS: a perspective map from l whose axis points to the visible
+//!   receivers (the bounding cone);
+//! - the inverted point light (the light behind the viewer): the same projection from l. The
+//!   inverse projection matrix Kozlov uses keeps PPS depth ordered along the rays; gnomon
+//!   compares the linear world depth of `depth_from_world` instead, so only the 2D central
+//!   projection from l matters, and every relevant point lies on one side of l.
+//!
+//! Casters: every caster point that can shadow a visible receiver lies in B. The virtual
+//! camera slides back at least until B lies in front of it (Stamminger and Drettakis's
+//! remedy for casters behind the viewer; Kozlov's near-plane clipping and z clamp address the
+//! same points), and casters are cut to B's depth range before their extents are taken, so
+//! none reaches the virtual camera's singular plane and none that matters is clipped. Unit
+//! cube clipping then runs in the light's projection of PPS as for the other maps. The
+//! clip-space z is w / 2 (never clipped); the renderer writes and compares the linear depth.
+//!
+//! The default slide, sqrt(z_n z_f) with z_f the far end of B, puts the virtual eye at
+//! LiSPSM's n_opt from the near plane; `slide_back = 0` is the original PSM, whose perspective
+//! aliasing follows the PSM line z (z_f - z_n) / z_f in the ideal case (LiSPSM paper, 4.3).
+//!
+//! Degenerate cases: spot lights fall back to the focused map; a flat B falls back to the
+//! focused map; nothing visible gives the uniform map; each is named in the diagnostics.
+
+use glam::{DMat4, DVec3, DVec4};
+
+use crate::body::focus_body;
+use crate::camera::{Camera, Lens};
+use crate::error::SetupError;
+use crate::focus::{BoxSide, VisibleScene, box_cut_vertices, classify_box};
+use crate::geometry::{ConvexPolyhedron, Plane};
+use crate::light::Light;
+use crate::light_space::{Extents, LightFrame, Projector, pad};
+use crate::setup::{
+    Diagnostics, Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup,
+    ShadowTechnique,
+};
+use crate::techniques::focused::Focused;
+use crate::techniques::uniform::uniform_map;
+use crate::techniques::{ANGULAR_PADDING, fixed_projector, tolerance, with_fallback};
+
+/// Perspective shadow map (PSM, Stamminger and Drettakis 2002, with Kozlov's fixes): a map
+/// built in the post-perspective space of a virtual camera slid back from the real one. See
+/// the module documentation for the cases and how casters are kept.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Psm {
+    /// How far the virtual camera slides back, in world units. `None`: sqrt(z_n z_f) (the
+    /// virtual eye at LiSPSM's n_opt). Raised when B reaches behind the virtual camera.
+    pub slide_back: Option<f64>,
+}
+
+impl Psm {
+    fn validate(&self) -> Result<(), SetupError> {
+        match self.slide_back {
+            Some(s) if !(s.is_finite() && s >= 0.0) => Err(SetupError::InvalidParameter {
+                name: "psm slide back",
+                value: s,
+            }),
+            _ => Ok(()),
+        }
+    }
+}
+
+impl ShadowTechnique for Psm {
+    fn name(&self) -> &'static str {
+        "psm"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        self.validate()?;
+        let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
+            Ok(with_fallback(Focused.setup(input)?, "psm", fallback))
+        };
+        let Light::Directional(light) = input.light else {
+            return fallback(Fallback::SpotLightNotWarped);
+        };
+        let camera = input.camera;
+        let mut diagnostics = Diagnostics::new(camera, input.light, input.scene);
+        let tolerance = tolerance(input.scene, Some(camera), input.light);
+        let visible = VisibleScene::new(camera, input.scene, None, tolerance);
+        diagnostics.visible_receivers = visible.visible_receivers();
+        if visible.visible_receivers() == 0 {
+            diagnostics.fallbacks.push(Fallback::NoVisibleReceiver);
+            let map = uniform_map(input.light, input.scene, input.map, &mut diagnostics);
+            return Ok(ShadowSetup {
+                technique: self.name(),
+                maps: vec![map],
+                selection: MapSelection::Single,
+                diagnostics,
+            });
+        }
+        let region = ConvexPolyhedron::from_box(&input.scene.scene_box());
+        let body = focus_body(
+            &visible.view_body,
+            &region,
+            &fixed_projector(input.light),
+            tolerance,
+        )
+        .vertices(tolerance);
+        diagnostics.focus_body_vertices = body.len();
+        let (eye, forward, near) = (camera.eye(), camera.forward(), camera.lens().near);
+        let depth = |p: DVec3| (p - eye).dot(forward);
+        let b0 = body.iter().map(|p| depth(*p)).fold(f64::INFINITY, f64::min);
+        let b1 = body
+            .iter()
+            .map(|p| depth(*p))
+            .fold(f64::NEG_INFINITY, f64::max);
+        if body.len() < 4 || b1.is_nan() || b1 - b0 <= tolerance {
+            return fallback(Fallback::DegenerateFocusBody);
+        }
+
+        // The virtual camera: slid back so that B lies at least `near` in front of it.
+        let requested = self
+            .slide_back
+            .unwrap_or_else(|| (near * b1.max(near)).sqrt());
+        let slide = requested.max(near - b0);
+        let virtual_camera = Camera::look_at(
+            eye - forward * slide,
+            eye - forward * slide + forward,
+            camera.up(),
+            Lens {
+                near: b0 + slide,
+                far: b1 + slide,
+                ..camera.lens()
+            },
+        )?;
+        let pps_from_world = virtual_camera.clip_from_world();
+        let to_pps = |p: DVec3| -> DVec3 {
+            let h = pps_from_world * p.extend(1.0);
+            h.truncate() / h.w
+        };
+
+        // Receivers in PPS; the linear depth range along the light in world space.
+        let mut receiver_points = Vec::new();
+        let mut receivers_z = f64::NEG_INFINITY;
+        visible.for_each_vertex(input.scene, |p| {
+            receiver_points.push(to_pps(p));
+            receivers_z = receivers_z.max(light.direction().dot(p));
+        });
+        let body_z = body
+            .iter()
+            .map(|p| light.direction().dot(*p))
+            .fold(f64::INFINITY, f64::min);
+
+        // The light in PPS and the map's projector there.
+        let l_h = pps_from_world * (-light.direction()).extend(0.0);
+        let mut center = DVec3::ZERO;
+        let mut receiver_box = Extents::EMPTY;
+        for p in &receiver_points {
+            receiver_box.add(*p);
+        }
+        center += 0.5 * (receiver_box.min + receiver_box.max);
+        let extent = (receiver_box.max - receiver_box.min).length().max(1e-300);
+        // The cone must hold every receiver and all of B (every relevant caster lies in B).
+        let mut cone_points: Vec<DVec3> = body.iter().map(|p| to_pps(*p)).collect();
+        cone_points.extend_from_slice(&receiver_points);
+        let projector = pps_projector(l_h, center, extent, &cone_points);
+
+        let mut receivers = Extents::EMPTY;
+        for p in &receiver_points {
+            receivers.add(projector.project(*p));
+        }
+        // Casters cut to B's depth range (planes perpendicular to the view) and, for a
+        // perspective map in PPS, to the front of its centre: d = axis . (P - l W) >= d_min W / 2
+        // is a plane of homogeneous PPS coordinates, a world plane through pps_from_world.
+        let mut slab = vec![
+            Plane::through_point(eye + forward * b0, forward),
+            Plane::through_point(eye + forward * b1, -forward),
+        ];
+        if let Projector::Point { frame, position } = &projector {
+            // Every relevant point has d >= the smallest d over B and the receivers; cutting
+            // at half of it keeps them all and keeps cut vertices off the singular plane d = 0.
+            let d_min = cone_points
+                .iter()
+                .map(|p| (*p - *position).dot(frame.forward))
+                .fold(f64::INFINITY, f64::min);
+            let pps_plane = frame
+                .forward
+                .extend(-frame.forward.dot(*position) - 0.5 * d_min);
+            let world = pps_from_world.transpose() * pps_plane;
+            let normal = world.truncate();
+            if normal.length() > 0.0 {
+                slab.push(Plane {
+                    normal: normal / normal.length(),
+                    offset: world.w / normal.length(),
+                });
+            }
+        }
+        let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
+        let mut casters = Extents::EMPTY;
+        let mut casters_z = f64::INFINITY;
+        let mut relevant = 0;
+        let mut scratch = Vec::new();
+        for caster in input.scene.casters() {
+            scratch.clear();
+            match classify_box(caster, &slab, tolerance) {
+                BoxSide::Outside => continue,
+                BoxSide::Inside => scratch.extend_from_slice(&caster.corners()),
+                BoxSide::Straddles(mask) => {
+                    if !box_cut_vertices(caster, &slab, mask, tolerance, &mut scratch) {
+                        continue;
+                    }
+                }
+            }
+            let mut e = Extents::EMPTY;
+            let mut z_min = f64::INFINITY;
+            for p in &scratch {
+                e.add(projector.project(to_pps(*p)));
+                z_min = z_min.min(light.direction().dot(*p));
+            }
+            if !receivers.xy_overlaps(&e, xy_slack) || z_min > receivers_z {
+                continue;
+            }
+            relevant += 1;
+            casters = casters.union(&e);
+            casters_z = casters_z.min(z_min);
+        }
+        diagnostics.relevant_casters = relevant;
+        diagnostics.culled_casters = input.scene.casters().len() - relevant;
+        let (region, linear) = if relevant == 0 {
+            diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
+            (
+                receivers,
+                (receivers_z.min(body_z.max(receivers_z - 1.0)), receivers_z),
+            )
+        } else {
+            let lo = receivers.min.max(casters.min).truncate();
+            let hi = receivers.max.min(casters.max).truncate();
+            let mid = 0.5 * (lo + hi);
+            let near_z = casters_z.max(body_z).min(receivers_z);
+            (
+                Extents {
+                    min: lo.min(mid).extend(0.0),
+                    max: hi.max(mid).extend(0.0),
+                },
+                (near_z, receivers_z),
+            )
+        };
+        let map = psm_map(
+            &projector,
+            &region,
+            linear,
+            pps_from_world,
+            light.direction(),
+            input,
+            tolerance,
+        );
+        Ok(ShadowSetup {
+            technique: self.name(),
+            maps: vec![map],
+            selection: MapSelection::Single,
+            diagnostics,
+        })
+    }
+}
+
+/// The light's projection in PPS: orthographic along the light's PPS direction when its
+/// vanishing point is at (or practically at) infinity, else perspective from it, its axis
+/// toward the receivers, or -z when some of `points` would lie behind that axis (every
+/// finite point in front of the virtual camera lies on the -z side of the vanishing point:
+/// z = f (d - n) / (d (f - n)) < f / (f - n)).
+fn pps_projector(l_h: DVec4, center: DVec3, extent: f64, points: &[DVec3]) -> Projector {
+    let direction = l_h.truncate();
+    if l_h.w.abs() * extent <= 1e-9 * direction.length() {
+        return Projector::Parallel(LightFrame::fixed(-direction.normalize()));
+    }
+    let l = direction / l_h.w;
+    if (center - l).length() > 1e7 * extent {
+        return Projector::Parallel(LightFrame::fixed((center - l).normalize()));
+    }
+    let axis = (center - l).normalize();
+    let in_front = |axis: DVec3| {
+        points
+            .iter()
+            .all(|p| (*p - l).dot(axis) > 1e-9 * (*p - l).length())
+    };
+    let axis = if in_front(axis) { axis } else { -DVec3::Z };
+    Projector::Point {
+        frame: LightFrame::fixed(axis),
+        position: l,
+    }
+}
+
+/// The PSM's matrices: the projector's rows on homogeneous PPS coordinates, times
+/// `pps_from_world`; clip z = w / 2; linear depth along the light over `linear`.
+fn psm_map(
+    projector: &Projector,
+    region: &Extents,
+    linear: (f64, f64),
+    pps_from_world: DMat4,
+    light_direction: DVec3,
+    input: &SetupInput<'_>,
+    tolerance: f64,
+) -> ShadowMap {
+    let padding = match projector {
+        Projector::Parallel(_) => {
+            1e-9 * (region.max - region.min)
+                .truncate()
+                .max_element()
+                .max(1e-300)
+        }
+        Projector::Point { .. } => ANGULAR_PADDING,
+    };
+    let (x0, x1) = pad(region.min.x, region.max.x, padding);
+    let (y0, y1) = pad(region.min.y, region.max.y, padding);
+    let (l0, l1) = pad(linear.0, linear.1, tolerance);
+    let s = input.map.inset_ndc();
+    let (ax, bx) = (2.0 * s / (x1 - x0), -s * (x1 + x0) / (x1 - x0));
+    let (ay, by) = (2.0 * s / (y1 - y0), -s * (y1 + y0) / (y1 - y0));
+    let f = projector.frame();
+    // Rows acting on homogeneous PPS coordinates (X, Y, Z, W).
+    let rows = match projector {
+        Projector::Parallel(_) => [
+            (ax * f.right).extend(bx),
+            (ay * f.up).extend(by),
+            DVec4::new(0.0, 0.0, 0.0, 0.5),
+            DVec4::W,
+        ],
+        Projector::Point { position, .. } => {
+            // (v . (P - l W)) for the PPS point P / W.
+            let row = |v: DVec3| v.extend(-v.dot(*position));
+            let w = row(f.forward);
+            [
+                row(ax * f.right + bx * f.forward),
+                row(ay * f.up + by * f.forward),
+                w * 0.5,
+                w,
+            ]
+        }
+    };
+    let clip_from_pps = DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
+    ShadowMap {
+        clip_from_world: clip_from_pps * pps_from_world,
+        depth_from_world: (light_direction / (l1 - l0)).extend(-l0 / (l1 - l0)),
+        resolution: input.map.resolution,
+        viewport_inset: input.map.viewport_inset,
+        projection: MapProjection::Perspective,
+    }
+}
