@@ -8,7 +8,7 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use gnomon::{
-    Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, SceneBounds,
+    Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, Psm, SceneBounds,
     SpotLight, Tsm, Uniform, Xpsm, compute_setup,
 };
 
@@ -93,6 +93,15 @@ fn bench(c: &mut Criterion) {
             |b, s| {
                 b.iter(|| {
                     compute_setup(&Xpsm::default(), black_box(&camera), &sun, s, settings).unwrap()
+                })
+            },
+        );
+        group.bench_with_input(
+            BenchmarkId::new("psm_directional_casters_only", n),
+            &casters_only,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup(&Psm::default(), black_box(&camera), &sun, s, settings).unwrap()
                 })
             },
         );
