@@ -35,20 +35,18 @@
 
 use glam::{DMat4, DVec3, DVec4};
 
-use crate::body::focus_body;
 use crate::camera::{Camera, Lens};
 use crate::error::SetupError;
-use crate::focus::{BoxSide, VisibleScene, box_cut_vertices, classify_box};
-use crate::geometry::{ConvexPolyhedron, Plane};
+use crate::focus::{BoxSide, box_cut_vertices, classify_box};
+use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, Projector, pad};
 use crate::setup::{
-    Diagnostics, Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup,
-    ShadowTechnique,
+    Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
 use crate::techniques::focused::Focused;
-use crate::techniques::uniform::uniform_map;
-use crate::techniques::{ANGULAR_PADDING, fixed_projector, tolerance, with_fallback};
+use crate::techniques::view_warp::{WarpBasis, warp_basis};
+use crate::techniques::{ANGULAR_PADDING, with_fallback};
 
 /// Perspective shadow map (PSM, Stamminger and Drettakis 2002, with Kozlov's fixes): a map
 /// built in the post-perspective space of a virtual camera slid back from the real one. See
@@ -87,29 +85,15 @@ impl ShadowTechnique for Psm {
             return fallback(Fallback::SpotLightNotWarped);
         };
         let camera = input.camera;
-        let mut diagnostics = Diagnostics::new(camera, input.light, input.scene);
-        let tolerance = tolerance(input.scene, Some(camera), input.light);
-        let visible = VisibleScene::new(camera, input.scene, None, tolerance);
-        diagnostics.visible_receivers = visible.visible_receivers();
-        if visible.visible_receivers() == 0 {
-            diagnostics.fallbacks.push(Fallback::NoVisibleReceiver);
-            let map = uniform_map(input.light, input.scene, input.map, &mut diagnostics);
-            return Ok(ShadowSetup {
-                technique: self.name(),
-                maps: vec![map],
-                selection: MapSelection::Single,
-                diagnostics,
-            });
-        }
-        let region = ConvexPolyhedron::from_box(&input.scene.scene_box());
-        let body = focus_body(
-            &visible.view_body,
-            &region,
-            &fixed_projector(input.light),
+        let WarpBasis {
+            visible,
+            body,
             tolerance,
-        )
-        .vertices(tolerance);
-        diagnostics.focus_body_vertices = body.len();
+            mut diagnostics,
+        } = match warp_basis(input, self.name()) {
+            Ok(basis) => basis,
+            Err(uniform) => return Ok(uniform),
+        };
         let (eye, forward, near) = (camera.eye(), camera.forward(), camera.lens().near);
         let depth = |p: DVec3| (p - eye).dot(forward);
         let b0 = body.iter().map(|p| depth(*p)).fold(f64::INFINITY, f64::min);

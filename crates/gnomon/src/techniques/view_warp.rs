@@ -119,6 +119,52 @@ impl Warp {
     }
 }
 
+/// What every camera-dependent warp starts from: the visible scene, B's vertices, the
+/// tolerance and the diagnostics so far.
+pub(crate) struct WarpBasis {
+    pub visible: VisibleScene,
+    pub body: Vec<DVec3>,
+    pub tolerance: f64,
+    pub diagnostics: Diagnostics,
+}
+
+/// The visible scene and B for `input`, or (as `Err`) the uniform setup when no receiver is
+/// visible.
+pub(crate) fn warp_basis(
+    input: &SetupInput<'_>,
+    technique: &'static str,
+) -> Result<WarpBasis, ShadowSetup> {
+    let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
+    let tolerance = tolerance(input.scene, Some(input.camera), input.light);
+    let visible = VisibleScene::new(input.camera, input.scene, None, tolerance);
+    diagnostics.visible_receivers = visible.visible_receivers();
+    if visible.visible_receivers() == 0 {
+        diagnostics.fallbacks.push(Fallback::NoVisibleReceiver);
+        let map = uniform_map(input.light, input.scene, input.map, &mut diagnostics);
+        return Err(ShadowSetup {
+            technique,
+            maps: vec![map],
+            selection: MapSelection::Single,
+            diagnostics,
+        });
+    }
+    let region = ConvexPolyhedron::from_box(&input.scene.scene_box());
+    let body = focus_body(
+        &visible.view_body,
+        &region,
+        &fixed_projector(input.light),
+        tolerance,
+    )
+    .vertices(tolerance);
+    diagnostics.focus_body_vertices = body.len();
+    Ok(WarpBasis {
+        visible,
+        body,
+        tolerance,
+        diagnostics,
+    })
+}
+
 /// The setup of a view-axis warp: the focused map where the warp is undefined (spot lights,
 /// view parallel to the light, a flat B), the uniform map when nothing is visible, else the
 /// warp `choose` picks, with unit cube clipping in warped space.
@@ -137,30 +183,16 @@ pub(crate) fn view_warp_setup(
     let Some(frame) = LightFrame::view_aligned(light.direction(), input.camera.forward()) else {
         return fallback(Fallback::LightParallelToView);
     };
-    let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
-    diagnostics.light_frame = LightFrameKind::ViewAligned;
-    let tolerance = tolerance(input.scene, Some(input.camera), input.light);
-    let visible = VisibleScene::new(input.camera, input.scene, None, tolerance);
-    diagnostics.visible_receivers = visible.visible_receivers();
-    if visible.visible_receivers() == 0 {
-        diagnostics.fallbacks.push(Fallback::NoVisibleReceiver);
-        let map = uniform_map(input.light, input.scene, input.map, &mut diagnostics);
-        return Ok(ShadowSetup {
-            technique,
-            maps: vec![map],
-            selection: MapSelection::Single,
-            diagnostics,
-        });
-    }
-    let region = ConvexPolyhedron::from_box(&input.scene.scene_box());
-    let body = focus_body(
-        &visible.view_body,
-        &region,
-        &fixed_projector(input.light),
+    let WarpBasis {
+        visible,
+        body,
         tolerance,
-    )
-    .vertices(tolerance);
-    diagnostics.focus_body_vertices = body.len();
+        mut diagnostics,
+    } = match warp_basis(input, technique) {
+        Ok(basis) => basis,
+        Err(uniform) => return Ok(uniform),
+    };
+    diagnostics.light_frame = LightFrameKind::ViewAligned;
 
     // B in light space: P's near and far planes, and the reference point's Z.
     let projector = Projector::Parallel(frame);
