@@ -6,53 +6,14 @@
 //! view axis, is 9.9 at both z_n and z_f; a very large n gives the uniform curve
 //! (z_f - z_n) z_n / z, n = z_n the PSM line z (z_f - z_n) / z_f.
 
+mod common;
+
+use common::{Z_F, Z_N, dp_ds, ideal_map, within};
 use glam::DVec3;
 use gnomon::{
     Aabb, Camera, DirectionalLight, Lens, Light, Lispsm, MapSettings, SceneBounds, ShadowMap,
     compute_setup,
 };
-
-const Z_N: f64 = 1.0;
-const Z_F: f64 = 100.0;
-
-fn ideal_map(lispsm: Lispsm) -> ShadowMap {
-    let lens = Lens {
-        fov_y_degrees: 60.0,
-        aspect: 1.0,
-        near: Z_N,
-        far: Z_F,
-    };
-    let camera = Camera::look_at(DVec3::ZERO, -DVec3::Z, DVec3::Y, lens).unwrap();
-    let corners = camera.frustum_corners();
-    let min = corners.iter().copied().reduce(DVec3::min).unwrap();
-    let max = corners.iter().copied().reduce(DVec3::max).unwrap();
-    let frustum_box = Aabb::new(min, max).unwrap();
-    let scene = SceneBounds::new(vec![frustum_box], vec![frustum_box], Some(frustum_box)).unwrap();
-    let light = Light::Directional(DirectionalLight::new(-DVec3::Y).unwrap());
-    let setup = compute_setup(
-        &lispsm,
-        &camera,
-        &light,
-        &scene,
-        MapSettings::with_resolution(1024),
-    )
-    .unwrap();
-    assert_eq!(setup.fallback(), None);
-    setup.maps[0]
-}
-
-/// s of the point at distance z along the view axis: the map's y normalised to [0, 1].
-fn s(map: &ShadowMap, z: f64) -> f64 {
-    0.5 * (map.project(DVec3::new(0.0, 0.0, -z)).unwrap().y + 1.0)
-}
-
-/// dp/ds at z, by central differences (one-sided at the ends).
-fn dp_ds(map: &ShadowMap, z: f64) -> f64 {
-    let h = 1e-5 * z;
-    let (a, b) = ((z - h).max(Z_N), (z + h).min(Z_F));
-    let ds_dz = (s(map, b) - s(map, a)) / (b - a);
-    (Z_N / z) / ds_dz.abs()
-}
 
 fn curve(map: &ShadowMap) -> Vec<(f64, f64)> {
     (0..=400)
@@ -61,13 +22,9 @@ fn curve(map: &ShadowMap) -> Vec<(f64, f64)> {
         .collect()
 }
 
-fn within(value: f64, expected: f64, tolerance: f64) -> bool {
-    (value / expected - 1.0).abs() <= tolerance
-}
-
 #[test]
 fn optimal_n_equalises_the_error_at_near_and_far_at_9_9() {
-    let map = ideal_map(Lispsm::default());
+    let map = ideal_map(&Lispsm::default());
     let c = curve(&map);
     let (near, far) = (c[0].1, c[c.len() - 1].1);
     let max = c.iter().map(|p| p.1).fold(0.0, f64::max);
@@ -87,7 +44,7 @@ fn optimal_n_equalises_the_error_at_near_and_far_at_9_9() {
 
 #[test]
 fn very_large_n_gives_the_uniform_curve() {
-    let map = ideal_map(Lispsm { n: Some(1e9) });
+    let map = ideal_map(&Lispsm { n: Some(1e9) });
     for (z, value) in curve(&map) {
         let expected = (Z_F - Z_N) * Z_N / z;
         assert!(
@@ -99,7 +56,7 @@ fn very_large_n_gives_the_uniform_curve() {
 
 #[test]
 fn n_at_the_near_plane_gives_the_psm_line() {
-    let map = ideal_map(Lispsm { n: Some(Z_N) });
+    let map = ideal_map(&Lispsm { n: Some(Z_N) });
     for (z, value) in curve(&map) {
         let expected = z * (Z_F - Z_N) / Z_F;
         assert!(
