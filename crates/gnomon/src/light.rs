@@ -1,6 +1,6 @@
 //! Lights that cast the shadows: directional and spot.
 
-use glam::DVec3;
+use glam::{DVec3, DVec4};
 
 use crate::error::{SetupError, check_direction, check_scalar, check_vec};
 use crate::geometry::Plane;
@@ -135,6 +135,25 @@ impl Light {
         match self {
             Light::Directional(l) => l.direction(),
             Light::Spot(s) => s.direction(),
+        }
+    }
+
+    /// Where the light's rays come from, in homogeneous coordinates: the point at infinity
+    /// against the direction of travel (directional) or the light's position (spot).
+    pub(crate) fn homogeneous_source(&self) -> DVec4 {
+        match self {
+            Light::Directional(l) => (-l.direction()).extend(0.0),
+            Light::Spot(s) => s.position().extend(1.0),
+        }
+    }
+
+    /// The row of the linear depth along the light (world units): `row . (p, 1)` is the
+    /// distance along the direction of travel (from the plane through the origin for a
+    /// directional light, from the light's plane for a spot light).
+    pub(crate) fn linear_depth_row(&self) -> DVec4 {
+        match self {
+            Light::Directional(l) => l.direction().extend(0.0),
+            Light::Spot(s) => s.direction().extend(-s.direction().dot(s.position())),
         }
     }
 }

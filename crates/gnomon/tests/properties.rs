@@ -528,3 +528,50 @@ fn property_checks_are_not_vacuous() {
         );
     }
 }
+
+/// Spot lights are warped (LiSPSM and PSM after the light's perspective), not handed to the
+/// focused map: in the spot cases, most configurations that see receivers get a warped map
+/// with no fallback, so the property test above checks the spot warps themselves.
+#[test]
+fn spot_lights_are_warped_by_lispsm_and_psm() {
+    let mut seen = 0;
+    let mut warped = [0usize; 2];
+    for seed in 0..3000u64 {
+        let cfg = config(seed);
+        if !matches!(cfg.light, Light::Spot(_)) {
+            continue;
+        }
+        let techniques = [
+            Technique::Lispsm(Lispsm::default()),
+            Technique::Psm(Psm::default()),
+        ];
+        for (i, t) in techniques.iter().enumerate() {
+            let setup = compute_setup(
+                t,
+                &cfg.camera,
+                &cfg.light,
+                &cfg.scene,
+                MapSettings::default(),
+            )
+            .unwrap();
+            if i == 0 && setup.diagnostics.visible_receivers > 0 {
+                seen += 1;
+            }
+            assert!(
+                !setup
+                    .diagnostics
+                    .fallbacks
+                    .contains(&gnomon::Fallback::SpotLightNotWarped)
+            );
+            if setup.diagnostics.visible_receivers > 0 && setup.diagnostics.fallbacks.is_empty() {
+                assert_eq!(setup.maps[0].projection, gnomon::MapProjection::Perspective);
+                warped[i] += 1;
+            }
+        }
+    }
+    println!("spot configurations seeing receivers: {seen}; warped: lispsm {}, psm {}", warped[0], warped[1]);
+    assert!(seen > 200, "{seen}");
+    for (name, n) in ["lispsm", "psm"].iter().zip(warped) {
+        assert!(2 * n > seen, "{name}: {n} of {seen} warped");
+    }
+}

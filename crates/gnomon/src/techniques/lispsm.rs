@@ -35,8 +35,17 @@
 //! (`depth_from_world`), so P's warp never touches depth precision; the clip-space z is the
 //! warped z, unit-cube clipped so that no relevant caster is clipped by the rasteriser.
 //!
-//! Degenerate cases: view parallel to the light and spot lights fall back to the focused map
-//! (named in the diagnostics); nothing visible gives the uniform map.
+//! Spot lights (end of section 3.4): light space is built after the spot's own perspective
+//! transform, where its rays are parallel, and the construction above runs unchanged there
+//! (see `view_warp`); B lies inside the spot's frustum, in front of its near plane, so the
+//! combined map has no singularity over B. The paper's analysis of n does not carry over to
+//! point lights (end of section 4): n keeps the ratio n / (Y_max - Y_min) that the formula
+//! above gives with B's world depth along light space's y axis and gamma the angle between
+//! the view direction and the light's ray through the eye; a user's n is read the same way.
+//!
+//! Degenerate cases: view parallel to the light (for a spot light: the view ray through the
+//! light) falls back to the focused map (named in the diagnostics); nothing visible gives
+//! the uniform map; a spot light that cannot see the view gives the uniform map.
 
 use crate::error::SetupError;
 use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
@@ -72,17 +81,21 @@ impl ShadowTechnique for Lispsm {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         self.validate()?;
-        view_warp_setup(input, self.name(), |c| {
+        view_warp_setup(input, self.name(), true, |c| {
             // P's near plane at B's nearest Y; the projection reference point n before it.
+            // The formula is in world units; for a spot light, light space's Y is in tangent
+            // units, so 1 / n is scaled by B's world depth over its depth in light space
+            // (which keeps n / (Y_max - Y_min) as the world formula gives it).
             let depth_along_view = c.body_light.max.y - c.body_light.min.y;
-            let inv_n = match self.n {
+            let inv_n_world = match self.n {
                 Some(n) => 1.0 / n,
                 None => {
                     // n_opt / sin(gamma), with z_f replaced by z_n + (f - n) sin(gamma) (4.4).
                     let z_n = c.input.camera.lens().near;
-                    c.sin_gamma / (z_n + (z_n * (z_n + depth_along_view * c.sin_gamma)).sqrt())
+                    c.sin_gamma / (z_n + (z_n * (z_n + c.depth_world * c.sin_gamma)).sqrt())
                 }
             };
+            let inv_n = inv_n_world * c.depth_world / depth_along_view;
             WarpChoice {
                 y_origin: c.body_light.min.y,
                 inv_n,

@@ -13,7 +13,9 @@
 //!   orthographic map along the light's PPS direction;
 //! - a point light in PPS: a perspective map from l whose axis points to the visible
 //!   receivers (the bounding cone);
-//! - the inverted point light (the light behind the viewer): the same projection from l. The
+//! - the inverted point light (the light behind the viewer, or a spot light behind the
+//!   virtual camera, whose image lies beyond the image of the plane at infinity): the same
+//!   projection from l. The
 //!   inverse projection matrix Kozlov uses keeps PPS depth ordered along the rays; gnomon
 //!   compares the linear world depth of `depth_from_world` instead, so only the 2D central
 //!   projection from l matters, and every relevant point lies on one side of l.
@@ -30,8 +32,16 @@
 //! LiSPSM's n_opt from the near plane; `slide_back = 0` is the original PSM, whose perspective
 //! aliasing follows the PSM line z (z_f - z_n) / z_f in the ideal case (LiSPSM paper, 4.3).
 //!
-//! Degenerate cases: spot lights fall back to the focused map; a flat B falls back to the
-//! focused map; nothing visible gives the uniform map; each is named in the diagnostics.
+//! Spot lights (the point-light case of Stamminger and Drettakis): l is the image of the
+//! light's position, a normal point light when it is in front of the virtual camera and an
+//! inverted one behind it. B, the visible receivers and the casters are cut to the light's
+//! frustum first (the blog post's rule for spot lights), so every relevant point lies in
+//! front of the light and on one side of l; when the axis toward the receivers would leave
+//! one behind, the axis is the normal of the light plane's image, which has them all in
+//! front.
+//!
+//! Degenerate cases: a flat B falls back to the focused map; nothing visible (or a spot
+//! light that cannot see the view) gives the uniform map; each is named in the diagnostics.
 
 use glam::{DMat4, DVec3, DVec4};
 
@@ -81,14 +91,12 @@ impl ShadowTechnique for Psm {
         let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
             Ok(with_fallback(Focused.setup(input)?, "psm", fallback))
         };
-        let Light::Directional(light) = input.light else {
-            return fallback(Fallback::SpotLightNotWarped);
-        };
         let camera = input.camera;
         let WarpBasis {
             visible,
             body,
             tolerance,
+            light_planes,
             mut diagnostics,
         } = match warp_basis(input, self.name()) {
             Ok(basis) => basis,
@@ -127,19 +135,22 @@ impl ShadowTechnique for Psm {
         };
 
         // Receivers in PPS; the linear depth range along the light in world space.
+        let linear_row = input.light.linear_depth_row();
+        let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
         let mut receiver_points = Vec::new();
         let mut receivers_z = f64::NEG_INFINITY;
         visible.for_each_vertex(input.scene, |p| {
             receiver_points.push(to_pps(p));
-            receivers_z = receivers_z.max(light.direction().dot(p));
+            receivers_z = receivers_z.max(linear(p));
         });
         let body_z = body
             .iter()
-            .map(|p| light.direction().dot(*p))
+            .map(|p| linear(*p))
             .fold(f64::INFINITY, f64::min);
 
-        // The light in PPS and the map's projector there.
-        let l_h = pps_from_world * (-light.direction()).extend(0.0);
+        // The light in PPS (a directional light's vanishing point, a spot light's position)
+        // and the map's projector there.
+        let l_h = pps_from_world * input.light.homogeneous_source();
         let mut center = DVec3::ZERO;
         let mut receiver_box = Extents::EMPTY;
         for p in &receiver_points {
@@ -150,7 +161,19 @@ impl ShadowTechnique for Psm {
         // The cone must hold every receiver and all of B (every relevant caster lies in B).
         let mut cone_points: Vec<DVec3> = body.iter().map(|p| to_pps(*p)).collect();
         cone_points.extend_from_slice(&receiver_points);
-        let projector = pps_projector(l_h, center, extent, &cone_points);
+        // The axis used when the one toward the receivers leaves a point behind: every finite
+        // point in front of the virtual camera lies on the -z side of a directional light's
+        // vanishing point (z = f (d - n) / (d (f - n)) < f / (f - n)); for a spot light, the
+        // PPS image of its plane passes through l and has every relevant point (in front of
+        // both the light and the virtual camera) on its inner side.
+        let fallback_axis = match input.light {
+            Light::Directional(_) => -DVec3::Z,
+            Light::Spot(_) => {
+                let plane = pps_from_world.inverse().transpose() * linear_row;
+                plane.truncate().normalize_or(-DVec3::Z)
+            }
+        };
+        let projector = pps_projector(l_h, center, extent, &cone_points, fallback_axis);
 
         let mut receivers = Extents::EMPTY;
         for p in &receiver_points {
@@ -159,10 +182,12 @@ impl ShadowTechnique for Psm {
         // Casters cut to B's depth range (planes perpendicular to the view) and, for a
         // perspective map in PPS, to the front of its centre: d = axis . (P - l W) >= d_min W / 2
         // is a plane of homogeneous PPS coordinates, a world plane through pps_from_world.
+        // A spot light's frustum cuts them too (it keeps them in front of the light).
         let mut slab = vec![
             Plane::through_point(eye + forward * b0, forward),
             Plane::through_point(eye + forward * b1, -forward),
         ];
+        slab.extend(light_planes.iter().flatten());
         if let Projector::Point { frame, position } = &projector {
             // Every relevant point has d >= the smallest d over B and the receivers; cutting
             // at half of it keeps them all and keeps cut vertices off the singular plane d = 0.
@@ -202,7 +227,7 @@ impl ShadowTechnique for Psm {
             let mut z_min = f64::INFINITY;
             for p in &scratch {
                 e.add(projector.project(to_pps(*p)));
-                z_min = z_min.min(light.direction().dot(*p));
+                z_min = z_min.min(linear(*p));
             }
             if !receivers.xy_overlaps(&e, xy_slack) || z_min > receivers_z {
                 continue;
@@ -237,7 +262,7 @@ impl ShadowTechnique for Psm {
             &region,
             linear,
             pps_from_world,
-            light.direction(),
+            linear_row,
             input,
             tolerance,
         );
@@ -250,12 +275,17 @@ impl ShadowTechnique for Psm {
     }
 }
 
-/// The light's projection in PPS: orthographic along the light's PPS direction when its
-/// vanishing point is at (or practically at) infinity, else perspective from it, its axis
-/// toward the receivers, or -z when some of `points` would lie behind that axis (every
-/// finite point in front of the virtual camera lies on the -z side of the vanishing point:
-/// z = f (d - n) / (d (f - n)) < f / (f - n)).
-fn pps_projector(l_h: DVec4, center: DVec3, extent: f64, points: &[DVec3]) -> Projector {
+/// The light's projection in PPS: orthographic along the light's PPS direction when l (its
+/// vanishing point or position) is at (or practically at) infinity, else perspective from
+/// it, its axis toward the receivers, or `fallback_axis` when some of `points` would lie
+/// behind that axis.
+fn pps_projector(
+    l_h: DVec4,
+    center: DVec3,
+    extent: f64,
+    points: &[DVec3],
+    fallback_axis: DVec3,
+) -> Projector {
     let direction = l_h.truncate();
     if l_h.w.abs() * extent <= 1e-9 * direction.length() {
         return Projector::Parallel(LightFrame::fixed(-direction.normalize()));
@@ -270,7 +300,7 @@ fn pps_projector(l_h: DVec4, center: DVec3, extent: f64, points: &[DVec3]) -> Pr
             .iter()
             .all(|p| (*p - l).dot(axis) > 1e-9 * (*p - l).length())
     };
-    let axis = if in_front(axis) { axis } else { -DVec3::Z };
+    let axis = if in_front(axis) { axis } else { fallback_axis };
     Projector::Point {
         frame: LightFrame::fixed(axis),
         position: l,
@@ -278,13 +308,14 @@ fn pps_projector(l_h: DVec4, center: DVec3, extent: f64, points: &[DVec3]) -> Pr
 }
 
 /// The PSM's matrices: the projector's rows on homogeneous PPS coordinates, times
-/// `pps_from_world`; clip z = w / 2; linear depth along the light over `linear`.
+/// `pps_from_world`; clip z = w / 2; linear depth along the light (`linear_row`) over
+/// `linear`.
 fn psm_map(
     projector: &Projector,
     region: &Extents,
     linear: (f64, f64),
     pps_from_world: DMat4,
-    light_direction: DVec3,
+    linear_row: DVec4,
     input: &SetupInput<'_>,
     tolerance: f64,
 ) -> ShadowMap {
@@ -327,7 +358,7 @@ fn psm_map(
     let clip_from_pps = DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
     ShadowMap {
         clip_from_world: clip_from_pps * pps_from_world,
-        depth_from_world: (light_direction / (l1 - l0)).extend(-l0 / (l1 - l0)),
+        depth_from_world: (linear_row - DVec4::W * l0) / (l1 - l0),
         resolution: input.map.resolution,
         viewport_inset: input.map.viewport_inset,
         projection: MapProjection::Perspective,

@@ -7,19 +7,31 @@
 //! techniques differ only in where the warp is centred and how strong it is
 //! ([`WarpChoice`]).
 //!
+//! Spot lights (LiSPSM paper, end of section 3.4: "for point lights, light space is defined
+//! as above, but *after* the perspective transform associated with the point light"): light
+//! space is the spot's post-perspective space ([`LightSpace::Spot`]), where its rays are
+//! parallel to Z, so the warp applies unchanged. Its y axis is the image of the view
+//! direction there: on the view ray e + t v, with A and V the homogeneous images of e and v,
+//! the image moves along A.w V.xyz - V.w A.xyz for every t (the derivative of the image,
+//! times its positive w^2), which in world terms is v (f . q_e) - q_e (f . v) with f the
+//! spot's axis and q_e = e - spot position; it is perpendicular to f. Its length over |q_e|
+//! plays sin(gamma): zero when the view ray passes through the light (the miner's lamp),
+//! which falls back to the focused map.
+//!
 //! Casters are cut to B's extent along Y before their warped extents are taken: every
 //! caster point that can shadow a visible receiver lies in B, and the techniques choose
 //! warps with w > 0 over B, so no caster that matters reaches the warp's singular plane or
-//! is clipped. The depth compared in the map is linear along the light
-//! (`depth_from_world`); the clip-space z is the warped z, unit-cube clipped so that the
-//! rasteriser clips no relevant caster.
+//! is clipped. (For a spot light the planes Y = const are world planes through the light,
+//! and casters are also cut to the light's frustum, in front of its near plane.) The depth
+//! compared in the map is linear along the light (`depth_from_world`); the clip-space z is
+//! the warped z, unit-cube clipped so that the rasteriser clips no relevant caster.
 
 use glam::{DMat4, DVec3, DVec4};
 
 use crate::body::focus_body;
 use crate::error::SetupError;
-use crate::focus::VisibleScene;
-use crate::geometry::ConvexPolyhedron;
+use crate::focus::{BoxSide, VisibleScene, box_cut_vertices, classify_box};
+use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, Projector, pad};
 use crate::setup::{
@@ -28,7 +40,75 @@ use crate::setup::{
 };
 use crate::techniques::focused::Focused;
 use crate::techniques::uniform::uniform_map;
-use crate::techniques::{fixed_projector, tolerance, with_fallback};
+use crate::techniques::{ANGULAR_PADDING, fixed_projector, tolerance, with_fallback};
+
+/// Light space before the warp: where light rays are parallel to Z.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum LightSpace {
+    /// A directional light: (X, Y, Z) = (right . p, up . p, forward . p).
+    Parallel(LightFrame),
+    /// A spot light's post-perspective space: with q = p - position and d = forward . q,
+    /// (X, Y, Z) = (right . q, up . q, -1) / d. A projective map (planes stay planes) that
+    /// sends the rays from the light to lines along Z. Only for d > 0.
+    Spot { frame: LightFrame, position: DVec3 },
+}
+
+impl LightSpace {
+    fn frame(&self) -> &LightFrame {
+        match self {
+            LightSpace::Parallel(frame) | LightSpace::Spot { frame, .. } => frame,
+        }
+    }
+
+    /// World -> homogeneous light space (X W, Y W, Z W, W).
+    fn light_from_world(&self) -> DMat4 {
+        let rows = match self {
+            LightSpace::Parallel(f) => [
+                f.right.extend(0.0),
+                f.up.extend(0.0),
+                f.forward.extend(0.0),
+                DVec4::W,
+            ],
+            LightSpace::Spot { frame: f, position } => {
+                let row = |v: DVec3| v.extend(-v.dot(*position));
+                [
+                    row(f.right),
+                    row(f.up),
+                    DVec4::new(0.0, 0.0, 0.0, -1.0),
+                    row(f.forward),
+                ]
+            }
+        };
+        DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose()
+    }
+
+    /// Light-space coordinates (X, Y, Z) of a world point.
+    #[inline]
+    fn light(&self, p: DVec3) -> DVec3 {
+        match self {
+            LightSpace::Parallel(f) => DVec3::new(f.right.dot(p), f.up.dot(p), f.forward.dot(p)),
+            LightSpace::Spot { frame: f, position } => {
+                let q = p - *position;
+                DVec3::new(f.right.dot(q), f.up.dot(q), -1.0) / f.forward.dot(q)
+            }
+        }
+    }
+
+    /// The world plane Y = y, its inside Y >= y (`above`) or Y <= y. For a spot light,
+    /// up . q = y d is a plane through the light (valid in front of it, d > 0).
+    fn y_plane(&self, y: f64, above: bool) -> Plane {
+        let sign = if above { 1.0 } else { -1.0 };
+        match self {
+            LightSpace::Parallel(f) => Plane {
+                normal: sign * f.up,
+                offset: -sign * y,
+            },
+            LightSpace::Spot { frame: f, position } => {
+                Plane::through_point(*position, (sign * (f.up - y * f.forward)).normalize())
+            }
+        }
+    }
+}
 
 /// What a technique sees when it chooses its warp.
 pub(crate) struct WarpContext<'a> {
@@ -36,9 +116,14 @@ pub(crate) struct WarpContext<'a> {
     pub input: &'a SetupInput<'a>,
     /// B's extents in light space (X, Y, Z).
     pub body_light: Extents,
-    /// sin of the angle between the view and the light direction.
+    /// B's extent along light space's y axis in world units (for a directional light the
+    /// same as `body_light`'s; for a spot light measured along the frame's up direction).
+    pub depth_world: f64,
+    /// sin of the angle between the view and the light direction (for a spot light, between
+    /// the view direction and the light's ray at the eye).
     pub sin_gamma: f64,
-    /// The eye in light space.
+    /// The eye in light space (for a spot light: its image when it is in front of the light,
+    /// with X clamped to B's; else B's centre).
     pub eye_light: DVec3,
 }
 
@@ -54,7 +139,7 @@ pub(crate) struct WarpChoice {
 /// w = 1 + (Y - y_origin) inv_n, (u, s, z) = (X - x_eye, (Y - y_origin) k, Z - z_mid) / w.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Warp {
-    frame: LightFrame,
+    space: LightSpace,
     x_eye: f64,
     y_origin: f64,
     z_mid: f64,
@@ -66,9 +151,9 @@ pub(crate) struct Warp {
 
 impl Warp {
     /// Light-space coordinates (X, Y, Z) of a world point.
+    #[inline]
     fn light(&self, p: DVec3) -> DVec3 {
-        let f = &self.frame;
-        DVec3::new(f.right.dot(p), f.up.dot(p), f.forward.dot(p))
+        self.space.light(p)
     }
 
     /// (u, s, z) and w of light-space coordinates.
@@ -106,40 +191,55 @@ impl Warp {
         }
     }
 
-    /// The rows of world -> (u w, s w, z w, w).
+    /// The rows of world -> (u w, s w, z w, w): the warp on homogeneous light-space
+    /// coordinates, after light space.
     fn rows(&self) -> [DVec4; 4] {
-        let f = &self.frame;
-        let w = (self.inv_n * f.up).extend(1.0 - self.y_origin * self.inv_n);
-        [
-            f.right.extend(-self.x_eye),
-            (self.k * f.up).extend(-self.k * self.y_origin),
-            f.forward.extend(-self.z_mid),
-            w,
-        ]
+        let warp_from_light = DMat4::from_cols(
+            DVec4::new(1.0, 0.0, 0.0, -self.x_eye),
+            DVec4::new(0.0, self.k, 0.0, -self.k * self.y_origin),
+            DVec4::new(0.0, 0.0, 1.0, -self.z_mid),
+            DVec4::new(0.0, self.inv_n, 0.0, 1.0 - self.y_origin * self.inv_n),
+        )
+        .transpose();
+        let m = warp_from_light * self.space.light_from_world();
+        [m.row(0), m.row(1), m.row(2), m.row(3)]
     }
 }
 
 /// What every camera-dependent warp starts from: the visible scene, B's vertices, the
-/// tolerance and the diagnostics so far.
+/// tolerance, the spot light's frustum (if any) and the diagnostics so far.
 pub(crate) struct WarpBasis {
     pub visible: VisibleScene,
     pub body: Vec<DVec3>,
     pub tolerance: f64,
+    pub light_planes: Option<[Plane; 6]>,
     pub diagnostics: Diagnostics,
 }
 
-/// The visible scene and B for `input`, or (as `Err`) the uniform setup when no receiver is
-/// visible.
+/// The visible scene and B for `input` (for a spot light, inside its frustum), or (as `Err`)
+/// the uniform setup when no receiver is visible or the spot light cannot see the view.
 pub(crate) fn warp_basis(
     input: &SetupInput<'_>,
     technique: &'static str,
 ) -> Result<WarpBasis, ShadowSetup> {
     let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
     let tolerance = tolerance(input.scene, Some(input.camera), input.light);
-    let visible = VisibleScene::new(input.camera, input.scene, None, tolerance);
+    let fixed = fixed_projector(input.light);
+    let light_planes = match input.light {
+        Light::Directional(_) => None,
+        Light::Spot(spot) => Some(spot.frustum_planes(fixed.frame().up)),
+    };
+    let visible = VisibleScene::new(input.camera, input.scene, light_planes.as_ref(), tolerance);
     diagnostics.visible_receivers = visible.visible_receivers();
-    if visible.visible_receivers() == 0 {
-        diagnostics.fallbacks.push(Fallback::NoVisibleReceiver);
+    let nothing_to_see = if visible.view_body.is_empty() && light_planes.is_some() {
+        Some(Fallback::SpotLightMissesView)
+    } else if visible.visible_receivers() == 0 {
+        Some(Fallback::NoVisibleReceiver)
+    } else {
+        None
+    };
+    if let Some(fallback) = nothing_to_see {
+        diagnostics.fallbacks.push(fallback);
         let map = uniform_map(input.light, input.scene, input.map, &mut diagnostics);
         return Err(ShadowSetup {
             technique,
@@ -148,72 +248,119 @@ pub(crate) fn warp_basis(
             diagnostics,
         });
     }
-    let region = ConvexPolyhedron::from_box(&input.scene.scene_box());
-    let body = focus_body(
-        &visible.view_body,
-        &region,
-        &fixed_projector(input.light),
-        tolerance,
-    )
-    .vertices(tolerance);
+    let region = ConvexPolyhedron::from_box(&input.scene.scene_box())
+        .clip_all(light_planes.iter().flatten(), tolerance);
+    let body = focus_body(&visible.view_body, &region, &fixed, tolerance).vertices(tolerance);
     diagnostics.focus_body_vertices = body.len();
     Ok(WarpBasis {
         visible,
         body,
         tolerance,
+        light_planes,
         diagnostics,
     })
 }
 
-/// The setup of a view-axis warp: the focused map where the warp is undefined (spot lights,
-/// view parallel to the light, a flat B), the uniform map when nothing is visible, else the
-/// warp `choose` picks, with unit cube clipping in warped space.
+/// The setup of a view-axis warp: the focused map where the warp is undefined (view
+/// parallel to the light, a flat B, spot lights unless `warps_spot_lights`), the uniform map
+/// when nothing is visible, else the warp `choose` picks, with unit cube clipping in warped
+/// space.
 pub(crate) fn view_warp_setup(
     input: &SetupInput<'_>,
     technique: &'static str,
+    warps_spot_lights: bool,
     choose: impl FnOnce(&WarpContext) -> WarpChoice,
 ) -> Result<ShadowSetup, SetupError> {
     input.map.validate()?;
     let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
         Ok(with_fallback(Focused.setup(input)?, technique, fallback))
     };
-    let Light::Directional(light) = input.light else {
-        return fallback(Fallback::SpotLightNotWarped);
-    };
-    let Some(frame) = LightFrame::view_aligned(light.direction(), input.camera.forward()) else {
-        return fallback(Fallback::LightParallelToView);
+    let (eye, view) = (input.camera.eye(), input.camera.forward());
+    let (space, sin_gamma) = match input.light {
+        Light::Directional(light) => {
+            let Some(frame) = LightFrame::view_aligned(light.direction(), view) else {
+                return fallback(Fallback::LightParallelToView);
+            };
+            (
+                LightSpace::Parallel(frame),
+                view.cross(light.direction()).length(),
+            )
+        }
+        Light::Spot(spot) if warps_spot_lights => {
+            // The image of the view direction in the spot's post-perspective space (see the
+            // module documentation).
+            let (f, q_e) = (spot.direction(), eye - spot.position());
+            let v = view * f.dot(q_e) - q_e * f.dot(view);
+            let frame = (q_e.length() > 0.0)
+                .then(|| LightFrame::view_aligned(f, v / q_e.length()))
+                .flatten();
+            let Some(frame) = frame else {
+                return fallback(Fallback::LightParallelToView);
+            };
+            (
+                LightSpace::Spot {
+                    frame,
+                    position: spot.position(),
+                },
+                v.length() / q_e.length(),
+            )
+        }
+        Light::Spot(_) => return fallback(Fallback::SpotLightNotWarped),
     };
     let WarpBasis {
         visible,
         body,
         tolerance,
+        light_planes,
         mut diagnostics,
     } = match warp_basis(input, technique) {
         Ok(basis) => basis,
         Err(uniform) => return Ok(uniform),
     };
     diagnostics.light_frame = LightFrameKind::ViewAligned;
+    let linear_row = input.light.linear_depth_row();
+    let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
 
     // B in light space: P's near and far planes, and the reference point's Z.
-    let projector = Projector::Parallel(frame);
     let mut body_light = Extents::EMPTY;
+    let mut body_linear = f64::INFINITY;
+    let mut body_up = (f64::INFINITY, f64::NEG_INFINITY);
     for p in &body {
-        body_light.add(projector.project(*p));
+        body_light.add(space.light(*p));
+        body_linear = body_linear.min(linear(*p));
+        let y = space.frame().up.dot(*p);
+        body_up = (body_up.0.min(y), body_up.1.max(y));
     }
     let depth_along_view = body_light.max.y - body_light.min.y;
-    if body.len() < 4 || depth_along_view.is_nan() || depth_along_view <= tolerance {
+    let flat = match space {
+        LightSpace::Parallel(_) => tolerance,
+        LightSpace::Spot { .. } => ANGULAR_PADDING,
+    };
+    if body.len() < 4 || depth_along_view.is_nan() || depth_along_view <= flat {
         return fallback(Fallback::DegenerateFocusBody);
     }
-    let sin_gamma = input.camera.forward().cross(light.direction()).length();
-    let eye_light = projector.project(input.camera.eye());
+    let (eye_light, depth_world) = match space {
+        LightSpace::Parallel(_) => (space.light(eye), depth_along_view),
+        LightSpace::Spot { frame, position } => {
+            let center = 0.5 * (body_light.min + body_light.max);
+            let eye_light = if frame.forward.dot(eye - position) > tolerance {
+                let e = space.light(eye);
+                e.with_x(e.x.clamp(body_light.min.x, body_light.max.x))
+            } else {
+                center
+            };
+            (eye_light, body_up.1 - body_up.0)
+        }
+    };
     let choice = choose(&WarpContext {
         input,
         body_light,
+        depth_world,
         sin_gamma,
         eye_light,
     });
     let warp = Warp {
-        frame,
+        space,
         x_eye: eye_light.x,
         y_origin: choice.y_origin,
         z_mid: 0.5 * (body_light.min.z + body_light.max.z),
@@ -221,14 +368,15 @@ pub(crate) fn view_warp_setup(
         k: choice.k,
     };
 
-    // Receivers: warped extents, and the linear depth range (world Z).
+    // Receivers: warped extents, and the linear depth range.
     let mut receivers = Extents::EMPTY;
-    let mut receivers_z = f64::NEG_INFINITY;
+    let mut receivers_linear = (f64::INFINITY, f64::NEG_INFINITY);
     visible.for_each_vertex(input.scene, |p| {
-        let q = warp.light(p);
-        receivers.add(warp.warp(q).0);
-        receivers_z = receivers_z.max(q.z);
+        receivers.add(warp.warp(warp.light(p)).0);
+        let z = linear(p);
+        receivers_linear = (receivers_linear.0.min(z), receivers_linear.1.max(z));
     });
+    let receivers_z = receivers_linear.1;
     let mut body_warped = Extents::EMPTY;
     for p in &body {
         body_warped.add(warp.warp(warp.light(*p)).0);
@@ -239,36 +387,66 @@ pub(crate) fn view_warp_setup(
     let mut casters_z = f64::INFINITY;
     let mut relevant = 0;
     let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
-    for caster in input.scene.casters() {
-        let e = projector.box_extents(caster);
-        let (y0, y1) = (e.min.y.max(body_light.min.y), e.max.y.min(body_light.max.y));
-        if y0 > y1 {
-            continue;
+    let mut add_caster = |warped: Extents, z_min: f64| {
+        if receivers.xy_overlaps(&warped, xy_slack) && z_min <= receivers_z {
+            relevant += 1;
+            casters = casters.union(&warped);
+            casters_z = casters_z.min(z_min);
         }
-        let lo = DVec3::new(e.min.x, y0, e.min.z);
-        let hi = DVec3::new(e.max.x, y1, e.max.z);
-        let warped = warp.box_extents(lo, hi);
-        if !receivers.xy_overlaps(&warped, xy_slack) || e.min.z > receivers_z {
-            continue;
+    };
+    match (&space, &light_planes) {
+        (LightSpace::Parallel(frame), None) => {
+            let projector = Projector::Parallel(*frame);
+            for caster in input.scene.casters() {
+                let e = projector.box_extents(caster);
+                let (y0, y1) = (e.min.y.max(body_light.min.y), e.max.y.min(body_light.max.y));
+                if y0 <= y1 {
+                    let lo = DVec3::new(e.min.x, y0, e.min.z);
+                    let hi = DVec3::new(e.max.x, y1, e.max.z);
+                    add_caster(warp.box_extents(lo, hi), e.min.z);
+                }
+            }
         }
-        relevant += 1;
-        casters = casters.union(&warped);
-        casters_z = casters_z.min(e.min.z);
+        _ => {
+            // Cut each caster by the light's frustum and B's Y range, all world planes.
+            let mut planes: Vec<Plane> = light_planes.iter().flatten().copied().collect();
+            planes.push(space.y_plane(body_light.min.y, true));
+            planes.push(space.y_plane(body_light.max.y, false));
+            let mut scratch = Vec::new();
+            for caster in input.scene.casters() {
+                scratch.clear();
+                match classify_box(caster, &planes, tolerance) {
+                    BoxSide::Outside => continue,
+                    BoxSide::Inside => scratch.extend_from_slice(&caster.corners()),
+                    BoxSide::Straddles(mask) => {
+                        if !box_cut_vertices(caster, &planes, mask, tolerance, &mut scratch) {
+                            continue;
+                        }
+                    }
+                }
+                let mut warped = Extents::EMPTY;
+                let mut z_min = f64::INFINITY;
+                for p in &scratch {
+                    warped.add(warp.warp(warp.light(*p)).0);
+                    z_min = z_min.min(linear(*p));
+                }
+                add_caster(warped, z_min);
+            }
+        }
     }
     diagnostics.relevant_casters = relevant;
     diagnostics.culled_casters = input.scene.casters().len() - relevant;
 
     // Unit cube clipping in warped space; B bounds the near side as for the focused map.
-    let (region, linear) = if relevant == 0 {
+    let (region, linear_range) = if relevant == 0 {
         diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
-        let min_z = receivers.min.z;
-        (receivers, (min_z, receivers_z))
+        (receivers, receivers_linear)
     } else {
         let lo = receivers.min.max(casters.min).truncate();
         let hi = receivers.max.min(casters.max).truncate();
         let mid = 0.5 * (lo + hi);
         let near = casters.min.z.max(body_warped.min.z).min(receivers.max.z);
-        let near_linear = casters_z.max(body_light.min.z).min(receivers_z);
+        let near_linear = casters_z.max(body_linear).min(receivers_z);
         (
             Extents {
                 min: lo.min(mid).extend(near),
@@ -277,7 +455,14 @@ pub(crate) fn view_warp_setup(
             (near_linear, receivers_z),
         )
     };
-    let map = warped_map(&warp, &region, linear, input.map, tolerance);
+    let map = warped_map(
+        &warp,
+        &region,
+        linear_range,
+        linear_row,
+        input.map,
+        tolerance,
+    );
     Ok(ShadowSetup {
         technique,
         maps: vec![map],
@@ -287,11 +472,12 @@ pub(crate) fn view_warp_setup(
 }
 
 /// The map of a warp: the warped region to the inset square and [0, 1] depth; the linear
-/// depth interval (world Z along the light) to `depth_from_world`.
+/// depth interval (`linear_row`, world units along the light) to `depth_from_world`.
 fn warped_map(
     warp: &Warp,
     region: &Extents,
     linear: (f64, f64),
+    linear_row: DVec4,
     settings: crate::setup::MapSettings,
     tolerance: f64,
 ) -> ShadowMap {
@@ -318,13 +504,13 @@ fn warped_map(
         clip_row(z_row, z0, z1, 1.0, false),
         w_row,
     ];
-    let f = warp.frame.forward;
+    let perspective = warp.inv_n > 0.0 || matches!(warp.space, LightSpace::Spot { .. });
     ShadowMap {
         clip_from_world: DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose(),
-        depth_from_world: (f / (l1 - l0)).extend(-l0 / (l1 - l0)),
+        depth_from_world: (linear_row - DVec4::W * l0) / (l1 - l0),
         resolution: settings.resolution,
         viewport_inset: settings.viewport_inset,
-        projection: if warp.inv_n > 0.0 {
+        projection: if perspective {
             MapProjection::Perspective
         } else {
             MapProjection::Orthographic
@@ -353,7 +539,7 @@ mod tests {
             let frame = LightFrame::fixed(DVec3::new(0.3, -1.0, 0.2).normalize());
             let y_origin = -60.0;
             let inv_n = 1.0 / n;
-            let warp = Warp { frame, x_eye, y_origin, z_mid, inv_n, k: 1.0 / 120.0 + inv_n };
+            let warp = Warp { space: LightSpace::Parallel(frame), x_eye, y_origin, z_mid, inv_n, k: 1.0 / 120.0 + inv_n };
             let lo = DVec3::from_array(lo);
             let hi = lo + DVec3::from_array(size);
             let fast = warp.box_extents(lo, hi);

@@ -23,7 +23,7 @@
 //!
 //! Degenerate cases: |V.xy| small (view along the light, the miner's lamp) falls back to the
 //! focused map, an orthographic map as the chapter prescribes; spot lights fall back to the
-//! focused map; nothing visible gives the uniform map. Each is named in the diagnostics.
+//! focused map (the chapter treats directional lights only); nothing visible gives the uniform map. Each is named in the diagnostics.
 
 use crate::error::SetupError;
 use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
@@ -76,7 +76,7 @@ impl ShadowTechnique for Xpsm {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         self.validate()?;
-        view_warp_setup(input, self.name(), |c| {
+        view_warp_setup(input, self.name(), false, |c| {
             // |V.xy| is sin(gamma); the frame exists, so it is at least 1e-3.
             let mut len = self.coef / c.sin_gamma;
             let m = c.body_light.min.y - c.eye_light.y;
