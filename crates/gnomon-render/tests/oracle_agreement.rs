@@ -5,7 +5,7 @@
 mod common;
 
 use glam::DVec3;
-use gnomon::{Camera, DirectionalLight, Focused, Lens, Light, SpotLight};
+use gnomon::{Camera, DirectionalLight, Focused, Lens, Light, Lispsm, Psm, SpotLight, Technique};
 use gnomon_render::{RenderScene, RenderSettings};
 
 const SIZE: u32 = 256;
@@ -79,7 +79,7 @@ fn views() -> Vec<View> {
 }
 
 #[test]
-fn focused_masks_agree_with_exact_shadows() {
+fn custom_views_agree_with_exact_shadows() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
     let renderer = common::renderer(&scene);
     let settings = RenderSettings {
@@ -96,39 +96,64 @@ fn focused_masks_agree_with_exact_shadows() {
             far: view.far,
         };
         let camera = Camera::look_at(view.eye, view.target, DVec3::Y, lens).unwrap();
-        let (setup, frame) = common::render(
-            &renderer,
-            &scene,
-            &Focused,
-            &camera,
-            &view.light,
-            2048,
-            &settings,
-        );
         let oracle = common::oracle(&scene, &camera, &view.light, SIZE, SIZE);
-        let a = common::agreement(&frame, &oracle, 0.1);
-        println!(
-            "{}: {:.3}% of {} pixels agree ({} shadowed in the oracle), fallback {:?}",
-            view.name,
-            100.0 * a.fraction(),
-            a.compared,
-            a.shadowed,
-            setup.fallback()
-        );
-        assert!(
-            a.compared > 5000,
-            "{}: too few pixels compared ({})",
-            view.name,
-            a.compared
-        );
-        assert!(
-            a.shadowed > 100,
-            "{}: the view shows too little shadow ({})",
-            view.name,
-            a.shadowed
-        );
-        if a.fraction() < 0.995 {
-            failures.push(format!("{}: {:.3}%", view.name, 100.0 * a.fraction()));
+        // Spot lights: also the warps that take the spot through its own perspective.
+        let techniques = match view.light {
+            Light::Spot(_) => vec![
+                Technique::Focused(Focused),
+                Technique::Lispsm(Lispsm::default()),
+                Technique::Psm(Psm::default()),
+            ],
+            Light::Directional(_) => vec![Technique::Focused(Focused)],
+        };
+        for technique in techniques {
+            let (setup, frame) = common::render(
+                &renderer,
+                &scene,
+                &technique,
+                &camera,
+                &view.light,
+                2048,
+                &settings,
+            );
+            let a = common::agreement(&frame, &oracle, 0.1);
+            println!(
+                "{} ({}): {:.3}% of {} pixels agree ({} shadowed in the oracle), fallback {:?}",
+                view.name,
+                setup.technique,
+                100.0 * a.fraction(),
+                a.compared,
+                a.shadowed,
+                setup.fallback()
+            );
+            assert!(
+                a.compared > 5000,
+                "{}: too few pixels compared ({})",
+                view.name,
+                a.compared
+            );
+            assert!(
+                a.shadowed > 100,
+                "{}: the view shows too little shadow ({})",
+                view.name,
+                a.shadowed
+            );
+            if setup.technique != "focused" {
+                assert_eq!(
+                    setup.fallback(),
+                    None,
+                    "{}: the spot light is warped",
+                    view.name
+                );
+            }
+            if a.fraction() < 0.995 {
+                failures.push(format!(
+                    "{} ({}): {:.3}%",
+                    view.name,
+                    setup.technique,
+                    100.0 * a.fraction()
+                ));
+            }
         }
     }
     assert!(failures.is_empty(), "below 99.5% agreement: {failures:?}");

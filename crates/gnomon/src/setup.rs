@@ -166,7 +166,8 @@ pub enum Fallback {
     /// The convex body B came out empty or flat (the view frustum only grazes the scene box);
     /// the depth range is taken from the casters alone (a warp falls back to the focused map).
     DegenerateFocusBody,
-    /// The technique's warp is not implemented for spot lights yet; the focused map is used.
+    /// The technique's paper defines its warp for directional lights only (TSM, XPSM); for a
+    /// spot light the focused map is used.
     SpotLightNotWarped,
 }
 
@@ -206,7 +207,7 @@ impl Fallback {
                 "the focus body B is empty or flat; the depth range comes from the casters alone"
             }
             Fallback::SpotLightNotWarped => {
-                "this warp is not implemented for spot lights yet; the focused map is used"
+                "this technique's warp is defined for directional lights only; the focused map is used"
             }
         }
     }

@@ -8,11 +8,11 @@
 
 mod common;
 
-use common::{Z_F, Z_N, dp_ds, ideal_map, within};
+use common::{Z_F, Z_N, distant_spot, dp_ds, ideal_map, ideal_map_lit_by, within};
 use glam::DVec3;
 use gnomon::{
-    Aabb, Camera, DirectionalLight, Lens, Light, Lispsm, MapSettings, SceneBounds, ShadowMap,
-    compute_setup,
+    Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, SceneBounds,
+    ShadowMap, SpotLight, compute_setup,
 };
 
 fn curve(map: &ShadowMap) -> Vec<(f64, f64)> {
@@ -86,4 +86,75 @@ fn bad_n_is_a_typed_error() {
             "n = {n}: {result:?}"
         );
     }
+}
+
+/// A spot light is warped after its own perspective (section 3.4): one practically at
+/// infinity gives the directional light's curve, 9.9 at both ends.
+#[test]
+fn distant_spot_light_gives_the_directional_curve() {
+    let map = ideal_map_lit_by(&Lispsm::default(), &distant_spot());
+    let c = curve(&map);
+    let (near, far) = (c[0].1, c[c.len() - 1].1);
+    let max = c.iter().map(|p| p.1).fold(0.0, f64::max);
+    println!("LiSPSM, distant spot: dp/ds(z_n) = {near:.4}, dp/ds(z_f) = {far:.4}, max = {max:.4}");
+    assert!(within(near, far, 0.02), "near {near}, far {far}");
+    assert!(within(max, 9.9, 0.03), "max {max}");
+}
+
+/// Under a street lamp, LiSPSM spends more of the map near the viewer than the focused map
+/// (the spot's own perspective alone), and less far away: texels per metre along the view
+/// on the ground, measured from the matrices.
+#[test]
+fn spot_light_warp_spends_texels_near_the_viewer() {
+    let ground = Aabb::new(
+        DVec3::new(-100.0, -1.0, -200.0),
+        DVec3::new(100.0, 0.0, 0.0),
+    )
+    .unwrap();
+    let post = Aabb::new(DVec3::new(-1.0, 0.0, -41.0), DVec3::new(1.0, 6.0, -39.0)).unwrap();
+    let scene = SceneBounds::new(vec![ground, post], vec![ground, post], None).unwrap();
+    let lens = Lens {
+        fov_y_degrees: 60.0,
+        aspect: 1.0,
+        near: 0.5,
+        far: 150.0,
+    };
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 2.0, 0.0),
+        DVec3::new(0.0, 0.0, -40.0),
+        DVec3::Y,
+        lens,
+    )
+    .unwrap();
+    let light = Light::Spot(
+        SpotLight::new(
+            DVec3::new(10.0, 30.0, -40.0),
+            DVec3::new(-0.2, -1.0, 0.0),
+            75.0,
+            120.0,
+        )
+        .unwrap(),
+    );
+    let settings = MapSettings::with_resolution(2048);
+    let lispsm = compute_setup(&Lispsm::default(), &camera, &light, &scene, settings).unwrap();
+    let focused = compute_setup(&Focused, &camera, &light, &scene, settings).unwrap();
+    assert_eq!(
+        lispsm.fallback(),
+        None,
+        "{:?}",
+        lispsm.diagnostics.fallbacks
+    );
+    // Map NDC per metre along -z on the ground.
+    let density = |map: &ShadowMap, z: f64| {
+        let h = 1e-4;
+        let a = map.project(DVec3::new(0.0, 0.0, -z)).unwrap();
+        let b = map.project(DVec3::new(0.0, 0.0, -z - h)).unwrap();
+        (b - a).truncate().length() / h
+    };
+    let (l, f) = (&lispsm.maps[0], &focused.maps[0]);
+    let near = density(l, 4.0) / density(f, 4.0);
+    let far = density(l, 120.0) / density(f, 120.0);
+    println!("LiSPSM / focused texels per metre under a spot: {near:.2} at 4 m, {far:.2} at 120 m");
+    assert!(near > 2.0, "near ratio {near}");
+    assert!(far < 1.0, "far ratio {far}");
 }

@@ -569,7 +569,10 @@ fn spot_lights_are_warped_by_lispsm_and_psm() {
             }
         }
     }
-    println!("spot configurations seeing receivers: {seen}; warped: lispsm {}, psm {}", warped[0], warped[1]);
+    println!(
+        "spot configurations seeing receivers: {seen}; warped: lispsm {}, psm {}",
+        warped[0], warped[1]
+    );
     assert!(seen > 200, "{seen}");
     for (name, n) in ["lispsm", "psm"].iter().zip(warped) {
         assert!(2 * n > seen, "{name}: {n} of {seen} warped");

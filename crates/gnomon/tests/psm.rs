@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{Z_F, Z_N, dp_ds, ideal_map, within};
+use common::{Z_F, Z_N, distant_spot, dp_ds, ideal_map, ideal_map_lit_by, within};
 use glam::DVec3;
 use gnomon::{
     Aabb, Camera, DirectionalLight, Lens, Light, MapSettings, Psm, SceneBounds, compute_setup,
@@ -33,6 +33,17 @@ fn default_slide_equalises_near_and_far_like_lispsm() {
     let map = ideal_map(&Psm::default());
     let (near, far) = (dp_ds(&map, Z_N), dp_ds(&map, Z_F));
     println!("PSM, default slide: dp/ds(z_n) = {near:.4}, dp/ds(z_f) = {far:.4}");
+    assert!(within(near, far, 0.02));
+    assert!(within(near, 9.9, 0.03));
+}
+
+/// A spot light becomes a point light in PPS (Stamminger and Drettakis's point-light case);
+/// one practically at infinity gives the directional light's numbers.
+#[test]
+fn distant_spot_light_gives_the_directional_numbers() {
+    let map = ideal_map_lit_by(&Psm::default(), &distant_spot());
+    let (near, far) = (dp_ds(&map, Z_N), dp_ds(&map, Z_F));
+    println!("PSM, default slide, distant spot: dp/ds(z_n) = {near:.4}, dp/ds(z_f) = {far:.4}");
     assert!(within(near, far, 0.02));
     assert!(within(near, 9.9, 0.03));
 }

@@ -7,7 +7,7 @@
 use glam::DVec3;
 use gnomon::{
     Aabb, Camera, DirectionalLight, Lens, Light, MapSettings, SceneBounds, ShadowMap,
-    ShadowTechnique, compute_setup,
+    ShadowTechnique, SpotLight, compute_setup,
 };
 
 pub const Z_N: f64 = 1.0;
@@ -15,6 +15,29 @@ pub const Z_F: f64 = 100.0;
 
 /// The technique's map in the ideal configuration (asserting that no fallback fired).
 pub fn ideal_map(technique: &dyn ShadowTechnique) -> ShadowMap {
+    let light = Light::Directional(DirectionalLight::new(-DVec3::Y).unwrap());
+    ideal_map_lit_by(technique, &light)
+}
+
+/// A spot light so far above the ideal configuration (10^5 units, a cone of a few
+/// hundredths of a degree around the frustum's box) that it is practically the directional
+/// light straight down.
+pub fn distant_spot() -> Light {
+    let height = 1e5;
+    Light::Spot(
+        SpotLight::new(
+            DVec3::new(0.0, height, -0.5 * (Z_N + Z_F)),
+            -DVec3::Y,
+            (100.0f64 / height).atan().to_degrees(),
+            height + 100.0,
+        )
+        .unwrap(),
+    )
+}
+
+/// The technique's map in the ideal configuration under `light` (asserting that no fallback
+/// fired).
+pub fn ideal_map_lit_by(technique: &dyn ShadowTechnique, light: &Light) -> ShadowMap {
     let lens = Lens {
         fov_y_degrees: 60.0,
         aspect: 1.0,
@@ -27,11 +50,10 @@ pub fn ideal_map(technique: &dyn ShadowTechnique) -> ShadowMap {
     let max = corners.iter().copied().reduce(DVec3::max).unwrap();
     let frustum_box = Aabb::new(min, max).unwrap();
     let scene = SceneBounds::new(vec![frustum_box], vec![frustum_box], Some(frustum_box)).unwrap();
-    let light = Light::Directional(DirectionalLight::new(-DVec3::Y).unwrap());
     let setup = compute_setup(
         technique,
         &camera,
-        &light,
+        light,
         &scene,
         MapSettings::with_resolution(1024),
     )
