@@ -127,6 +127,16 @@ fn bench(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("focused_spot", n), &scene, |b, s| {
             b.iter(|| compute_setup(&Focused, black_box(&camera), &spot, s, settings).unwrap())
         });
+        group.bench_with_input(BenchmarkId::new("lispsm_spot", n), &scene, |b, s| {
+            b.iter(|| {
+                compute_setup(&Lispsm::default(), black_box(&camera), &spot, s, settings).unwrap()
+            })
+        });
+        group.bench_with_input(BenchmarkId::new("psm_spot", n), &scene, |b, s| {
+            b.iter(|| {
+                compute_setup(&Psm::default(), black_box(&camera), &spot, s, settings).unwrap()
+            })
+        });
     }
     group.finish();
 }

@@ -91,28 +91,54 @@ pub(crate) fn classify_boxes(
     }
 }
 
-/// The extents of the boxes `indices` (all when `None`) under an orthographic frame: per
-/// box the projected centre plus and minus the projected half extents.
+/// An orthographic frame ready to project boxes of a [`BoxArrays`]: a box's image is its
+/// projected centre plus and minus |R| times its half extents.
+pub(crate) struct ParallelBoxes<'a> {
+    boxes: &'a BoxArrays,
+    axes: [DVec3; 3],
+    abs_axes: [DVec3; 3],
+}
+
+impl<'a> ParallelBoxes<'a> {
+    pub fn new(boxes: &'a BoxArrays, frame: &LightFrame) -> Self {
+        let axes = [frame.right, frame.up, frame.forward];
+        Self {
+            boxes,
+            axes,
+            abs_axes: axes.map(DVec3::abs),
+        }
+    }
+
+    /// How many boxes.
+    pub fn len(&self) -> usize {
+        self.boxes.center[0].len()
+    }
+
+    /// The extents of box `i` in the frame.
+    #[inline(always)]
+    pub fn extents(&self, i: usize) -> Extents {
+        let (b, a, h_axes) = (self.boxes, &self.axes, &self.abs_axes);
+        let c = DVec3::new(b.center[0][i], b.center[1][i], b.center[2][i]);
+        let h = DVec3::new(b.half[0][i], b.half[1][i], b.half[2][i]);
+        let pc = DVec3::new(a[0].dot(c), a[1].dot(c), a[2].dot(c));
+        let ph = DVec3::new(h_axes[0].dot(h), h_axes[1].dot(h), h_axes[2].dot(h));
+        Extents {
+            min: pc - ph,
+            max: pc + ph,
+        }
+    }
+}
+
+/// The extents of the boxes `indices` under an orthographic frame.
 pub(crate) fn parallel_extents(
     boxes: &BoxArrays,
     frame: &LightFrame,
     indices: &[usize],
 ) -> Extents {
-    let axes = [frame.right, frame.up, frame.forward];
-    let mut ext = Extents::EMPTY;
-    for &i in indices {
-        let c = DVec3::new(boxes.center[0][i], boxes.center[1][i], boxes.center[2][i]);
-        let h = DVec3::new(boxes.half[0][i], boxes.half[1][i], boxes.half[2][i]);
-        let pc = DVec3::new(axes[0].dot(c), axes[1].dot(c), axes[2].dot(c));
-        let ph = DVec3::new(
-            axes[0].abs().dot(h),
-            axes[1].abs().dot(h),
-            axes[2].abs().dot(h),
-        );
-        ext.min = ext.min.min(pc - ph);
-        ext.max = ext.max.max(pc + ph);
-    }
-    ext
+    let projected = ParallelBoxes::new(boxes, frame);
+    indices
+        .iter()
+        .fold(Extents::EMPTY, |ext, &i| ext.union(&projected.extents(i)))
 }
 
 /// The vertices of a box cut by the planes named in `mask` (the box lies inside the others),
@@ -350,18 +376,9 @@ pub(crate) fn caster_extents(
     let mut near_clipped = 0;
     if let (Projector::Parallel(frame), None) = (projector, light_planes) {
         // One pass over the box arrays: project, cull, accumulate.
-        let boxes = scene.caster_arrays();
-        let axes = [frame.right, frame.up, frame.forward];
-        let abs_axes = axes.map(DVec3::abs);
-        for i in 0..boxes.center[0].len() {
-            let c = DVec3::new(boxes.center[0][i], boxes.center[1][i], boxes.center[2][i]);
-            let h = DVec3::new(boxes.half[0][i], boxes.half[1][i], boxes.half[2][i]);
-            let pc = DVec3::new(axes[0].dot(c), axes[1].dot(c), axes[2].dot(c));
-            let ph = DVec3::new(abs_axes[0].dot(h), abs_axes[1].dot(h), abs_axes[2].dot(h));
-            let box_ext = Extents {
-                min: pc - ph,
-                max: pc + ph,
-            };
+        let projected = ParallelBoxes::new(scene.caster_arrays(), frame);
+        for i in 0..projected.len() {
+            let box_ext = projected.extents(i);
             if receivers.xy_overlaps(&box_ext, xy_slack) && box_ext.min.z <= receivers.max.z {
                 relevant += 1;
                 ext = ext.union(&box_ext);

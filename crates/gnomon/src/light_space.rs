@@ -123,6 +123,57 @@ impl Projector {
     }
 }
 
+/// A projector composed with a projective map of world points (`source_from_world`): the
+/// homogeneous rows of (x w, y w, w) on world points, so that a world point reaches the
+/// map plane with one reciprocal.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PlaneMap {
+    rows: [DVec4; 3],
+}
+
+impl PlaneMap {
+    pub fn new(projector: &Projector, source_from_world: DMat4) -> Self {
+        let f = projector.frame();
+        let rows = match projector {
+            Projector::Parallel(_) => [f.right.extend(0.0), f.up.extend(0.0), DVec4::W],
+            Projector::Point { position, .. } => {
+                let row = |v: DVec3| v.extend(-v.dot(*position));
+                [row(f.right), row(f.up), row(f.forward)]
+            }
+        };
+        let world_from_source_rows = source_from_world.transpose();
+        Self {
+            rows: rows.map(|r| world_from_source_rows * r),
+        }
+    }
+
+    /// (x, y, 0) of a world point with w > 0.
+    #[inline]
+    pub fn project(&self, p: DVec3) -> DVec3 {
+        let h = p.extend(1.0);
+        let r = 1.0 / self.rows[2].dot(h);
+        DVec3::new(self.rows[0].dot(h) * r, self.rows[1].dot(h) * r, 0.0)
+    }
+
+    /// The (x, y) extents of a box whose corners all have w > 0: each row's value at a
+    /// corner is its value at the centre plus or minus its products with the half extents.
+    #[inline(always)]
+    pub fn box_extents(&self, aabb: &Aabb) -> Extents {
+        let c = aabb.center().extend(1.0);
+        let h = aabb.half_extents();
+        let parts = self.rows.map(|r| (r.dot(c), r.truncate() * h));
+        let mut ext = Extents::EMPTY;
+        for corner in 0..8 {
+            let sign = |bit: usize| if corner & bit == 0 { -1.0 } else { 1.0 };
+            let s = DVec3::new(sign(1), sign(2), sign(4));
+            let [x, y, w] = parts.map(|(base, d)| base + d.dot(s));
+            let r = 1.0 / w;
+            ext.add(DVec3::new(x * r, y * r, 0.0));
+        }
+        ext
+    }
+}
+
 /// An axis-aligned box in a projector's (x, y, depth) space.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Extents {
@@ -235,5 +286,44 @@ pub(crate) fn build_map(
         resolution: settings.resolution,
         viewport_inset: settings.viewport_inset,
         projection,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 1000, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// The centre-plus-signed-half-extents corners give the same extents as projecting
+        /// the eight corners one by one.
+        #[test]
+        fn plane_map_box_extents_match_the_corners(
+            lo in prop::array::uniform3(-10.0f64..10.0),
+            size in prop::array::uniform3(0.0f64..5.0),
+            position in prop::array::uniform3(-5.0f64..5.0),
+        ) {
+            let projector = Projector::Point {
+                frame: LightFrame::fixed(DVec3::new(0.2, -1.0, 0.3).normalize()),
+                position: DVec3::from_array(position) + DVec3::new(0.0, 40.0, 0.0),
+            };
+            let source_from_world = DMat4::from_cols_array(&[
+                1.0, 0.1, 0.0, 0.0, 0.0, 1.0, 0.2, 0.0, 0.1, 0.0, 1.0, 0.01, 0.0, 0.0, 0.0, 1.0,
+            ]);
+            let map = PlaneMap::new(&projector, source_from_world);
+            let lo = DVec3::from_array(lo);
+            let aabb = Aabb::new(lo, lo + DVec3::from_array(size) + 1e-3).unwrap();
+            let fast = map.box_extents(&aabb);
+            let mut slow = Extents::EMPTY;
+            for c in aabb.corners() {
+                let h = source_from_world * c.extend(1.0);
+                slow.add(projector.project(h.truncate() / h.w).truncate().extend(0.0));
+            }
+            prop_assert!((fast.min - slow.min).abs().max_element() < 1e-9, "{fast:?} vs {slow:?}");
+            prop_assert!((fast.max - slow.max).abs().max_element() < 1e-9, "{fast:?} vs {slow:?}");
+        }
     }
 }

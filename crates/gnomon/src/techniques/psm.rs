@@ -50,7 +50,7 @@ use crate::error::SetupError;
 use crate::focus::{BoxSide, box_cut_vertices, classify_box};
 use crate::geometry::Plane;
 use crate::light::Light;
-use crate::light_space::{Extents, LightFrame, Projector, pad};
+use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, pad};
 use crate::setup::{
     Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
@@ -208,27 +208,33 @@ impl ShadowTechnique for Psm {
             }
         }
         let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
+        let plane_map = PlaneMap::new(&projector, pps_from_world);
         let mut casters = Extents::EMPTY;
         let mut casters_z = f64::INFINITY;
         let mut relevant = 0;
         let mut scratch = Vec::new();
         for caster in input.scene.casters() {
-            scratch.clear();
-            match classify_box(caster, &slab, tolerance) {
+            let (e, z_min) = match classify_box(caster, &slab, tolerance) {
                 BoxSide::Outside => continue,
-                BoxSide::Inside => scratch.extend_from_slice(&caster.corners()),
+                BoxSide::Inside => {
+                    let (c, h) = (caster.center(), caster.half_extents());
+                    let z_min = linear(c) - linear_row.truncate().abs().dot(h);
+                    (plane_map.box_extents(caster), z_min)
+                }
                 BoxSide::Straddles(mask) => {
+                    scratch.clear();
                     if !box_cut_vertices(caster, &slab, mask, tolerance, &mut scratch) {
                         continue;
                     }
+                    let mut e = Extents::EMPTY;
+                    let mut z_min = f64::INFINITY;
+                    for p in &scratch {
+                        e.add(plane_map.project(*p));
+                        z_min = z_min.min(linear(*p));
+                    }
+                    (e, z_min)
                 }
-            }
-            let mut e = Extents::EMPTY;
-            let mut z_min = f64::INFINITY;
-            for p in &scratch {
-                e.add(projector.project(to_pps(*p)));
-                z_min = z_min.min(linear(*p));
-            }
+            };
             if !receivers.xy_overlaps(&e, xy_slack) || z_min > receivers_z {
                 continue;
             }

@@ -30,10 +30,10 @@ use glam::{DMat4, DVec3, DVec4};
 
 use crate::body::focus_body;
 use crate::error::SetupError;
-use crate::focus::{BoxSide, VisibleScene, box_cut_vertices, classify_box};
+use crate::focus::{BoxSide, ParallelBoxes, VisibleScene, box_cut_vertices, classify_box};
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
-use crate::light_space::{Extents, LightFrame, Projector, pad};
+use crate::light_space::{Extents, LightFrame, pad};
 use crate::setup::{
     Diagnostics, Fallback, LightFrameKind, MapProjection, MapSelection, SetupInput, ShadowMap,
     ShadowSetup, ShadowTechnique,
@@ -174,17 +174,18 @@ impl Warp {
     /// the smallest w when X - X_eye >= 0 and at the largest w otherwise (likewise z); s grows
     /// with Y. So six divisions give the exact extents of the box's image.
     fn box_extents(&self, lo: DVec3, hi: DVec3) -> Extents {
-        let w0 = 1.0 + (lo.y - self.y_origin) * self.inv_n;
-        let w1 = 1.0 + (hi.y - self.y_origin) * self.inv_n;
+        // Two divisions, then products (this runs once per caster).
+        let r0 = 1.0 / (1.0 + (lo.y - self.y_origin) * self.inv_n);
+        let r1 = 1.0 / (1.0 + (hi.y - self.y_origin) * self.inv_n);
         let range = |a: f64, b: f64| {
-            let lo = if a < 0.0 { a / w0 } else { a / w1 };
-            let hi = if b < 0.0 { b / w1 } else { b / w0 };
+            let lo = a * if a < 0.0 { r0 } else { r1 };
+            let hi = b * if b < 0.0 { r1 } else { r0 };
             (lo, hi)
         };
         let (u0, u1) = range(lo.x - self.x_eye, hi.x - self.x_eye);
         let (z0, z1) = range(lo.z - self.z_mid, hi.z - self.z_mid);
-        let s0 = (lo.y - self.y_origin) * self.k / w0;
-        let s1 = (hi.y - self.y_origin) * self.k / w1;
+        let s0 = (lo.y - self.y_origin) * self.k * r0;
+        let s1 = (hi.y - self.y_origin) * self.k * r1;
         Extents {
             min: DVec3::new(u0, s0, z0),
             max: DVec3::new(u1, s1, z1),
@@ -370,9 +371,12 @@ pub(crate) fn view_warp_setup(
 
     // Receivers: warped extents, and the linear depth range.
     let mut receivers = Extents::EMPTY;
+    let mut receivers_light = Extents::EMPTY;
     let mut receivers_linear = (f64::INFINITY, f64::NEG_INFINITY);
     visible.for_each_vertex(input.scene, |p| {
-        receivers.add(warp.warp(warp.light(p)).0);
+        let q = warp.light(p);
+        receivers_light.add(q);
+        receivers.add(warp.warp(q).0);
         let z = linear(p);
         receivers_linear = (receivers_linear.0.min(z), receivers_linear.1.max(z));
     });
@@ -396,14 +400,23 @@ pub(crate) fn view_warp_setup(
     };
     match (&space, &light_planes) {
         (LightSpace::Parallel(frame), None) => {
-            let projector = Projector::Parallel(*frame);
-            for caster in input.scene.casters() {
-                let e = projector.box_extents(caster);
-                let (y0, y1) = (e.min.y.max(body_light.min.y), e.max.y.min(body_light.max.y));
-                if y0 <= y1 {
-                    let lo = DVec3::new(e.min.x, y0, e.min.z);
-                    let hi = DVec3::new(e.max.x, y1, e.max.z);
-                    add_caster(warp.box_extents(lo, hi), e.min.z);
+            // One pass over the box arrays: the light-space box of each caster (centre plus
+            // |R| times the half extents), culled by depth and B's Y range before the warp.
+            let projected = ParallelBoxes::new(input.scene.caster_arrays(), frame);
+            let light_slack = 1e-9
+                * (receivers_light.max - receivers_light.min)
+                    .truncate()
+                    .max_element();
+            for i in 0..projected.len() {
+                let Extents { min: lo, max: hi } = projected.extents(i);
+                // Light rays are columns of constant (X, Y) before and after the warp, so a
+                // caster beside the receivers' columns is culled before any division.
+                let (y0, y1) = (lo.y.max(body_light.min.y), hi.y.min(body_light.max.y));
+                let beside =
+                    !receivers_light.xy_overlaps(&Extents { min: lo, max: hi }, light_slack);
+                if y0 <= y1 && lo.z <= receivers_z && !beside {
+                    let warped = warp.box_extents(lo.with_y(y0), hi.with_y(y1));
+                    add_caster(warped, lo.z);
                 }
             }
         }
