@@ -40,6 +40,7 @@ mod light;
 mod light_space;
 mod setup;
 pub mod techniques;
+pub mod volumes;
 
 pub use body::convex_body_b;
 pub use bounds::{Aabb, SceneBounds};

@@ -1,0 +1,268 @@
+//! Shadow-volume geometry for one light, and the camera projection that keeps it unclipped.
+
+use glam::{DMat4, DVec3, DVec4};
+
+use crate::camera::Lens;
+use crate::light::Light;
+use crate::volumes::MeshTopology;
+
+/// How many triangles of each kind a volume got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct VolumeCounts {
+    /// Light-facing triangles, in place (the light cap).
+    pub light_cap: usize,
+    /// Back-facing triangles at infinity (the dark cap; none for a directional light, whose
+    /// volume closes at one point at infinity).
+    pub dark_cap: usize,
+    /// Triangles of the silhouette quads extruded to infinity (one per edge for a directional
+    /// light, where the quad's far edge is a single point).
+    pub sides: usize,
+}
+
+impl VolumeCounts {
+    /// All triangles.
+    pub fn total(&self) -> usize {
+        self.light_cap + self.dark_cap + self.sides
+    }
+}
+
+/// Appends to `out` the shadow volume of `mesh`, placed by `world_from_object` (any
+/// invertible affine map), for `light` (a spot light shadows as the point light at its
+/// position; its cone limits what it lights, not its volumes): three homogeneous world
+/// vertices per triangle, each triangle counter-clockwise seen from outside the volume.
+///
+/// A point p goes to infinity away from the light as the direction (p - light, 0) (point
+/// light) or (direction of travel, 0) (directional light). A closed mesh gives the light cap
+/// (light-facing triangles), the dark cap (back-facing triangles at infinity) and one
+/// extruded quad per possible silhouette edge (an edge between a light-facing and a
+/// back-facing triangle); a mesh kept for per-triangle volumes
+/// ([`crate::volumes::OpenMeshPolicy::PerTriangle`]) gives every triangle not edge-on to
+/// the light a closed volume of its own, seen from the side the light sees.
+pub fn extrude_volume(
+    mesh: &MeshTopology,
+    world_from_object: DMat4,
+    light: &Light,
+    out: &mut Vec<DVec4>,
+) -> VolumeCounts {
+    let world: Vec<DVec3> = mesh
+        .positions()
+        .iter()
+        .map(|p| world_from_object.transform_point3(*p))
+        .collect();
+    // A mirroring placement turns the winding over.
+    let mirrored = world_from_object.determinant() < 0.0;
+    let (point, travel) = match light {
+        Light::Directional(d) => (None, d.direction()),
+        Light::Spot(s) => (Some(s.position()), DVec3::ZERO),
+    };
+    let to_infinity = |p: DVec3| match point {
+        Some(c) => (p - c).extend(0.0),
+        None => travel.extend(0.0),
+    };
+    // n . (direction toward the light), with the winding's normal n.
+    let facing_amount = |[a, b, c]: [DVec3; 3]| {
+        let n = (b - a).cross(c - a);
+        let toward = match point {
+            Some(position) => position - a,
+            None => -travel,
+        };
+        let s = n.dot(toward);
+        if mirrored { -s } else { s }
+    };
+    let mut emit = |tri: [DVec4; 3]| {
+        if mirrored {
+            out.extend([tri[0], tri[2], tri[1]]);
+        } else {
+            out.extend(tri);
+        }
+    };
+    let mut counts = VolumeCounts::default();
+    let side = |a: DVec3, b: DVec3, emit: &mut dyn FnMut([DVec4; 3])| {
+        let (ea, eb) = (to_infinity(a), to_infinity(b));
+        if point.is_some() {
+            emit([a.extend(1.0), ea, eb]);
+            emit([a.extend(1.0), eb, b.extend(1.0)]);
+            2
+        } else {
+            emit([a.extend(1.0), ea, b.extend(1.0)]);
+            1
+        }
+    };
+    let corners = |tri: &[u32; 3]| tri.map(|k| world[k as usize]);
+
+    if mesh.is_closed() {
+        let facing: Vec<bool> = mesh
+            .triangles()
+            .iter()
+            .map(|tri| facing_amount(corners(tri)) > 0.0)
+            .collect();
+        for (tri, &lit) in mesh.triangles().iter().zip(&facing) {
+            let p = corners(tri);
+            if lit {
+                emit(p.map(|q| q.extend(1.0)));
+                counts.light_cap += 1;
+            } else if point.is_some() {
+                emit(p.map(to_infinity));
+                counts.dark_cap += 1;
+            }
+        }
+        for (a, b) in mesh.silhouette_edges(&facing) {
+            counts.sides += side(world[a as usize], world[b as usize], &mut emit);
+        }
+    } else {
+        for tri in mesh.triangles() {
+            let p = corners(tri);
+            let amount = facing_amount(p);
+            if amount == 0.0 || amount.is_nan() {
+                continue;
+            }
+            // Seen from the side the light sees: wound toward the light.
+            let p = if amount > 0.0 { p } else { [p[0], p[2], p[1]] };
+            emit(p.map(|q| q.extend(1.0)));
+            counts.light_cap += 1;
+            if point.is_some() {
+                emit([to_infinity(p[0]), to_infinity(p[2]), to_infinity(p[1])]);
+                counts.dark_cap += 1;
+            }
+            for i in 0..3 {
+                counts.sides += side(p[i], p[(i + 1) % 3], &mut emit);
+            }
+        }
+    }
+    counts
+}
+
+/// View to clip space with the far plane at infinity (depth in [0, 1], as wgpu wants):
+/// z_clip = (1 - epsilon) (-z_view - near), w = -z_view. Depth is 0 at the near plane and
+/// tends to 1 - epsilon at infinity, so points at infinity (w = 0 in world space) land
+/// inside the depth range and are never clipped (Everitt and Kilgard's P_inf with their
+/// epsilon against round-off). The rest as [`crate::Camera::clip_from_view`].
+pub fn infinite_clip_from_view(lens: &Lens, epsilon: f64) -> DMat4 {
+    let cot = 1.0 / (0.5 * lens.fov_y_degrees.to_radians()).tan();
+    let a = 1.0 - epsilon;
+    DMat4::from_cols(
+        DVec4::new(cot / lens.aspect, 0.0, 0.0, 0.0),
+        DVec4::new(0.0, cot, 0.0, 0.0),
+        DVec4::new(0.0, 0.0, -a, -1.0),
+        DVec4::new(0.0, 0.0, -a * lens.near, 0.0),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::light::{DirectionalLight, SpotLight};
+    use crate::volumes::OpenMeshPolicy;
+
+    /// A tetrahedron, counter-clockwise from outside.
+    fn tetrahedron() -> MeshTopology {
+        let p = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 0.0, -1.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        let i = [0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3];
+        MeshTopology::new(&p, &i, OpenMeshPolicy::Reject).unwrap()
+    }
+
+    /// Signed volume of the triangles' cone from a point: positive when they bound the
+    /// point's region outward (finite triangles only).
+    fn winding_number_times_volume(tris: &[DVec4], from: DVec3, far: f64) -> f64 {
+        // Replace points at infinity by points far along their direction.
+        let finite = |v: DVec4| {
+            if v.w == 0.0 {
+                v.truncate().normalize() * far
+            } else {
+                v.truncate() / v.w
+            }
+        };
+        tris.chunks(3)
+            .map(|t| {
+                let [a, b, c] = [
+                    finite(t[0]) - from,
+                    finite(t[1]) - from,
+                    finite(t[2]) - from,
+                ];
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+
+    #[test]
+    fn volumes_are_closed_and_outward() {
+        let mesh = tetrahedron();
+        let lights = [
+            Light::Directional(DirectionalLight::new(DVec3::new(0.3, -1.0, 0.2)).unwrap()),
+            Light::Spot(SpotLight::new(DVec3::new(0.4, 5.0, -0.3), -DVec3::Y, 60.0, 50.0).unwrap()),
+        ];
+        for light in &lights {
+            for policy in [OpenMeshPolicy::Reject, OpenMeshPolicy::PerTriangle] {
+                let mut tris = Vec::new();
+                let counts = if policy == OpenMeshPolicy::Reject {
+                    extrude_volume(&mesh, DMat4::IDENTITY, light, &mut tris)
+                } else {
+                    // Per-triangle volumes of the same (closed) mesh, forced.
+                    let p: Vec<DVec3> = mesh.positions().to_vec();
+                    let open: Vec<u32> = mesh.triangles()[..3].iter().flatten().copied().collect();
+                    let m = MeshTopology::new(&p, &open, OpenMeshPolicy::PerTriangle).unwrap();
+                    assert!(!m.is_closed());
+                    extrude_volume(&m, DMat4::IDENTITY, light, &mut tris)
+                };
+                assert_eq!(tris.len(), 3 * counts.total());
+                // Every edge of the volume is used once in each direction (closed, consistent).
+                let key = |v: DVec4| {
+                    let v = if v.w == 0.0 {
+                        v.truncate().normalize().extend(0.0)
+                    } else {
+                        v
+                    };
+                    v.to_array().map(|x| (x * 1e9).round() as i64)
+                };
+                let mut edges = std::collections::HashMap::new();
+                for t in tris.chunks(3) {
+                    for i in 0..3 {
+                        let (a, b) = (key(t[i]), key(t[(i + 1) % 3]));
+                        if a != b {
+                            *edges.entry((a, b)).or_insert(0i32) += 1;
+                            *edges.entry((b, a)).or_insert(0i32) -= 1;
+                        }
+                    }
+                }
+                assert!(
+                    edges.values().all(|&n| n == 0),
+                    "{light:?} {policy:?}: open volume"
+                );
+                // Outward: the signed volume seen from a point inside the shadow is positive.
+                let below = DVec3::new(0.2, -3.0, -0.2);
+                let v = winding_number_times_volume(&tris, below, 1e3);
+                assert!(v > 0.0, "{light:?} {policy:?}: volume {v}");
+            }
+        }
+    }
+
+    #[test]
+    fn mirrored_placement_keeps_volumes_outward() {
+        let mesh = tetrahedron();
+        let light = Light::Directional(DirectionalLight::new(-DVec3::Y).unwrap());
+        let mirror = DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0));
+        let mut tris = Vec::new();
+        let counts = extrude_volume(&mesh, mirror, &light, &mut tris);
+        assert_eq!(counts.light_cap, 1, "only the slanted face looks up");
+        let v = winding_number_times_volume(&tris, DVec3::new(-0.2, -3.0, -0.2), 1e3);
+        assert!(v > 0.0, "{v}");
+    }
+
+    #[test]
+    fn infinite_projection_keeps_infinity_inside_the_depth_range() {
+        let lens = Lens::default();
+        let m = infinite_clip_from_view(&lens, 1e-6);
+        let near = m * DVec4::new(0.0, 0.0, -lens.near, 1.0);
+        assert!((near.z / near.w).abs() < 1e-12);
+        let at_infinity = m * DVec4::new(0.1, 0.2, -1.0, 0.0);
+        let z = at_infinity.z / at_infinity.w;
+        assert!(z < 1.0 && z > 1.0 - 1e-5, "{z}");
+        let far = m * DVec4::new(0.0, 0.0, -1e6, 1.0);
+        assert!(far.z / far.w < z);
+    }
+}

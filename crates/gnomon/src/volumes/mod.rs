@@ -1,0 +1,17 @@
+//! Exact shadows: stenciled shadow volumes (the shadows lecture,
+//! `shared/papers/shadows-lecture-volumes-and-maps.md`; Crow 1977, Heidmann 1991, z-fail after
+//! Carmack and Everitt and Kilgard 2002).
+//!
+//! [`MeshTopology`] welds a mesh's vertices and builds its edge-to-triangle adjacency,
+//! checking that it is a closed 2-manifold with consistent winding; [`extrude_volume`] turns
+//! it, for one light, into the volume's triangles in homogeneous world coordinates: the
+//! light-facing triangles (light cap), the back-facing ones sent to infinity (dark cap) and
+//! the quads of the possible silhouette edges extruded to infinity with w = 0. The renderer
+//! counts them in the stencil buffer under [`infinite_clip_from_view`], which never clips a
+//! point at infinity.
+
+mod extrusion;
+mod topology;
+
+pub use extrusion::{VolumeCounts, extrude_volume, infinite_clip_from_view};
+pub use topology::{MeshError, MeshTopology, OpenMeshPolicy};
