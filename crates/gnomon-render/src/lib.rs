@@ -8,7 +8,8 @@
 //! viewport inset from the setup; linear depth from `depth_from_world` plus constant and
 //! slope-scaled bias), then the main pass: ambient plus Lambert, the shadow factor from a
 //! comparison sampler (one tap, hardware 2x2 or 5x5 PCF, optional normal offset), and the
-//! direct-light mask (255 lit, 0 not lit, 128 no geometry).
+//! direct-light mask (255 lit, 0 not lit, 128 no geometry). [`Renderer::render_volumes`]
+//! draws exact shadows with stenciled shadow volumes instead (z-fail or z-pass).
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -19,11 +20,13 @@ mod light_view;
 mod readback;
 mod renderer;
 mod scene;
+mod volumes;
 
 pub use error::RenderError;
 pub use gpu::Gpu;
 pub use renderer::{DepthBias, Filter, Frame, RenderSettings, Renderer, Timings};
 pub use scene::{Instance, RenderScene};
+pub use volumes::StencilMode;
 
 /// Mask value of a pixel lit by the light.
 pub const MASK_LIT: u8 = 255;

@@ -4,6 +4,7 @@ use glam::{DMat4, DVec3};
 use gnomon::{Camera, Light, MapSelection, ShadowMap, ShadowSetup};
 
 use crate::scene::{GpuScene, RenderScene, Vertex};
+use crate::volumes::{VolumeCasters, VolumePipelines};
 use crate::{Gpu, MASK_EMPTY, RenderError, light_view, readback};
 
 /// How the main pass filters shadow-map lookups.
@@ -103,10 +104,21 @@ pub struct Frame {
     pub timings: Timings,
 }
 
+/// Where the main pass's shadow factor comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ShadowOverride {
+    /// The shadow map.
+    Map = 0,
+    /// Lit (the stencil said so).
+    Lit = 1,
+    /// Shadowed (the stencil said so).
+    Shadowed = 2,
+}
+
 /// The uniform block of `shadow.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Globals {
+pub(crate) struct Globals {
     camera_clip_from_world: [[f32; 4]; 4],
     light_clip_from_world: [[f32; 4]; 4],
     depth_from_world: [f32; 4],
@@ -118,19 +130,21 @@ struct Globals {
     extra: [f32; 4],
 }
 
-const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+pub(crate) const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Draws a scene with shadow setups. Holds the GPU, the pipelines and the scene's buffers.
 pub struct Renderer {
-    gpu: Gpu,
-    scene: GpuScene,
+    pub(crate) gpu: Gpu,
+    pub(crate) scene: GpuScene,
     layout: wgpu::BindGroupLayout,
     depth_pipeline: wgpu::RenderPipeline,
     main_pipeline: wgpu::RenderPipeline,
     linear_sampler: wgpu::Sampler,
     nearest_sampler: wgpu::Sampler,
+    pub(crate) volumes: VolumePipelines,
+    pub(crate) volume_casters: VolumeCasters,
 }
 
 impl Renderer {
@@ -254,6 +268,14 @@ impl Renderer {
             "fs_main",
             &[Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())],
         );
+        let volumes = VolumePipelines::new(
+            device,
+            &shader,
+            &main_pipeline_layout,
+            &depth_pipeline_layout,
+            &vertex_layout,
+            &[Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())],
+        );
         let sampler = |filter: wgpu::FilterMode| {
             device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("shadow comparison"),
@@ -267,8 +289,11 @@ impl Renderer {
         };
         let linear_sampler = sampler(wgpu::FilterMode::Linear);
         let nearest_sampler = sampler(wgpu::FilterMode::Nearest);
+        let volume_casters = VolumeCasters::new(scene);
         let scene = GpuScene::new(device, scene);
         Ok(Self {
+            volumes,
+            volume_casters,
             gpu,
             scene,
             layout,
@@ -277,6 +302,38 @@ impl Renderer {
             linear_sampler,
             nearest_sampler,
         })
+    }
+
+    /// The main pass's bind group: the globals and a shadow map.
+    pub(crate) fn main_bind_group(
+        &self,
+        uniform: &wgpu::Buffer,
+        shadow_view: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        self.gpu
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("globals and shadow map"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: uniform.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(shadow_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::Sampler(&self.linear_sampler),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::Sampler(&self.nearest_sampler),
+                    },
+                ],
+            })
     }
 
     /// The GPU this renderer draws on.
@@ -321,7 +378,14 @@ impl Renderer {
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
 
-        let globals = globals(camera, light, &map, settings);
+        let globals = globals(
+            camera,
+            camera.clip_from_world(),
+            light,
+            &map,
+            settings,
+            ShadowOverride::Map,
+        );
         let uniform = {
             use wgpu::util::DeviceExt;
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -330,22 +394,7 @@ impl Renderer {
                 usage: wgpu::BufferUsages::UNIFORM,
             })
         };
-        let texture = |label, w, h, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let texture = |label, w, h, format, usage| texture(device, label, w, h, format, usage);
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         let shadow_texture = texture(
             "shadow map",
@@ -404,63 +453,12 @@ impl Renderer {
             mask.create_view(&Default::default()),
             depth.create_view(&Default::default()),
         );
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("globals and shadow map"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&shadow_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::Sampler(&self.linear_sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::Sampler(&self.nearest_sampler),
-                },
-            ],
-        });
+        let bind_group = self.main_bind_group(&uniform, &shadow_view);
         let mut encoder = device.create_command_encoder(&Default::default());
         {
-            let empty = MASK_EMPTY as f64 / 255.0;
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("main"),
-                color_attachments: &[
-                    Some(wgpu::RenderPassColorAttachment {
-                        view: &color_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: 0.55,
-                                g: 0.7,
-                                b: 0.9,
-                                a: 1.0,
-                            }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    }),
-                    Some(wgpu::RenderPassColorAttachment {
-                        view: &mask_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: empty,
-                                g: 0.0,
-                                b: 0.0,
-                                a: 1.0,
-                            }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    }),
-                ],
+                color_attachments: &main_targets(&color_view, &mask_view),
                 depth_stencil_attachment: Some(cleared_depth(&depth_view)),
                 ..Default::default()
             });
@@ -508,6 +506,62 @@ impl Renderer {
     }
 }
 
+/// A 2D texture of one mip level.
+pub(crate) fn texture(
+    device: &wgpu::Device,
+    label: &str,
+    width: u32,
+    height: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+/// The main pass's colour and mask targets, cleared to the sky and to [`MASK_EMPTY`].
+pub(crate) fn main_targets<'a>(
+    color_view: &'a wgpu::TextureView,
+    mask_view: &'a wgpu::TextureView,
+) -> [Option<wgpu::RenderPassColorAttachment<'a>>; 2] {
+    let target = |view, clear| {
+        Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(clear),
+                store: wgpu::StoreOp::Store,
+            },
+        })
+    };
+    let sky = wgpu::Color {
+        r: 0.55,
+        g: 0.7,
+        b: 0.9,
+        a: 1.0,
+    };
+    let empty = wgpu::Color {
+        r: MASK_EMPTY as f64 / 255.0,
+        g: 0.0,
+        b: 0.0,
+        a: 1.0,
+    };
+    [target(color_view, sky), target(mask_view, empty)]
+}
+
 /// A depth attachment cleared to the far depth (1) and kept.
 fn cleared_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
     wgpu::RenderPassDepthStencilAttachment {
@@ -529,7 +583,14 @@ fn vec4(v: DVec3, w: f64) -> [f32; 4] {
 }
 
 /// The uniform block for one frame.
-fn globals(camera: &Camera, light: &Light, map: &ShadowMap, settings: &RenderSettings) -> Globals {
+pub(crate) fn globals(
+    camera: &Camera,
+    camera_clip_from_world: DMat4,
+    light: &Light,
+    map: &ShadowMap,
+    settings: &RenderSettings,
+    shadow_override: ShadowOverride,
+) -> Globals {
     let depth_per_world = map.depth_from_world.truncate().length();
     let (light_vector, spot, extra) = match light {
         Light::Directional(d) => (vec4(d.direction(), 0.0), [0.0; 4], [0.0; 4]),
@@ -546,7 +607,7 @@ fn globals(camera: &Camera, light: &Light, map: &ShadowMap, settings: &RenderSet
         Filter::Pcf5x5 => 2.0,
     };
     Globals {
-        camera_clip_from_world: mat(camera.clip_from_world()),
+        camera_clip_from_world: mat(camera_clip_from_world),
         light_clip_from_world: mat(map.clip_from_world),
         depth_from_world: map.depth_from_world.as_vec4().to_array(),
         eye: vec4(camera.eye(), 1.0),
@@ -558,7 +619,12 @@ fn globals(camera: &Camera, light: &Light, map: &ShadowMap, settings: &RenderSet
             (bias.max_slope_world * depth_per_world) as f32,
             bias.normal_offset_texels as f32,
         ],
-        map: [map.resolution as f32, 0.0, filter, settings.ambient as f32],
+        map: [
+            map.resolution as f32,
+            shadow_override as u32 as f32,
+            filter,
+            settings.ambient as f32,
+        ],
         extra,
     }
 }

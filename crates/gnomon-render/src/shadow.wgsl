@@ -18,7 +18,8 @@ struct Globals {
     // x: constant bias (depth units), y: slope scale (texels), z: largest slope bias (depth
     // units), w: normal offset (texels).
     bias: vec4<f32>,
-    // x: resolution, y: unused, z: filter (0 one tap, 1 hardware 2x2, 2 5x5 PCF),
+    // x: resolution, y: shadow override (0 the map, 1 lit, 2 shadowed: shadow volumes),
+    // z: filter (0 one tap, 1 hardware 2x2, 2 5x5 PCF),
     // w: ambient.
     map: vec4<f32>,
     // x: spot range, y: spot near distance.
@@ -158,8 +159,14 @@ fn fs_main(in: MainOut) -> Targets {
     var lit_one_tap = 1.0;
     var shadow = 1.0;
     if (in.color.w > 0.5) {
-        lit_one_tap = shadow_lookup(lookup, 0);
-        shadow = shadow_lookup(lookup, i32(g.map.z));
+        if (g.map.y > 0.5) {
+            // Shadow volumes: the stencil test chose this draw; map.y says which.
+            lit_one_tap = select(0.0, 1.0, g.map.y < 1.5);
+            shadow = lit_one_tap;
+        } else {
+            lit_one_tap = shadow_lookup(lookup, 0);
+            shadow = shadow_lookup(lookup, i32(g.map.z));
+        }
     }
 
     var out: Targets;
@@ -169,4 +176,11 @@ fn fs_main(in: MainOut) -> Targets {
     let lit = facing && lit_one_tap > 0.5;
     out.mask = vec4<f32>(select(0.0, 1.0, lit), 0.0, 0.0, 1.0);
     return out;
+}
+
+// Shadow volumes: homogeneous world positions (w = 0 at infinity) through the camera's
+// infinite projection; stencil only.
+@vertex
+fn vs_volume(@location(0) position: vec4<f32>) -> @builtin(position) vec4<f32> {
+    return g.camera_clip_from_world * position;
 }
