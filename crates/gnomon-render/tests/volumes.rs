@@ -108,7 +108,7 @@ fn volumes_agree_with_exact_shadows() {
         } else {
             (&scene, &renderer)
         };
-        let oracle = common::oracle(&scene, camera, light, SIZE, SIZE);
+        let oracle = common::oracle(scene, camera, light, SIZE, SIZE);
         let z_fail = renderer
             .render_volumes(camera, light, &settings, StencilMode::ZFail)
             .unwrap();
