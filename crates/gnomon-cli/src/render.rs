@@ -4,7 +4,9 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use gnomon::ShadowTechnique;
-use gnomon_render::{DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer};
+use gnomon_render::{
+    DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer, StencilMode,
+};
 
 use crate::CliError;
 use crate::args::{LightArgs, TechniqueArg, TechniqueParams, ViewArgs, scene_layout, timed_setup};
@@ -32,6 +34,49 @@ impl From<PcfArg> for Filter {
     }
 }
 
+/// What `gnomon render` draws shadows with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RenderTechniqueArg {
+    /// Uniform shadow map (SSM).
+    Uniform,
+    /// Focused shadow map with unit cube clipping (FSM).
+    Focused,
+    /// Light space perspective shadow map (LiSPSM).
+    Lispsm,
+    /// Trapezoidal shadow map (TSM).
+    Tsm,
+    /// Extended perspective shadow map (XPSM).
+    Xpsm,
+    /// Perspective shadow map (PSM).
+    Psm,
+    /// Exact shadows: stenciled shadow volumes.
+    Volumes,
+}
+
+impl RenderTechniqueArg {
+    /// The shadow-map technique, or `None` for shadow volumes.
+    fn map_technique(self) -> Option<TechniqueArg> {
+        Some(match self {
+            Self::Uniform => TechniqueArg::Uniform,
+            Self::Focused => TechniqueArg::Focused,
+            Self::Lispsm => TechniqueArg::Lispsm,
+            Self::Tsm => TechniqueArg::Tsm,
+            Self::Xpsm => TechniqueArg::Xpsm,
+            Self::Psm => TechniqueArg::Psm,
+            Self::Volumes => return None,
+        })
+    }
+}
+
+/// How shadow volumes are counted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum StencilArg {
+    /// Count faces behind the surface (Carmack's reverse).
+    ZFail,
+    /// Count faces in front of the surface.
+    ZPass,
+}
+
 /// `gnomon render`.
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
@@ -42,14 +87,19 @@ pub struct RenderArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub light: LightArgs,
-    /// The shadow-map technique.
+    /// The shadow technique: a shadow-map technique, or `volumes` (exact stenciled shadow
+    /// volumes).
     #[arg(long, value_enum, default_value = "focused")]
-    pub technique: TechniqueArg,
+    pub technique: RenderTechniqueArg,
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Shadow-map resolution in texels (square).
     #[arg(long, default_value_t = 1024)]
     pub shadow_map: u32,
+    /// Shadow volumes: how the stencil counts (z-fail is exact wherever the camera is;
+    /// z-pass is wrong where a volume reaches the near plane).
+    #[arg(long, value_enum, default_value = "z-fail")]
+    pub stencil: StencilArg,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -151,7 +201,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let bounds = scene.bounds()?;
     let camera = args.view.camera()?;
     let light = args.light.light()?;
-    let technique = args.params.apply(args.technique.technique());
+    let Some(technique) = args.technique.map_technique() else {
+        return run_volumes(args, &scene, &camera, &light);
+    };
+    let technique = args.params.apply(technique.technique());
     let (setup, setup_us) = timed_setup(&technique, &camera, &light, &bounds, args.shadow_map)?;
     let renderer = Renderer::new(Gpu::new()?, &scene)?;
     let settings = RenderSettings {
@@ -186,6 +239,42 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             .fallback()
             .map(|f| format!(", fallback {}", f.name()))
             .unwrap_or_default(),
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// `gnomon render --technique volumes`.
+fn run_volumes(
+    args: &RenderArgs,
+    scene: &RenderScene,
+    camera: &gnomon::Camera,
+    light: &gnomon::Light,
+) -> Result<(), CliError> {
+    if args.light_view.is_some() {
+        return Err(CliError::usage(
+            "--light-view shows a shadow map; shadow volumes have none",
+        ));
+    }
+    let renderer = Renderer::new(Gpu::new()?, scene)?;
+    let settings = RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        ..RenderSettings::default()
+    };
+    let mode = match args.stencil {
+        StencilArg::ZFail => StencilMode::ZFail,
+        StencilArg::ZPass => StencilMode::ZPass,
+    };
+    let frame = renderer.render_volumes(camera, light, &settings, mode)?;
+    write_frame(&frame, &args.out, args.mask.as_deref(), None)?;
+    let t = frame.timings;
+    eprintln!(
+        "volumes ({:?}) on {}: extrusion and stencil {:.2} ms, shading {:.2} ms; wrote {}",
+        args.stencil,
+        renderer.gpu().describe(),
+        t.shadow_pass_ms,
+        t.main_pass_ms,
         args.out.display()
     );
     Ok(())

@@ -452,3 +452,49 @@ fn export_writes_every_triangle_as_obj() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `--technique volumes` draws exact shadows: its mask agrees with the focused map's one-tap
+/// mask on almost every pixel of the same view (both against the same scene), and asking for
+/// a light view (which volumes do not have) is a usage error.
+#[test]
+fn render_with_shadow_volumes_writes_a_mask_like_the_maps() {
+    let dir = temp_dir("volumes");
+    let mask = |technique: &str| {
+        let path = dir.join(format!("{technique}.png"));
+        let mut args = RENDER.to_vec();
+        args.extend([
+            "--out",
+            path.to_str().unwrap(),
+            "--mask",
+            path.to_str().unwrap(),
+            "--technique",
+            technique,
+            "--pcf",
+            "none",
+        ]);
+        let out = gnomon(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        image::open(&path).unwrap().into_luma8()
+    };
+    let (volumes, focused) = (mask("volumes"), mask("focused"));
+    let differing = volumes
+        .pixels()
+        .zip(focused.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    let shadowed = volumes.pixels().filter(|p| p.0[0] == 0).count();
+    assert!(shadowed > 100, "{shadowed} unlit pixels");
+    assert!(
+        differing * 100 < volumes.len(),
+        "{differing} of {} pixels differ",
+        volumes.len()
+    );
+    let mut args = RENDER.to_vec();
+    args.extend(["--technique", "volumes", "--light-view", "x.png"]);
+    assert_eq!(gnomon(&args).status.code(), Some(2));
+    std::fs::remove_dir_all(dir).unwrap();
+}
