@@ -130,8 +130,8 @@ pub(crate) struct Globals {
     extra: [f32; 4],
 }
 
-pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-pub(crate) const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Draws a scene with shadow setups. Holds the GPU, the pipelines and the scene's buffers.
@@ -336,6 +336,40 @@ impl Renderer {
             })
     }
 
+    /// The image size of `settings`, checked against the GPU's limit.
+    pub(crate) fn image_size(&self, settings: &RenderSettings) -> Result<(u32, u32), RenderError> {
+        let (width, height) = (settings.width, settings.height);
+        let max = self.gpu.device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(RenderError::Invalid(format!(
+                "image size {width}x{height} is outside 1..={max}"
+            )));
+        }
+        Ok((width, height))
+    }
+
+    /// The main pass's colour and mask images (see [`main_targets`]).
+    pub(crate) fn main_images(&self, width: u32, height: u32) -> (wgpu::Texture, wgpu::Texture) {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let device = &self.gpu.device;
+        (
+            texture(device, "color", width, height, COLOR_FORMAT, usage),
+            texture(device, "mask", width, height, MASK_FORMAT, usage),
+        )
+    }
+
+    /// Reads the colour and mask images back (RGBA and one byte per pixel).
+    pub(crate) fn read_main_images(
+        &self,
+        color: &wgpu::Texture,
+        mask: &wgpu::Texture,
+    ) -> Result<(Vec<u8>, Vec<u8>), RenderError> {
+        Ok((
+            readback::read_texture(&self.gpu, color, wgpu::TextureAspect::All, 4)?,
+            readback::read_texture(&self.gpu, mask, wgpu::TextureAspect::All, 1)?,
+        ))
+    }
+
     /// The GPU this renderer draws on.
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
@@ -350,13 +384,8 @@ impl Renderer {
         setup: &ShadowSetup,
         settings: &RenderSettings,
     ) -> Result<Frame, RenderError> {
-        let (width, height) = (settings.width, settings.height);
+        let (width, height) = self.image_size(settings)?;
         let max = self.gpu.device.limits().max_texture_dimension_2d;
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(RenderError::Invalid(format!(
-                "image size {width}x{height} is outside 1..={max}"
-            )));
-        }
         let map = match (setup.selection, setup.maps.as_slice()) {
             (MapSelection::Single, [map]) => *map,
             _ => {
@@ -439,8 +468,7 @@ impl Renderer {
 
         // Main pass.
         let start = Instant::now();
-        let color = texture("color", width, height, COLOR_FORMAT, attachment);
-        let mask = texture("mask", width, height, MASK_FORMAT, attachment);
+        let (color, mask) = self.main_images(width, height);
         let depth = texture(
             "depth",
             width,
@@ -474,8 +502,7 @@ impl Renderer {
         }
 
         let start = Instant::now();
-        let color_bytes = readback::read_texture(&self.gpu, &color, wgpu::TextureAspect::All, 4)?;
-        let mask_bytes = readback::read_texture(&self.gpu, &mask, wgpu::TextureAspect::All, 1)?;
+        let (color_bytes, mask_bytes) = self.read_main_images(&color, &mask)?;
         let light_view = if settings.light_view {
             let depth = readback::read_texture(
                 &self.gpu,

@@ -18,7 +18,7 @@ use gnomon::volumes::{MeshTopology, OpenMeshPolicy, extrude_volume, infinite_cli
 use gnomon::{Camera, Light, MapProjection, ShadowMap};
 
 use crate::renderer::{ShadowOverride, globals, main_targets, texture};
-use crate::{Frame, RenderError, RenderScene, RenderSettings, Renderer, Timings, readback};
+use crate::{Frame, RenderError, RenderScene, RenderSettings, Renderer, Timings};
 
 /// Depth and stencil of the volume passes.
 pub(crate) const DEPTH_STENCIL_FORMAT: wgpu::TextureFormat =
@@ -230,6 +230,25 @@ impl VolumePipelines {
     }
 }
 
+/// The depth-stencil attachment of the volume passes: cleared to depth 1 and stencil 0, or
+/// loaded; kept either way.
+fn depth_stencil(
+    view: &wgpu::TextureView,
+    clear: bool,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    fn ops<T>(clear: Option<T>) -> wgpu::Operations<T> {
+        wgpu::Operations {
+            load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+            store: wgpu::StoreOp::Store,
+        }
+    }
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(ops(clear.then_some(1.0))),
+        stencil_ops: Some(ops(clear.then_some(0))),
+    }
+}
+
 impl Renderer {
     /// Renders one frame of `camera` lit by `light` with exact shadows from stenciled shadow
     /// volumes (see the module documentation). `settings`' filter and bias do not apply.
@@ -240,13 +259,7 @@ impl Renderer {
         settings: &RenderSettings,
         mode: StencilMode,
     ) -> Result<Frame, RenderError> {
-        let (width, height) = (settings.width, settings.height);
-        let max = self.gpu.device.limits().max_texture_dimension_2d;
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(RenderError::Invalid(format!(
-                "image size {width}x{height} is outside 1..={max}"
-            )));
-        }
+        let (width, height) = self.image_size(settings)?;
         let device = &self.gpu.device;
         let error_scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let start = Instant::now();
@@ -288,23 +301,7 @@ impl Renderer {
                 usage: wgpu::BufferUsages::VERTEX,
             })
         });
-        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let color = texture(
-            device,
-            "color",
-            width,
-            height,
-            crate::renderer::COLOR_FORMAT,
-            attachment,
-        );
-        let mask = texture(
-            device,
-            "mask",
-            width,
-            height,
-            crate::renderer::MASK_FORMAT,
-            attachment,
-        );
+        let (color, mask) = self.main_images(width, height);
         let depth = texture(
             device,
             "depth and stencil",
@@ -345,17 +342,7 @@ impl Renderer {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("volumes: depth and stencil"),
                 color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                }),
+                depth_stencil_attachment: Some(depth_stencil(&depth_view, true)),
                 ..Default::default()
             });
             pass.set_bind_group(0, &globals_group, &[]);
@@ -380,17 +367,7 @@ impl Renderer {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("volumes: shading"),
                 color_attachments: &main_targets(&color_view, &mask_view),
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                }),
+                depth_stencil_attachment: Some(depth_stencil(&depth_view, false)),
                 ..Default::default()
             });
             pass.set_stencil_reference(0);
@@ -410,8 +387,7 @@ impl Renderer {
             return Err(RenderError::Gpu(error.to_string()));
         }
         let start = Instant::now();
-        let color_bytes = readback::read_texture(&self.gpu, &color, wgpu::TextureAspect::All, 4)?;
-        let mask_bytes = readback::read_texture(&self.gpu, &mask, wgpu::TextureAspect::All, 1)?;
+        let (color_bytes, mask_bytes) = self.read_main_images(&color, &mask)?;
         let readback_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(Frame {
             width,
