@@ -2,7 +2,8 @@
 # Runs every check CI runs: formatting, lints and all tests.
 #
 # Where no Vulkan driver is installed it first installs Mesa's software driver (lavapipe),
-# which the renderer's GPU tests run on (this needs root and apt-get, as on CI).
+# which the renderer's GPU tests run on (this needs root and apt-get, as on CI); it fetches
+# the real meshes the shadow-volume tests use (scripts/fetch-meshes.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Mesa's device-select layer warns about XDG_RUNTIME_DIR on headless machines; harmless.
@@ -18,6 +19,9 @@ if ! ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1;
         echo "test.sh: warning: no Vulkan driver found and none can be installed here (needs root and apt-get)" >&2
     fi
 fi
+
+# The shadow-volume tests on real meshes need the bunny and the knot (not committed).
+bash scripts/fetch-meshes.sh
 
 echo "test.sh: cargo fmt --check"
 cargo fmt --all --check

@@ -84,6 +84,8 @@ pub struct RenderArgs {
     #[arg(long, default_value = "demo")]
     pub scene: String,
     #[command(flatten)]
+    pub mesh: MeshArgs,
+    #[command(flatten)]
     pub view: ViewArgs,
     #[command(flatten)]
     pub light: LightArgs,
@@ -145,9 +147,33 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// A built-in scene as a render scene.
-pub fn render_scene(name: &str) -> Result<RenderScene, CliError> {
-    Ok(RenderScene::from_layout(&scene_layout(name)?))
+/// A mesh file to render instead of a built-in scene.
+#[derive(Debug, Clone, Args)]
+pub struct MeshArgs {
+    /// Render this mesh (.off, .obj or .ply) standing on a ground slab instead of a built-in
+    /// scene (scripts/fetch-meshes.sh fetches the bunny and a knot into assets/meshes/).
+    #[arg(long, conflicts_with = "scene")]
+    pub mesh: Option<PathBuf>,
+    /// The mesh's height in world units once placed (it is scaled uniformly).
+    #[arg(long, default_value_t = 10.0, requires = "mesh")]
+    pub mesh_height: f64,
+}
+
+/// The scene to render: the mesh on a ground slab where one is given, else the built-in
+/// scene `name`.
+pub fn render_scene(name: &str, mesh: &MeshArgs) -> Result<RenderScene, CliError> {
+    let Some(path) = &mesh.mesh else {
+        return Ok(RenderScene::from_layout(&scene_layout(name)?));
+    };
+    let loaded = gnomon_scene::Mesh::load(path).map_err(|e| CliError::usage(e.to_string()))?;
+    let name = path
+        .file_stem()
+        .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
+    Ok(RenderScene::mesh_on_ground(
+        &name,
+        loaded,
+        mesh.mesh_height,
+    )?)
 }
 
 /// Writes an image file.
@@ -197,7 +223,7 @@ pub fn write_frame(
 
 /// Runs `gnomon render`.
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
-    let scene = render_scene(&args.scene)?;
+    let scene = render_scene(&args.scene, &args.mesh)?;
     let bounds = scene.bounds()?;
     let camera = args.view.camera()?;
     let light = args.light.light()?;

@@ -1,6 +1,8 @@
 use glam::{DMat3, DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
-use gnomon_scene::{Mesh, SceneLayout};
+use gnomon_scene::{Mesh, SceneLayout, Shape};
+
+use crate::RenderError;
 
 /// One placed mesh.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,6 +46,55 @@ impl RenderScene {
             });
         }
         scene
+    }
+
+    /// A mesh standing on a ground slab: scaled uniformly to `height` (its y extent), its
+    /// bounds centred over the origin, resting at y = 0 on a square slab ten times as wide as
+    /// the mesh's largest side (the slab receives shadows, the mesh casts and receives).
+    pub fn mesh_on_ground(name: &str, mesh: Mesh, height: f64) -> Result<Self, RenderError> {
+        if !(height.is_finite() && height > 0.0) {
+            return Err(RenderError::Invalid(format!(
+                "the mesh's height must be a positive number, got {height}"
+            )));
+        }
+        let (lo, hi) = mesh.bounds();
+        let size = hi - lo;
+        if !(size.y > 0.0 && size.is_finite()) {
+            return Err(RenderError::Invalid(format!(
+                "mesh '{name}' has no height to scale (its bounds are {lo} to {hi})"
+            )));
+        }
+        let scale = height / size.y;
+        let centre = 0.5 * (lo + hi);
+        let world_from_object = DMat4::from_scale(DVec3::splat(scale))
+            * DMat4::from_translation(DVec3::new(-centre.x, -lo.y, -centre.z));
+        let half = 5.0 * scale * size.max_element();
+        let thickness = 0.05 * half;
+        let ground = Shape::Cuboid {
+            half_extents: DVec3::new(half, thickness, half),
+        }
+        .mesh();
+        Ok(Self {
+            meshes: vec![ground, mesh],
+            instances: vec![
+                Instance {
+                    name: "ground".into(),
+                    mesh: 0,
+                    world_from_object: DMat4::from_translation(DVec3::new(0.0, -thickness, 0.0)),
+                    casts: false,
+                    receives: true,
+                    color: palette("ground"),
+                },
+                Instance {
+                    name: name.into(),
+                    mesh: 1,
+                    world_from_object,
+                    casts: true,
+                    receives: true,
+                    color: [0.75, 0.62, 0.45],
+                },
+            ],
+        })
     }
 
     /// The world bounds of an instance (its mesh's vertices transformed).

@@ -3,18 +3,20 @@
 //!
 //! The layouts carry no triangles: the renderer generates each shape's mesh from its
 //! [`Shape`] and `world_from_object` transform, so the bounds here and the geometry there
-//! describe the same objects.
+//! describe the same objects. [`Mesh::load`] reads real meshes from OFF, OBJ and PLY files.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 mod demo;
+mod load;
 mod mesh;
 
 use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
 
 pub use demo::{DEMO_VIEWS, DemoView, GROUND_HALF_SIZE, demo};
+pub use load::{LoadError, MeshFormat};
 pub use mesh::Mesh;
 
 /// The shape of an object, in its own space (centred on the origin unless said otherwise).

@@ -1,0 +1,514 @@
+//! Loading triangle meshes from files: OFF (through `off-rs`), Wavefront OBJ (`tobj`) and
+//! PLY, ASCII or binary (`ply-rs-bw`). Polygons are split into fans of triangles; vertex
+//! normals are the area-weighted average of the triangles around each vertex (files' own
+//! normals are not read).
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+use crate::Mesh;
+
+/// The mesh file formats [`Mesh::load`] reads, chosen by the file's extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeshFormat {
+    /// Object File Format (`.off`).
+    Off,
+    /// Wavefront OBJ (`.obj`); materials are ignored.
+    Obj,
+    /// Polygon File Format (`.ply`), ASCII or binary; the `vertex` element's x, y, z and the
+    /// `face` element's `vertex_indices` (or `vertex_index`) list.
+    Ply,
+}
+
+impl MeshFormat {
+    /// The format of a path, from its extension (any case).
+    pub fn from_path(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "off" => Some(Self::Off),
+            "obj" => Some(Self::Obj),
+            "ply" => Some(Self::Ply),
+            _ => None,
+        }
+    }
+
+    /// The format's usual extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Self::Off => "off",
+            Self::Obj => "obj",
+            Self::Ply => "ply",
+        }
+    }
+}
+
+/// Why a mesh file could not be loaded.
+#[derive(Debug)]
+pub enum LoadError {
+    /// The file could not be read.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// The extension is none of `.off`, `.obj`, `.ply`.
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file is not valid in its format.
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// Its format.
+        format: MeshFormat,
+        /// What the parser said.
+        message: String,
+    },
+    /// A face refers to a vertex that does not exist.
+    IndexOutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// The index.
+        index: i64,
+        /// How many vertices there are.
+        vertex_count: usize,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    NonFinite {
+        /// The file.
+        path: PathBuf,
+        /// The vertex's index.
+        vertex: usize,
+    },
+    /// The file holds no triangle (faces with fewer than three vertices do not count).
+    NoTriangles {
+        /// The file.
+        path: PathBuf,
+    },
+}
+
+impl fmt::Display for LoadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Io { path, source } => write!(f, "cannot read {}: {source}", path.display()),
+            Self::UnknownFormat { path } => write!(
+                f,
+                "{}: unknown mesh format (known extensions: .off, .obj, .ply)",
+                path.display()
+            ),
+            Self::Parse {
+                path,
+                format,
+                message,
+            } => write!(
+                f,
+                "{}: not a valid .{} file: {message}",
+                path.display(),
+                format.extension()
+            ),
+            Self::IndexOutOfRange {
+                path,
+                index,
+                vertex_count,
+            } => write!(
+                f,
+                "{}: a face uses vertex {index}, but there are {vertex_count} vertices",
+                path.display()
+            ),
+            Self::NonFinite { path, vertex } => write!(
+                f,
+                "{}: vertex {vertex} has a coordinate that is not a finite number",
+                path.display()
+            ),
+            Self::NoTriangles { path } => write!(f, "{}: no triangles", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for LoadError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+impl Mesh {
+    /// Loads a mesh file, its format chosen by the extension (see [`MeshFormat`]).
+    pub fn load(path: &Path) -> Result<Mesh, LoadError> {
+        let format = MeshFormat::from_path(path).ok_or_else(|| LoadError::UnknownFormat {
+            path: path.to_path_buf(),
+        })?;
+        let bytes = std::fs::read(path).map_err(|source| LoadError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&bytes, format).map_err(|e| e.at(path))
+    }
+
+    /// Parses a mesh from a file's contents.
+    pub fn parse(bytes: &[u8], format: MeshFormat) -> Result<Mesh, LoadError> {
+        let parse_error = |message: String| LoadError::Parse {
+            path: PathBuf::new(),
+            format,
+            message,
+        };
+        let (positions, faces) = match format {
+            MeshFormat::Off => parse_off(bytes).map_err(parse_error)?,
+            MeshFormat::Obj => parse_obj(bytes).map_err(parse_error)?,
+            MeshFormat::Ply => parse_ply(bytes).map_err(parse_error)?,
+        };
+        Self::from_polygons(positions, &faces)
+    }
+
+    /// A mesh from positions and polygons (vertex indices, counter-clockwise seen from
+    /// outside), each polygon split into a fan of triangles; smooth normals.
+    pub fn from_polygons(positions: Vec<DVec3>, polygons: &[Vec<i64>]) -> Result<Mesh, LoadError> {
+        if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(LoadError::NonFinite {
+                path: PathBuf::new(),
+                vertex,
+            });
+        }
+        let mut indices = Vec::new();
+        for polygon in polygons {
+            for &index in polygon {
+                if index < 0 || index as usize >= positions.len() || index > u32::MAX as i64 {
+                    return Err(LoadError::IndexOutOfRange {
+                        path: PathBuf::new(),
+                        index,
+                        vertex_count: positions.len(),
+                    });
+                }
+            }
+            for k in 1..polygon.len().saturating_sub(1) {
+                indices.extend([polygon[0], polygon[k], polygon[k + 1]].map(|i| i as u32));
+            }
+        }
+        if indices.is_empty() {
+            return Err(LoadError::NoTriangles {
+                path: PathBuf::new(),
+            });
+        }
+        let normals = smooth_normals(&positions, &indices);
+        Ok(Mesh {
+            positions,
+            normals,
+            indices,
+        })
+    }
+
+    /// The smallest box around the vertices: (min, max).
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        self.positions
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(*p), hi.max(*p))
+            })
+    }
+}
+
+impl LoadError {
+    /// The error with its file's path filled in.
+    fn at(mut self, file: &Path) -> Self {
+        match &mut self {
+            Self::Io { path, .. }
+            | Self::UnknownFormat { path }
+            | Self::Parse { path, .. }
+            | Self::IndexOutOfRange { path, .. }
+            | Self::NonFinite { path, .. }
+            | Self::NoTriangles { path } => *path = file.to_path_buf(),
+        }
+        self
+    }
+}
+
+/// Angle-weighted vertex normals (each triangle's unit normal weighted by its angle at the
+/// vertex, so that how a polygon was split does not matter), unit length; zero where a
+/// vertex touches only degenerate triangles.
+fn smooth_normals(positions: &[DVec3], indices: &[u32]) -> Vec<DVec3> {
+    let mut normals = vec![DVec3::ZERO; positions.len()];
+    for t in indices.chunks_exact(3) {
+        let p = [t[0], t[1], t[2]].map(|i| positions[i as usize]);
+        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        for k in 0..3 {
+            let (e1, e2) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+            let angle = e1.angle_between(e2);
+            if angle.is_finite() {
+                normals[t[k] as usize] += n * angle;
+            }
+        }
+    }
+    normals.iter().map(|n| n.normalize_or_zero()).collect()
+}
+
+type Polygons = (Vec<DVec3>, Vec<Vec<i64>>);
+
+fn parse_off(bytes: &[u8]) -> Result<Polygons, String> {
+    let text = std::str::from_utf8(bytes).map_err(|e| format!("not text: {e}"))?;
+    let options = off_rs::parser::options::Options {
+        limits: off_rs::parser::options::Limits::MAX,
+        ..Default::default()
+    };
+    let mesh = off_rs::parse(text, options).map_err(|e| match std::error::Error::source(&e) {
+        Some(inner) => format!("{e}: {inner}"),
+        None => e.to_string(),
+    })?;
+    let positions = mesh
+        .vertices
+        .iter()
+        .map(|v| {
+            DVec3::new(
+                v.position.x as f64,
+                v.position.y as f64,
+                v.position.z as f64,
+            )
+        })
+        .collect();
+    let faces = mesh
+        .faces
+        .iter()
+        .map(|f| f.vertices.iter().map(|&i| i as i64).collect())
+        .collect();
+    Ok((positions, faces))
+}
+
+fn parse_obj(bytes: &[u8]) -> Result<Polygons, String> {
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    let mut reader = std::io::BufReader::new(bytes);
+    // Materials are not needed: every material library loads as empty.
+    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Ok((Vec::new(), Default::default()))
+    })
+    .map_err(|e| e.to_string())?;
+    let mut positions = Vec::new();
+    let mut faces = Vec::new();
+    for model in models {
+        let base = positions.len() as i64;
+        positions.extend(
+            model
+                .mesh
+                .positions
+                .chunks_exact(3)
+                .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)),
+        );
+        faces.extend(
+            model
+                .mesh
+                .indices
+                .chunks_exact(3)
+                .map(|t| t.iter().map(|&i| base + i as i64).collect()),
+        );
+    }
+    Ok((positions, faces))
+}
+
+fn parse_ply(bytes: &[u8]) -> Result<Polygons, String> {
+    use ply_rs_bw::parser::Parser;
+    use ply_rs_bw::ply::{DefaultElement, Property};
+    let mut reader = std::io::BufReader::new(bytes);
+    let ply = Parser::<DefaultElement>::new()
+        .read_ply(&mut reader)
+        .map_err(|e| e.to_string())?;
+    let scalar = |p: &Property| -> Option<f64> {
+        Some(match *p {
+            Property::Char(v) => v as f64,
+            Property::UChar(v) => v as f64,
+            Property::Short(v) => v as f64,
+            Property::UShort(v) => v as f64,
+            Property::Int(v) => v as f64,
+            Property::UInt(v) => v as f64,
+            Property::Float(v) => v as f64,
+            Property::Double(v) => v,
+            _ => return None,
+        })
+    };
+    let list = |p: &Property| -> Option<Vec<i64>> {
+        Some(match p {
+            Property::ListChar(v) => v.iter().map(|&i| i as i64).collect(),
+            Property::ListUChar(v) => v.iter().map(|&i| i as i64).collect(),
+            Property::ListShort(v) => v.iter().map(|&i| i as i64).collect(),
+            Property::ListUShort(v) => v.iter().map(|&i| i as i64).collect(),
+            Property::ListInt(v) => v.iter().map(|&i| i as i64).collect(),
+            Property::ListUInt(v) => v.iter().map(|&i| i as i64).collect(),
+            _ => return None,
+        })
+    };
+    let vertices = ply.payload.get("vertex").ok_or("no 'vertex' element")?;
+    let mut positions = Vec::with_capacity(vertices.len());
+    for (k, v) in vertices.iter().enumerate() {
+        let coordinate = |name: &str| {
+            v.get(name)
+                .and_then(scalar)
+                .ok_or_else(|| format!("vertex {k} has no numeric '{name}'"))
+        };
+        positions.push(DVec3::new(
+            coordinate("x")?,
+            coordinate("y")?,
+            coordinate("z")?,
+        ));
+    }
+    let mut faces = Vec::new();
+    for (k, f) in ply.payload.get("face").into_iter().flatten().enumerate() {
+        let indices = f
+            .get("vertex_indices")
+            .or_else(|| f.get("vertex_index"))
+            .and_then(list)
+            .ok_or_else(|| format!("face {k} has no integer list 'vertex_indices'"))?;
+        faces.push(indices);
+    }
+    Ok((positions, faces))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube as quads, counter-clockwise from outside.
+    const CUBE_OFF: &str = "OFF\n# a cube\n8 6 12\n\
+        0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n\
+        4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n";
+
+    fn cube_obj() -> String {
+        "# a cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+         f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 3 4 8 7\nf 2 3 7 6\nf 1 5 8 4\n"
+            .to_string()
+    }
+
+    fn cube_ply_ascii() -> String {
+        "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n\
+         property float z\nelement face 6\nproperty list uchar int vertex_indices\nend_header\n\
+         0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n\
+         4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n"
+            .to_string()
+    }
+
+    /// A binary little-endian PLY of the same cube, double coordinates and uint indices.
+    fn cube_ply_binary() -> Vec<u8> {
+        let mut out = b"ply\nformat binary_little_endian 1.0\nelement vertex 8\n\
+            property double x\nproperty double y\nproperty double z\nelement face 6\n\
+            property list uchar uint vertex_indices\nend_header\n"
+            .to_vec();
+        let corners = [
+            [0, 0, 0],
+            [1, 0, 0],
+            [1, 1, 0],
+            [0, 1, 0],
+            [0, 0, 1],
+            [1, 0, 1],
+            [1, 1, 1],
+            [0, 1, 1],
+        ];
+        for c in corners {
+            for x in c {
+                out.extend_from_slice(&(x as f64).to_le_bytes());
+            }
+        }
+        let faces = [
+            [0u32, 3, 2, 1],
+            [4, 5, 6, 7],
+            [0, 1, 5, 4],
+            [2, 3, 7, 6],
+            [1, 2, 6, 5],
+            [0, 4, 7, 3],
+        ];
+        for f in faces {
+            out.push(4);
+            for i in f {
+                out.extend_from_slice(&i.to_le_bytes());
+            }
+        }
+        out
+    }
+
+    /// Signed volume: 1 for the unit cube wound outward.
+    fn volume(m: &Mesh) -> f64 {
+        m.indices
+            .chunks_exact(3)
+            .map(|t| {
+                let [a, b, c] = [t[0], t[1], t[2]].map(|i| m.positions[i as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+
+    #[test]
+    fn every_format_reads_the_same_cube() {
+        let meshes = [
+            Mesh::parse(CUBE_OFF.as_bytes(), MeshFormat::Off).unwrap(),
+            Mesh::parse(cube_obj().as_bytes(), MeshFormat::Obj).unwrap(),
+            Mesh::parse(cube_ply_ascii().as_bytes(), MeshFormat::Ply).unwrap(),
+            Mesh::parse(&cube_ply_binary(), MeshFormat::Ply).unwrap(),
+        ];
+        for m in &meshes {
+            assert_eq!(m.positions.len(), 8);
+            assert_eq!(m.triangle_count(), 12);
+            assert!((volume(m) - 1.0).abs() < 1e-12, "volume {}", volume(m));
+            assert_eq!(m.bounds(), (DVec3::ZERO, DVec3::ONE));
+            // Smooth normals at a corner point out along the diagonal.
+            let n = m.normals[6];
+            assert!((n - DVec3::ONE.normalize()).length() < 1e-9, "{n}");
+        }
+    }
+
+    #[test]
+    fn bad_files_give_clear_errors() {
+        let parse = |text: &str, format| Mesh::parse(text.as_bytes(), format).unwrap_err();
+        assert!(matches!(
+            parse(
+                "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
+                MeshFormat::Off
+            ),
+            LoadError::IndexOutOfRange {
+                index: 7,
+                vertex_count: 3,
+                ..
+            }
+        ));
+        assert!(matches!(
+            parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", MeshFormat::Obj),
+            LoadError::Parse {
+                format: MeshFormat::Obj,
+                ..
+            }
+        ));
+        assert!(matches!(
+            parse("OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n", MeshFormat::Off),
+            LoadError::NoTriangles { .. }
+        ));
+        assert!(matches!(
+            parse("not a mesh at all", MeshFormat::Off),
+            LoadError::Parse { .. }
+        ));
+        assert!(matches!(
+            parse("ply\nformat ascii 1.0\nend_header\n", MeshFormat::Ply),
+            LoadError::Parse { .. }
+        ));
+        assert!(matches!(
+            parse(
+                "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n",
+                MeshFormat::Off
+            ),
+            LoadError::NonFinite { vertex: 1, .. }
+        ));
+        assert!(matches!(
+            parse("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", MeshFormat::Obj),
+            LoadError::NonFinite { vertex: 1, .. }
+        ));
+        let e = Mesh::load(Path::new("/nonexistent/bunny.off")).unwrap_err();
+        assert!(matches!(e, LoadError::Io { .. }));
+        assert!(e.to_string().contains("/nonexistent/bunny.off"), "{e}");
+        let e = Mesh::load(Path::new("bunny.stl")).unwrap_err();
+        assert!(matches!(e, LoadError::UnknownFormat { .. }), "{e}");
+    }
+}
