@@ -75,6 +75,19 @@ pub enum StencilArg {
     ZFail,
     /// Count faces in front of the surface.
     ZPass,
+    /// Per caster: z-pass without caps where its volume cannot reach the near plane, z-fail
+    /// elsewhere (exact, and faster).
+    PerCaster,
+}
+
+impl StencilArg {
+    /// The name on the command line.
+    fn name(self) -> String {
+        self.to_possible_value()
+            .expect("no skipped variants")
+            .get_name()
+            .to_string()
+    }
 }
 
 /// `gnomon render`.
@@ -99,7 +112,8 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1024)]
     pub shadow_map: u32,
     /// Shadow volumes: how the stencil counts (z-fail is exact wherever the camera is;
-    /// z-pass is wrong where a volume reaches the near plane).
+    /// z-pass is wrong where a volume reaches the near plane; per-caster is exact and uses
+    /// z-pass where it can).
     #[arg(long, value_enum, default_value = "z-fail")]
     pub stencil: StencilArg,
     /// Image size, WIDTHxHEIGHT.
@@ -291,14 +305,23 @@ fn run_volumes(
     let mode = match args.stencil {
         StencilArg::ZFail => StencilMode::ZFail,
         StencilArg::ZPass => StencilMode::ZPass,
+        StencilArg::PerCaster => StencilMode::PerCaster,
     };
-    let frame = renderer.render_volumes(camera, light, &settings, mode)?;
-    write_frame(&frame, &args.out, args.mask.as_deref(), None)?;
-    let t = frame.timings;
+    let drawn = renderer.render_volumes(camera, light, &settings, mode)?;
+    write_frame(&drawn.frame, &args.out, args.mask.as_deref(), None)?;
+    let (t, stats) = (drawn.frame.timings, drawn.stats);
     eprintln!(
-        "volumes ({:?}) on {}: extrusion and stencil {:.2} ms, shading {:.2} ms; wrote {}",
-        args.stencil,
+        "volumes ({}) on {}: {} volume triangles ({} casters z-fail, {} z-pass{}), \
+         extrusion and stencil {:.2} ms, shading {:.2} ms; wrote {}",
+        args.stencil.name(),
         renderer.gpu().describe(),
+        stats.triangles,
+        stats.z_fail_casters,
+        stats.z_pass_casters,
+        stats
+            .near_clip_fallback
+            .map(|_| "; the light lies in the near plane: all z-fail")
+            .unwrap_or_default(),
         t.shadow_pass_ms,
         t.main_pass_ms,
         args.out.display()

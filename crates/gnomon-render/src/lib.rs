@@ -9,7 +9,8 @@
 //! slope-scaled bias), then the main pass: ambient plus Lambert, the shadow factor from a
 //! comparison sampler (one tap, hardware 2x2 or 5x5 PCF, optional normal offset), and the
 //! direct-light mask (255 lit, 0 not lit, 128 no geometry). [`Renderer::render_volumes`]
-//! draws exact shadows with stenciled shadow volumes instead (z-fail or z-pass).
+//! and [`Renderer::render_volumes_lit_by`] (several lights) draw exact shadows with
+//! stenciled shadow volumes instead (z-fail, z-pass, or chosen per caster).
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -26,7 +27,7 @@ pub use error::RenderError;
 pub use gpu::Gpu;
 pub use renderer::{DepthBias, Filter, Frame, RenderSettings, Renderer, Timings};
 pub use scene::{Instance, RenderScene};
-pub use volumes::StencilMode;
+pub use volumes::{StencilMode, VolumeFrame, VolumeStats};
 
 /// Mask value of a pixel lit by the light.
 pub const MASK_LIT: u8 = 255;

@@ -350,12 +350,39 @@ impl Renderer {
 
     /// The main pass's colour and mask images (see [`main_targets`]).
     pub(crate) fn main_images(&self, width: u32, height: u32) -> (wgpu::Texture, wgpu::Texture) {
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let device = &self.gpu.device;
         (
-            texture(device, "color", width, height, COLOR_FORMAT, usage),
-            texture(device, "mask", width, height, MASK_FORMAT, usage),
+            self.color_image(width, height),
+            self.mask_image(width, height),
         )
+    }
+
+    /// A colour image (see [`main_targets`]).
+    pub(crate) fn color_image(&self, width: u32, height: u32) -> wgpu::Texture {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        texture(
+            &self.gpu.device,
+            "color",
+            width,
+            height,
+            COLOR_FORMAT,
+            usage,
+        )
+    }
+
+    /// Reads a colour image back (RGBA).
+    pub(crate) fn read_color(&self, color: &wgpu::Texture) -> Result<Vec<u8>, RenderError> {
+        readback::read_texture(&self.gpu, color, wgpu::TextureAspect::All, 4)
+    }
+
+    /// A mask image (see [`main_targets`]).
+    pub(crate) fn mask_image(&self, width: u32, height: u32) -> wgpu::Texture {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        texture(&self.gpu.device, "mask", width, height, MASK_FORMAT, usage)
+    }
+
+    /// Reads a mask image back (one byte per pixel).
+    pub(crate) fn read_mask(&self, mask: &wgpu::Texture) -> Result<Vec<u8>, RenderError> {
+        readback::read_texture(&self.gpu, mask, wgpu::TextureAspect::All, 1)
     }
 
     /// Reads the colour and mask images back (RGBA and one byte per pixel).
@@ -364,10 +391,7 @@ impl Renderer {
         color: &wgpu::Texture,
         mask: &wgpu::Texture,
     ) -> Result<(Vec<u8>, Vec<u8>), RenderError> {
-        Ok((
-            readback::read_texture(&self.gpu, color, wgpu::TextureAspect::All, 4)?,
-            readback::read_texture(&self.gpu, mask, wgpu::TextureAspect::All, 1)?,
-        ))
+        Ok((self.read_color(color)?, self.read_mask(mask)?))
     }
 
     /// The GPU this renderer draws on.
@@ -563,30 +587,42 @@ pub(crate) fn main_targets<'a>(
     color_view: &'a wgpu::TextureView,
     mask_view: &'a wgpu::TextureView,
 ) -> [Option<wgpu::RenderPassColorAttachment<'a>>; 2] {
-    let target = |view, clear| {
-        Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(clear),
-                store: wgpu::StoreOp::Store,
-            },
-        })
-    };
-    let sky = wgpu::Color {
-        r: 0.55,
-        g: 0.7,
-        b: 0.9,
-        a: 1.0,
-    };
-    let empty = wgpu::Color {
-        r: MASK_EMPTY as f64 / 255.0,
-        g: 0.0,
-        b: 0.0,
-        a: 1.0,
-    };
-    [target(color_view, sky), target(mask_view, empty)]
+    [
+        color_target(color_view, Some(SKY)),
+        color_target(mask_view, Some(MASK_CLEAR)),
+    ]
+}
+
+/// The colour image's background.
+pub(crate) const SKY: wgpu::Color = wgpu::Color {
+    r: 0.55,
+    g: 0.7,
+    b: 0.9,
+    a: 1.0,
+};
+
+/// The mask image's background: no geometry.
+pub(crate) const MASK_CLEAR: wgpu::Color = wgpu::Color {
+    r: MASK_EMPTY as f64 / 255.0,
+    g: 0.0,
+    b: 0.0,
+    a: 1.0,
+};
+
+/// A colour attachment, cleared to `clear` or loaded; kept either way.
+pub(crate) fn color_target(
+    view: &wgpu::TextureView,
+    clear: Option<wgpu::Color>,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+            store: wgpu::StoreOp::Store,
+        },
+    })
 }
 
 /// A depth attachment cleared to the far depth (1) and kept.
@@ -610,6 +646,15 @@ fn vec4(v: DVec3, w: f64) -> [f32; 4] {
 }
 
 /// The uniform block for one frame.
+impl Globals {
+    /// The same, drawing the direct light only (no ambient term): for the passes that add
+    /// one light each.
+    pub(crate) fn direct_light_only(mut self) -> Self {
+        self.extra[2] = 1.0;
+        self
+    }
+}
+
 pub(crate) fn globals(
     camera: &Camera,
     camera_clip_from_world: DMat4,

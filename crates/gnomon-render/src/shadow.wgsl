@@ -22,7 +22,8 @@ struct Globals {
     // z: filter (0 one tap, 1 hardware 2x2, 2 5x5 PCF),
     // w: ambient.
     map: vec4<f32>,
-    // x: spot range, y: spot near distance.
+    // x: spot range, y: spot near distance, z: 1 to draw the direct light only (no
+    // ambient: shadow volumes add one light per pass).
     extra: vec4<f32>,
 };
 
@@ -171,7 +172,8 @@ fn fs_main(in: MainOut) -> Targets {
 
     var out: Targets;
     let diffuse = max(dot(n, to_light), 0.0) * cone * shadow;
-    let light = g.map.w + (1.0 - g.map.w) * select(0.0, diffuse, in_light);
+    let ambient = select(g.map.w, 0.0, g.extra.z > 0.5);
+    let light = ambient + (1.0 - g.map.w) * select(0.0, diffuse, in_light);
     out.color = vec4<f32>(in.color.rgb * light, 1.0);
     let lit = facing && lit_one_tap > 0.5;
     out.mask = vec4<f32>(select(0.0, 1.0, lit), 0.0, 0.0, 1.0);

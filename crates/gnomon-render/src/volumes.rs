@@ -1,23 +1,29 @@
 //! Stenciled shadow volumes: the exact shadows gnomon measures every map against (the
 //! shadows lecture, `shared/papers/shadows-lecture-volumes-and-maps.md`).
 //!
-//! Per frame: the casters' volumes are extruded on the CPU by the core crate
-//! ([`gnomon::volumes`]); the scene's depth is laid down through the camera's projection
-//! with the far plane at infinity (so volume geometry at infinity, w = 0, is never clipped);
-//! the volumes are drawn into the stencil buffer with two-sided stencil and wrapping
-//! increments in one pass - z-fail (Carmack's reverse: back faces behind the surface +1,
-//! front faces behind it -1; right even when the camera is inside a volume) or z-pass (front
-//! faces in front of the surface +1, back faces -1; wrong when a volume reaches the near
-//! plane); then the scene is shaded twice under the stencil test: lit where the count is 0,
-//! shadowed elsewhere. The mask is written as for shadow maps.
+//! Per frame: the scene's depth is laid down through the camera's projection with the far
+//! plane at infinity (so volume geometry at infinity, w = 0, is never clipped) and the
+//! ambient term drawn. Then per light: the casters' volumes are extruded on the CPU by the
+//! core crate ([`gnomon::volumes`]) and drawn into the cleared stencil buffer with two-sided
+//! stencil and wrapping increments in one pass - z-fail (Carmack's reverse: back faces
+//! behind the surface +1, front faces behind it -1; right even when the camera is inside a
+//! volume), z-pass (front faces in front of the surface +1, back faces -1; wrong when a
+//! volume reaches the near plane) or per caster (z-pass without caps where the caster's
+//! volume cannot reach the near plane, z-fail elsewhere); then the light's direct term is
+//! added where the count is 0 and its mask written (lit where the count is 0, shadowed
+//! elsewhere, as for shadow maps).
 
+use std::ops::Range;
 use std::time::Instant;
 
 use glam::{DMat4, DVec4};
-use gnomon::volumes::{MeshTopology, OpenMeshPolicy, extrude_volume, infinite_clip_from_view};
-use gnomon::{Camera, Light, MapProjection, ShadowMap};
+use gnomon::volumes::{
+    MeshTopology, NearClipFallback, NearClipVolume, OpenMeshPolicy, VolumeParts, extrude_volume,
+    infinite_clip_from_view,
+};
+use gnomon::{Aabb, Camera, Light, MapProjection, ShadowMap};
 
-use crate::renderer::{ShadowOverride, globals, main_targets, texture};
+use crate::renderer::{MASK_CLEAR, SKY, ShadowOverride, color_target, globals, texture};
 use crate::{Frame, RenderError, RenderScene, RenderSettings, Renderer, Timings};
 
 /// Depth and stencil of the volume passes.
@@ -37,14 +43,56 @@ pub enum StencilMode {
     /// Count the faces in front of the visible surface: cheaper in fill on some hardware,
     /// wrong where a volume reaches the camera's near plane.
     ZPass,
+    /// Per caster (a speed option, exact like z-fail): z-pass without caps for the casters
+    /// whose volume cannot reach the near plane (their bounds lie outside the near clip
+    /// volume, [`gnomon::volumes::NearClipVolume`]), z-fail for the others. Both count into
+    /// the same stencil: each closed volume adds one where it covers a pixel's surface
+    /// either way.
+    PerCaster,
+}
+
+/// What the volume passes drew, over all lights.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct VolumeStats {
+    /// Volume triangles drawn into the stencil.
+    pub triangles: usize,
+    /// Caster volumes counted with z-fail (with caps).
+    pub z_fail_casters: usize,
+    /// Caster volumes counted with z-pass (sides only).
+    pub z_pass_casters: usize,
+    /// Set when [`StencilMode::PerCaster`] sent every caster to z-fail because the near clip
+    /// volume was flat for some light.
+    pub near_clip_fallback: Option<NearClipFallback>,
+}
+
+/// A frame drawn with shadow volumes, lit by one or more lights.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VolumeFrame {
+    /// The image; its mask says where at least one light reaches (for one light, that
+    /// light's mask).
+    pub frame: Frame,
+    /// Each light's own direct-light mask, in the order of the lights.
+    pub light_masks: Vec<Vec<u8>>,
+    /// What was drawn.
+    pub stats: VolumeStats,
 }
 
 /// The casters' meshes, ready for extrusion.
 pub(crate) struct VolumeCasters {
     /// Per mesh of the scene, its topology (open meshes kept for per-triangle volumes).
     topologies: Vec<Option<MeshTopology>>,
-    /// The casting instances: mesh index and placement.
-    instances: Vec<(usize, DMat4)>,
+    /// The casting instances: mesh index, placement and world bounds (none for a flat or
+    /// empty mesh: it then always counts as reaching the near plane).
+    instances: Vec<(usize, DMat4, Option<Aabb>)>,
+}
+
+/// One light's volumes: homogeneous world vertices, three per triangle; the z-fail volumes
+/// (closed) first, then the z-pass ones (sides only).
+pub(crate) struct ExtrudedVolumes {
+    vertices: Vec<[f32; 4]>,
+    z_fail: Range<u32>,
+    z_pass: Range<u32>,
+    stats: VolumeStats,
 }
 
 impl VolumeCasters {
@@ -61,7 +109,8 @@ impl VolumeCasters {
                     MeshTopology::new(&mesh.positions, &mesh.indices, OpenMeshPolicy::PerTriangle)
                         .ok();
             }
-            instances.push((instance.mesh, instance.world_from_object));
+            let bounds = scene.instance_bounds(instance).ok();
+            instances.push((instance.mesh, instance.world_from_object, bounds));
         }
         Self {
             topologies,
@@ -69,15 +118,56 @@ impl VolumeCasters {
         }
     }
 
-    /// Every caster's volume, homogeneous world vertices, three per triangle.
-    pub fn extrude(&self, light: &Light) -> Vec<[f32; 4]> {
+    /// Every caster's volume for `light`, counted as `mode` says (`camera` decides which
+    /// casters can reach its near plane under [`StencilMode::PerCaster`]).
+    pub fn extrude(&self, camera: &Camera, light: &Light, mode: StencilMode) -> ExtrudedVolumes {
+        let near_clip =
+            (mode == StencilMode::PerCaster).then(|| NearClipVolume::new(camera, light));
+        let z_fail = |bounds: &Option<Aabb>| match mode {
+            StencilMode::ZFail => true,
+            StencilMode::ZPass => false,
+            StencilMode::PerCaster => match (&near_clip, bounds) {
+                (Some(volume), Some(b)) => volume.may_reach(b),
+                _ => true,
+            },
+        };
         let mut out: Vec<DVec4> = Vec::new();
-        for (mesh, world_from_object) in &self.instances {
-            if let Some(topology) = &self.topologies[*mesh] {
-                extrude_volume(topology, *world_from_object, light, &mut out);
+        let mut stats = VolumeStats {
+            near_clip_fallback: near_clip.as_ref().and_then(NearClipVolume::fallback),
+            ..VolumeStats::default()
+        };
+        let mut z_fail_end = 0;
+        for counted_z_fail in [true, false] {
+            let parts = if counted_z_fail {
+                VolumeParts::Closed
+            } else {
+                VolumeParts::SidesOnly
+            };
+            for (mesh, world_from_object, bounds) in &self.instances {
+                let Some(topology) = &self.topologies[*mesh] else {
+                    continue;
+                };
+                if z_fail(bounds) != counted_z_fail {
+                    continue;
+                }
+                let counts = extrude_volume(topology, *world_from_object, light, parts, &mut out);
+                stats.triangles += counts.total();
+                if counted_z_fail {
+                    stats.z_fail_casters += 1;
+                } else {
+                    stats.z_pass_casters += 1;
+                }
+            }
+            if counted_z_fail {
+                z_fail_end = out.len() as u32;
             }
         }
-        out.iter().map(|v| v.as_vec4().to_array()).collect()
+        ExtrudedVolumes {
+            vertices: out.iter().map(|v| v.as_vec4().to_array()).collect(),
+            z_fail: 0..z_fail_end,
+            z_pass: z_fail_end..out.len() as u32,
+            stats,
+        }
     }
 }
 
@@ -86,7 +176,11 @@ pub(crate) struct VolumePipelines {
     depth: wgpu::RenderPipeline,
     z_fail: wgpu::RenderPipeline,
     z_pass: wgpu::RenderPipeline,
+    /// The ambient term everywhere (colour only).
+    ambient: wgpu::RenderPipeline,
+    /// One light's direct light added where its stencil count is 0, and its mask.
     lit: wgpu::RenderPipeline,
+    /// Its mask where the count is not 0 (adds no colour).
     shadowed: wgpu::RenderPipeline,
 }
 
@@ -117,6 +211,23 @@ impl VolumePipelines {
             read_mask,
             write_mask,
         };
+        // Ambient: colour only. Lights: colour added (linear, before sRGB encoding), mask
+        // written.
+        let ambient_targets = [targets[0].clone(), None];
+        let additive_targets = [
+            targets[0].clone().map(|t| wgpu::ColorTargetState {
+                blend: Some(wgpu::BlendState {
+                    color: wgpu::BlendComponent {
+                        src_factor: wgpu::BlendFactor::One,
+                        dst_factor: wgpu::BlendFactor::One,
+                        operation: wgpu::BlendOperation::Add,
+                    },
+                    alpha: wgpu::BlendComponent::REPLACE,
+                }),
+                ..t
+            }),
+            targets[1].clone(),
+        ];
         let test = |compare| wgpu::StencilFaceState {
             compare,
             fail_op: wgpu::StencilOperation::Keep,
@@ -206,12 +317,22 @@ impl VolumePipelines {
                     0xff,
                 ),
             ),
+            ambient: pipeline(
+                "volumes: ambient",
+                main_layout,
+                "vs_main",
+                scene_vertices,
+                Some(("fs_main", &ambient_targets)),
+                false,
+                C::LessEqual,
+                no_stencil.clone(),
+            ),
             lit: pipeline(
                 "volumes: lit",
                 main_layout,
                 "vs_main",
                 scene_vertices,
-                Some(("fs_main", targets)),
+                Some(("fs_main", &additive_targets)),
                 false,
                 C::LessEqual,
                 stencil(test(C::Equal), test(C::Equal), 0xff, 0),
@@ -221,7 +342,7 @@ impl VolumePipelines {
                 main_layout,
                 "vs_main",
                 scene_vertices,
-                Some(("fs_main", targets)),
+                Some(("fs_main", &additive_targets)),
                 false,
                 C::LessEqual,
                 stencil(test(C::NotEqual), test(C::NotEqual), 0xff, 0),
@@ -230,11 +351,12 @@ impl VolumePipelines {
     }
 }
 
-/// The depth-stencil attachment of the volume passes: cleared to depth 1 and stencil 0, or
-/// loaded; kept either way.
+/// The depth-stencil attachment of the volume passes: depth cleared to 1 or loaded, stencil
+/// cleared to 0 or loaded; both kept.
 fn depth_stencil(
     view: &wgpu::TextureView,
-    clear: bool,
+    clear_depth: bool,
+    clear_stencil: bool,
 ) -> wgpu::RenderPassDepthStencilAttachment<'_> {
     fn ops<T>(clear: Option<T>) -> wgpu::Operations<T> {
         wgpu::Operations {
@@ -244,26 +366,45 @@ fn depth_stencil(
     }
     wgpu::RenderPassDepthStencilAttachment {
         view,
-        depth_ops: Some(ops(clear.then_some(1.0))),
-        stencil_ops: Some(ops(clear.then_some(0))),
+        depth_ops: Some(ops(clear_depth.then_some(1.0))),
+        stencil_ops: Some(ops(clear_stencil.then_some(0))),
     }
 }
 
 impl Renderer {
     /// Renders one frame of `camera` lit by `light` with exact shadows from stenciled shadow
-    /// volumes (see the module documentation). `settings`' filter and bias do not apply.
+    /// volumes; see [`Renderer::render_volumes_lit_by`].
     pub fn render_volumes(
         &self,
         camera: &Camera,
         light: &Light,
         settings: &RenderSettings,
         mode: StencilMode,
-    ) -> Result<Frame, RenderError> {
+    ) -> Result<VolumeFrame, RenderError> {
+        self.render_volumes_lit_by(camera, std::slice::from_ref(light), settings, mode)
+    }
+
+    /// Renders one frame of `camera` lit by `lights` with exact shadows from stenciled
+    /// shadow volumes (see the module documentation): the scene's depth and the ambient term
+    /// once, then per light its volumes into a cleared stencil and its direct light added
+    /// where the count is 0. `settings`' filter and bias do not apply. Timings: the shadow
+    /// pass is extrusion plus stencil passes, the main pass the depth, ambient and lighting
+    /// passes, summed over the lights.
+    pub fn render_volumes_lit_by(
+        &self,
+        camera: &Camera,
+        lights: &[Light],
+        settings: &RenderSettings,
+        mode: StencilMode,
+    ) -> Result<VolumeFrame, RenderError> {
+        if lights.is_empty() {
+            return Err(RenderError::Invalid(
+                "shadow volumes need at least one light".into(),
+            ));
+        }
         let (width, height) = self.image_size(settings)?;
         let device = &self.gpu.device;
         let error_scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let start = Instant::now();
-        let volume = self.volume_casters.extrude(light);
         let clip_from_world =
             infinite_clip_from_view(&camera.lens(), INFINITY_EPSILON) * camera.view_from_world();
         // No map: the stencil decides (the map's fields are unused).
@@ -275,7 +416,7 @@ impl Renderer {
             projection: MapProjection::Orthographic,
         };
         use wgpu::util::DeviceExt;
-        let uniform = |shadow_override| {
+        let uniform = |light: &Light, shadow_override, direct_only: bool| {
             let g = globals(
                 camera,
                 clip_from_world,
@@ -284,24 +425,18 @@ impl Renderer {
                 settings,
                 shadow_override,
             );
+            let g = if direct_only {
+                g.direct_light_only()
+            } else {
+                g
+            };
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("globals"),
                 contents: bytemuck::bytes_of(&g),
                 usage: wgpu::BufferUsages::UNIFORM,
             })
         };
-        let (lit_uniform, shadowed_uniform) = (
-            uniform(ShadowOverride::Lit),
-            uniform(ShadowOverride::Shadowed),
-        );
-        let volume_buffer = (!volume.is_empty()).then(|| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("shadow volumes"),
-                contents: bytemuck::cast_slice(&volume),
-                usage: wgpu::BufferUsages::VERTEX,
-            })
-        });
-        let (color, mask) = self.main_images(width, height);
+        let color = self.color_image(width, height);
         let depth = texture(
             device,
             "depth and stencil",
@@ -318,88 +453,160 @@ impl Renderer {
             crate::renderer::DEPTH_FORMAT,
             wgpu::TextureUsages::TEXTURE_BINDING,
         );
-        let (color_view, mask_view, depth_view, dummy_view) = (
+        let (color_view, depth_view, dummy_view) = (
             color.create_view(&Default::default()),
-            mask.create_view(&Default::default()),
             depth.create_view(&Default::default()),
             dummy_map.create_view(&Default::default()),
         );
+        // Shadowed with no direct light: the ambient term alone.
+        let ambient_uniform = uniform(&lights[0], ShadowOverride::Shadowed, false);
+        let ambient_group = self.main_bind_group(&ambient_uniform, &dummy_view);
         let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
             layout: &self.volumes.depth.get_bind_group_layout(0),
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
-                resource: lit_uniform.as_entire_binding(),
+                resource: ambient_uniform.as_entire_binding(),
             }],
         });
-        let main_group = |uniform: &wgpu::Buffer| self.main_bind_group(uniform, &dummy_view);
-        let (lit_group, shadowed_group) = (main_group(&lit_uniform), main_group(&shadowed_uniform));
-        let setup_ms = start.elapsed().as_secs_f64() * 1e3;
-
+        let mut timings = Timings::default();
         let start = Instant::now();
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("volumes: depth and stencil"),
+                label: Some("volumes: scene depth"),
                 color_attachments: &[],
-                depth_stencil_attachment: Some(depth_stencil(&depth_view, true)),
+                depth_stencil_attachment: Some(depth_stencil(&depth_view, true, true)),
                 ..Default::default()
             });
             pass.set_bind_group(0, &globals_group, &[]);
             pass.set_pipeline(&self.volumes.depth);
             self.scene.draw(&mut pass, self.scene.all_indices.clone());
-            if let Some(buffer) = &volume_buffer {
-                pass.set_pipeline(match mode {
-                    StencilMode::ZFail => &self.volumes.z_fail,
-                    StencilMode::ZPass => &self.volumes.z_pass,
-                });
-                pass.set_vertex_buffer(0, buffer.slice(..));
-                pass.draw(0..volume.len() as u32, 0..1);
-            }
         }
-        self.gpu.queue.submit([encoder.finish()]);
-        self.gpu.wait()?;
-        let stencil_ms = start.elapsed().as_secs_f64() * 1e3;
-
-        let start = Instant::now();
-        let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("volumes: shading"),
-                color_attachments: &main_targets(&color_view, &mask_view),
-                depth_stencil_attachment: Some(depth_stencil(&depth_view, false)),
+                label: Some("volumes: ambient"),
+                color_attachments: &[color_target(&color_view, Some(SKY)), None],
+                depth_stencil_attachment: Some(depth_stencil(&depth_view, false, false)),
                 ..Default::default()
             });
-            pass.set_stencil_reference(0);
-            for (pipeline, group) in [
-                (&self.volumes.lit, &lit_group),
-                (&self.volumes.shadowed, &shadowed_group),
-            ] {
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, group, &[]);
-                self.scene.draw(&mut pass, self.scene.all_indices.clone());
-            }
+            pass.set_bind_group(0, &ambient_group, &[]);
+            pass.set_pipeline(&self.volumes.ambient);
+            self.scene.draw(&mut pass, self.scene.all_indices.clone());
         }
         self.gpu.queue.submit([encoder.finish()]);
         self.gpu.wait()?;
-        let main_pass_ms = start.elapsed().as_secs_f64() * 1e3;
+        timings.main_pass_ms += start.elapsed().as_secs_f64() * 1e3;
+
+        let mut stats = VolumeStats::default();
+        let mut masks = Vec::with_capacity(lights.len());
+        for light in lights {
+            let start = Instant::now();
+            let volumes = self.volume_casters.extrude(camera, light, mode);
+            stats.triangles += volumes.stats.triangles;
+            stats.z_fail_casters += volumes.stats.z_fail_casters;
+            stats.z_pass_casters += volumes.stats.z_pass_casters;
+            stats.near_clip_fallback = stats
+                .near_clip_fallback
+                .or(volumes.stats.near_clip_fallback);
+            let volume_buffer = (!volumes.vertices.is_empty()).then(|| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("shadow volumes"),
+                    contents: bytemuck::cast_slice(&volumes.vertices),
+                    usage: wgpu::BufferUsages::VERTEX,
+                })
+            });
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("volumes: stencil"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(depth_stencil(&depth_view, false, true)),
+                    ..Default::default()
+                });
+                pass.set_bind_group(0, &globals_group, &[]);
+                if let Some(buffer) = &volume_buffer {
+                    pass.set_vertex_buffer(0, buffer.slice(..));
+                    for (pipeline, range) in [
+                        (&self.volumes.z_fail, volumes.z_fail.clone()),
+                        (&self.volumes.z_pass, volumes.z_pass.clone()),
+                    ] {
+                        if !range.is_empty() {
+                            pass.set_pipeline(pipeline);
+                            pass.draw(range, 0..1);
+                        }
+                    }
+                }
+            }
+            self.gpu.queue.submit([encoder.finish()]);
+            self.gpu.wait()?;
+            timings.shadow_pass_ms += start.elapsed().as_secs_f64() * 1e3;
+
+            let start = Instant::now();
+            let mask = self.mask_image(width, height);
+            let mask_view = mask.create_view(&Default::default());
+            let (lit_uniform, shadowed_uniform) = (
+                uniform(light, ShadowOverride::Lit, true),
+                uniform(light, ShadowOverride::Shadowed, true),
+            );
+            let (lit_group, shadowed_group) = (
+                self.main_bind_group(&lit_uniform, &dummy_view),
+                self.main_bind_group(&shadowed_uniform, &dummy_view),
+            );
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("volumes: one light"),
+                    color_attachments: &[
+                        color_target(&color_view, None),
+                        color_target(&mask_view, Some(MASK_CLEAR)),
+                    ],
+                    depth_stencil_attachment: Some(depth_stencil(&depth_view, false, false)),
+                    ..Default::default()
+                });
+                pass.set_stencil_reference(0);
+                for (pipeline, group) in [
+                    (&self.volumes.lit, &lit_group),
+                    (&self.volumes.shadowed, &shadowed_group),
+                ] {
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, group, &[]);
+                    self.scene.draw(&mut pass, self.scene.all_indices.clone());
+                }
+            }
+            self.gpu.queue.submit([encoder.finish()]);
+            self.gpu.wait()?;
+            timings.main_pass_ms += start.elapsed().as_secs_f64() * 1e3;
+            masks.push(mask);
+        }
         if let Some(error) = pollster::block_on(error_scope.pop()) {
             return Err(RenderError::Gpu(error.to_string()));
         }
         let start = Instant::now();
-        let (color_bytes, mask_bytes) = self.read_main_images(&color, &mask)?;
-        let readback_ms = start.elapsed().as_secs_f64() * 1e3;
-        Ok(Frame {
-            width,
-            height,
-            color: color_bytes,
-            mask: mask_bytes,
-            light_view: None,
-            timings: Timings {
-                shadow_pass_ms: setup_ms + stencil_ms,
-                main_pass_ms,
-                readback_ms,
+        let color_bytes = self.read_color(&color)?;
+        let light_masks = masks
+            .iter()
+            .map(|m| self.read_mask(m))
+            .collect::<Result<Vec<_>, _>>()?;
+        timings.readback_ms = start.elapsed().as_secs_f64() * 1e3;
+        // Lit by any light: 255 beats 0; empty pixels are empty for every light.
+        let mut mask = light_masks[0].clone();
+        for other in &light_masks[1..] {
+            for (m, o) in mask.iter_mut().zip(other) {
+                *m = (*m).max(*o);
+            }
+        }
+        Ok(VolumeFrame {
+            frame: Frame {
+                width,
+                height,
+                color: color_bytes,
+                mask,
+                light_view: None,
+                timings,
             },
+            light_masks,
+            stats,
         })
     }
 }

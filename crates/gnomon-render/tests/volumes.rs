@@ -1,14 +1,18 @@
 //! Stenciled shadow volumes against the ray-cast oracle: exact to the pixel (at least 99.9%
 //! of the pixels with N.L > 0.1 away from lit/shadow boundaries agree), directional and spot
-//! lights, including a camera standing inside a shadow volume, where z-fail stays exact and
-//! z-pass is wrong.
+//! lights, the demo scene and real meshes (the bunny and a knot, fetched by
+//! scripts/fetch-meshes.sh), including a camera standing inside a shadow volume and casters
+//! cut by the near plane, where z-fail and the per-caster choice stay exact and z-pass is
+//! wrong; several lights add up.
 
 mod common;
 
+use std::path::PathBuf;
+
 use glam::{DMat4, DVec3};
 use gnomon::{Camera, DirectionalLight, Lens, Light, SpotLight};
-use gnomon_render::{Instance, RenderScene, RenderSettings, StencilMode};
-use gnomon_scene::Shape;
+use gnomon_render::{Instance, RenderScene, RenderSettings, Renderer, StencilMode};
+use gnomon_scene::{Mesh, Shape};
 
 const SIZE: u32 = 256;
 
@@ -53,11 +57,6 @@ fn sun(x: f64, y: f64, z: f64) -> Light {
 fn volumes_agree_with_exact_shadows() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
     let renderer = common::renderer(&scene);
-    let settings = RenderSettings {
-        width: SIZE,
-        height: SIZE,
-        ..RenderSettings::default()
-    };
     // A camera standing in a tower's shadow, low on the ground (its own scene, so that the
     // view is known): the near plane cuts the tower's volume.
     let low_sun = DVec3::new(1.0, -0.5, 0.3).normalize();
@@ -108,21 +107,46 @@ fn volumes_agree_with_exact_shadows() {
         } else {
             (&scene, &renderer)
         };
-        let oracle = common::oracle(scene, camera, light, SIZE, SIZE);
-        let z_fail = renderer
-            .render_volumes(camera, light, &settings, StencilMode::ZFail)
+        let inside = name.contains("inside");
+        failures.extend(compare_modes(renderer, scene, name, camera, light, inside));
+    }
+    assert!(failures.is_empty(), "below 99.9%: {failures:?}");
+}
+
+/// Renders a view with z-fail, z-pass and per caster and compares each with the oracle.
+/// Returns the failures: z-fail or per caster below 99.9%; z-pass below 99.9% where
+/// `z_pass_wrong` is false, or above 99% where it is true (a volume reaches the near plane).
+fn compare_modes(
+    renderer: &Renderer,
+    scene: &RenderScene,
+    name: &str,
+    camera: &Camera,
+    light: &Light,
+    z_pass_wrong: bool,
+) -> Vec<String> {
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    let oracle = common::oracle(scene, camera, light, SIZE, SIZE);
+    let mut failures = Vec::new();
+    let mut line = format!("{name}:");
+    let mut compared = (0, 0);
+    for mode in [
+        StencilMode::ZFail,
+        StencilMode::ZPass,
+        StencilMode::PerCaster,
+    ] {
+        let drawn = renderer
+            .render_volumes(camera, light, &settings, mode)
             .unwrap();
-        let z_pass = renderer
-            .render_volumes(camera, light, &settings, StencilMode::ZPass)
-            .unwrap();
-        let a = common::agreement(&z_fail, &oracle, 0.1);
-        let b = common::agreement(&z_pass, &oracle, 0.1);
-        println!(
-            "{name}: z-fail {:.3}%, z-pass {:.3}% of {} pixels ({} shadowed in the oracle)",
+        let a = common::agreement(&drawn.frame, &oracle, 0.1);
+        line += &format!(
+            " {mode:?} {:.3}% ({} z-fail, {} z-pass casters);",
             100.0 * a.fraction(),
-            100.0 * b.fraction(),
-            a.compared,
-            a.shadowed
+            drawn.stats.z_fail_casters,
+            drawn.stats.z_pass_casters
         );
         assert!(a.compared > 3000, "{name}: {} pixels compared", a.compared);
         assert!(a.shadowed > 100, "{name}: {} shadowed", a.shadowed);
@@ -131,19 +155,209 @@ fn volumes_agree_with_exact_shadows() {
             "{name}: {} lit",
             a.compared - a.shadowed
         );
-        if a.fraction() < 0.999 {
-            failures.push(format!("{name}: {:.3}%", 100.0 * a.fraction()));
+        compared = (a.compared, a.shadowed);
+        if mode == StencilMode::ZPass && z_pass_wrong {
+            if a.fraction() > 0.99 {
+                failures.push(format!(
+                    "{name}: z-pass agreed {:.3}% though a volume reaches the near plane",
+                    100.0 * a.fraction()
+                ));
+            }
+        } else if a.fraction() < 0.999 {
+            failures.push(format!("{name} ({mode:?}): {:.3}%", 100.0 * a.fraction()));
         }
-        if name.contains("inside") {
-            // The near plane cuts the volume the camera stands in: z-pass is off by one.
-            assert!(
-                b.fraction() < 0.9,
-                "{name}: z-pass agreed {:.3}%",
-                100.0 * b.fraction()
-            );
-        } else if b.fraction() < 0.999 {
-            failures.push(format!("{name} (z-pass): {:.3}%", 100.0 * b.fraction()));
+        if mode == StencilMode::PerCaster && z_pass_wrong && drawn.stats.z_fail_casters == 0 {
+            failures.push(format!("{name}: no caster sent to z-fail"));
         }
     }
-    assert!(failures.is_empty(), "below 99.9%: {failures:?}");
+    println!(
+        "{line} of {} pixels ({} shadowed in the oracle)",
+        compared.0, compared.1
+    );
+    failures
+}
+
+/// Where the real meshes are: $GNOMON_MESH_DIR, else assets/meshes/ at the workspace root.
+fn mesh_dir() -> PathBuf {
+    std::env::var_os("GNOMON_MESH_DIR").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/meshes"),
+        PathBuf::from,
+    )
+}
+
+/// A real mesh; fails (never skips) when it has not been fetched.
+fn real_mesh(file: &str) -> Mesh {
+    let path = mesh_dir().join(file);
+    Mesh::load(&path)
+        .unwrap_or_else(|e| panic!("{e}: run scripts/fetch-meshes.sh first (scripts/test.sh does)"))
+}
+
+#[test]
+fn real_meshes_agree_with_exact_shadows() {
+    let mut failures = Vec::new();
+    for file in ["bunny00.off", "knot1.off"] {
+        let mesh = real_mesh(file);
+        // 10 m tall, standing at the origin; about 10 m across.
+        let scene = RenderScene::mesh_on_ground(file, mesh, 10.0).unwrap();
+        let renderer = common::renderer(&scene);
+        let views = [
+            (
+                "oblique, sun",
+                camera(
+                    DVec3::new(14.0, 12.0, 20.0),
+                    DVec3::new(0.0, 3.0, 0.0),
+                    1.0,
+                    200.0,
+                ),
+                sun(0.5, -1.0, -0.3),
+                false,
+            ),
+            (
+                "from above, spot light",
+                camera(
+                    DVec3::new(-6.0, 25.0, 14.0),
+                    DVec3::new(0.0, 2.0, -2.0),
+                    1.0,
+                    200.0,
+                ),
+                Light::Spot(
+                    SpotLight::new(
+                        DVec3::new(8.0, 18.0, 6.0),
+                        DVec3::new(-0.5, -1.0, -0.4),
+                        50.0,
+                        100.0,
+                    )
+                    .unwrap(),
+                ),
+                false,
+            ),
+            (
+                "low sun toward the camera",
+                camera(
+                    DVec3::new(-3.0, 4.0, 22.0),
+                    DVec3::new(0.0, 2.0, 0.0),
+                    1.0,
+                    200.0,
+                ),
+                sun(0.2, -0.35, 1.0),
+                false,
+            ),
+            (
+                // The near plane (6 m ahead of the eye) cuts the mesh; the sun behind the
+                // camera casts the cut mesh's shadow ahead.
+                "near plane through the caster",
+                camera(
+                    DVec3::new(5.0, 7.0, 7.0),
+                    DVec3::new(-3.0, 0.0, -15.0),
+                    6.0,
+                    200.0,
+                ),
+                sun(0.3, -1.0, -0.8),
+                true,
+            ),
+        ];
+        for (view, camera, light, z_pass_wrong) in &views {
+            let name = format!("{file}, {view}");
+            failures.extend(compare_modes(
+                &renderer,
+                &scene,
+                &name,
+                camera,
+                light,
+                *z_pass_wrong,
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}
+
+/// sRGB-encoded 8 bits to linear.
+fn linear(v: u8) -> f64 {
+    let c = v as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+#[test]
+fn several_lights_add_up_each_with_exact_shadows() {
+    let scene = RenderScene::mesh_on_ground("knot", real_mesh("knot1.off"), 10.0).unwrap();
+    let renderer = common::renderer(&scene);
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    let camera = camera(
+        DVec3::new(14.0, 12.0, 20.0),
+        DVec3::new(0.0, 3.0, 0.0),
+        1.0,
+        200.0,
+    );
+    let sun = sun(0.5, -1.0, -0.3);
+    let spot = Light::Spot(
+        SpotLight::new(
+            DVec3::new(-9.0, 16.0, 4.0),
+            DVec3::new(0.5, -1.0, -0.2),
+            55.0,
+            100.0,
+        )
+        .unwrap(),
+    );
+    // A spot light pointing at the sky lights nothing: the ambient term alone.
+    let none =
+        Light::Spot(SpotLight::new(DVec3::new(0.0, 50.0, 0.0), DVec3::Y, 10.0, 100.0).unwrap());
+    let render = |lights: &[Light]| {
+        renderer
+            .render_volumes_lit_by(&camera, lights, &settings, StencilMode::PerCaster)
+            .unwrap()
+    };
+    let both = render(&[sun, spot]);
+    let (only_sun, only_spot, ambient) = (render(&[sun]), render(&[spot]), render(&[none]));
+    assert_eq!(both.light_masks.len(), 2);
+    // Each light's mask is its own, and exact.
+    for (k, (light, alone)) in [(sun, &only_sun), (spot, &only_spot)].iter().enumerate() {
+        assert_eq!(both.light_masks[k], alone.frame.mask, "light {k}");
+        let oracle = common::oracle(&scene, &camera, light, SIZE, SIZE);
+        let a = common::mask_agreement(&both.light_masks[k], &oracle, 0.1);
+        println!(
+            "light {k}: {:.3}% of {} pixels ({} shadowed)",
+            100.0 * a.fraction(),
+            a.compared,
+            a.shadowed
+        );
+        assert!(a.fraction() >= 0.999 && a.shadowed > 100 && a.compared > 3000);
+    }
+    // The frame's mask: lit by either.
+    for (i, m) in both.frame.mask.iter().enumerate() {
+        assert_eq!(*m, both.light_masks[0][i].max(both.light_masks[1][i]));
+    }
+    // Light adds up: both = sun + spot - ambient, in linear colour, to 8-bit rounding.
+    let mut off = 0;
+    let mut lit_by_both = 0;
+    for i in 0..both.frame.color.len() {
+        if i % 4 == 3 {
+            continue;
+        }
+        let expected = linear(only_sun.frame.color[i]) + linear(only_spot.frame.color[i])
+            - linear(ambient.frame.color[i]);
+        // (Where both lights together exceed white, the image clips.)
+        let saturated = both.frame.color[i] == 255 && expected > 1.0;
+        if !saturated && (linear(both.frame.color[i]) - expected).abs() > 0.01 {
+            off += 1;
+        }
+        lit_by_both += usize::from(
+            both.light_masks[0][i / 4] == gnomon_render::MASK_LIT
+                && both.light_masks[1][i / 4] == gnomon_render::MASK_LIT,
+        );
+    }
+    println!("colour channels off by more than 0.01: {off}; lit by both: {lit_by_both}");
+    assert!(
+        lit_by_both > 3000,
+        "{lit_by_both} channels lit by both lights"
+    );
+    assert_eq!(off, 0);
+    assert_eq!(both.stats.z_pass_casters + both.stats.z_fail_casters, 2);
 }

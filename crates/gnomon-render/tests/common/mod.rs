@@ -144,6 +144,12 @@ impl Agreement {
 /// value (not next to a lit/shadow or geometry boundary).
 pub fn agreement(frame: &Frame, oracle: &OracleMask, min_n_dot_l: f64) -> Agreement {
     assert_eq!((frame.width, frame.height), (oracle.width, oracle.height));
+    mask_agreement(&frame.mask, oracle, min_n_dot_l)
+}
+
+/// [`agreement`] for a mask of the oracle's size.
+pub fn mask_agreement(mask: &[u8], oracle: &OracleMask, min_n_dot_l: f64) -> Agreement {
+    assert_eq!(mask.len(), oracle.mask.len());
     let (w, h) = (oracle.width as i64, oracle.height as i64);
     let mut result = Agreement {
         compared: 0,
@@ -165,7 +171,7 @@ pub fn agreement(frame: &Frame, oracle: &OracleMask, min_n_dot_l: f64) -> Agreem
             }
             result.compared += 1;
             result.shadowed += usize::from(value == MASK_UNLIT);
-            result.agreeing += usize::from(frame.mask[i] == value);
+            result.agreeing += usize::from(mask[i] == value);
         }
     }
     result

@@ -19,6 +19,18 @@ pub struct VolumeCounts {
     pub sides: usize,
 }
 
+/// Which parts of a volume to emit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VolumeParts {
+    /// The closed volume: light cap, dark cap and sides (what z-fail counts).
+    #[default]
+    Closed,
+    /// The sides only: enough for z-pass where the volume cannot reach the near plane (the
+    /// light cap lies on the caster's own surface and the dark cap at infinity, so neither
+    /// is ever in front of a visible surface).
+    SidesOnly,
+}
+
 impl VolumeCounts {
     /// All triangles.
     pub fn total(&self) -> usize {
@@ -37,13 +49,16 @@ impl VolumeCounts {
 /// extruded quad per possible silhouette edge (an edge between a light-facing and a
 /// back-facing triangle); a mesh kept for per-triangle volumes
 /// ([`crate::volumes::OpenMeshPolicy::PerTriangle`]) gives every triangle not edge-on to
-/// the light a closed volume of its own, seen from the side the light sees.
+/// the light a closed volume of its own, seen from the side the light sees. With
+/// [`VolumeParts::SidesOnly`] the caps are left out.
 pub fn extrude_volume(
     mesh: &MeshTopology,
     world_from_object: DMat4,
     light: &Light,
+    parts: VolumeParts,
     out: &mut Vec<DVec4>,
 ) -> VolumeCounts {
+    let caps = parts == VolumeParts::Closed;
     let world: Vec<DVec3> = mesh
         .positions()
         .iter()
@@ -96,7 +111,7 @@ pub fn extrude_volume(
             .iter()
             .map(|tri| facing_amount(corners(tri)) > 0.0)
             .collect();
-        for (tri, &lit) in mesh.triangles().iter().zip(&facing) {
+        for (tri, &lit) in mesh.triangles().iter().zip(&facing).filter(|_| caps) {
             let p = corners(tri);
             if lit {
                 emit(p.map(|q| q.extend(1.0)));
@@ -118,9 +133,11 @@ pub fn extrude_volume(
             }
             // Seen from the side the light sees: wound toward the light.
             let p = if amount > 0.0 { p } else { [p[0], p[2], p[1]] };
-            emit(p.map(|q| q.extend(1.0)));
-            counts.light_cap += 1;
-            if point.is_some() {
+            if caps {
+                emit(p.map(|q| q.extend(1.0)));
+                counts.light_cap += 1;
+            }
+            if caps && point.is_some() {
                 emit([to_infinity(p[0]), to_infinity(p[2]), to_infinity(p[1])]);
                 counts.dark_cap += 1;
             }
@@ -200,14 +217,20 @@ mod tests {
             for policy in [OpenMeshPolicy::Reject, OpenMeshPolicy::PerTriangle] {
                 let mut tris = Vec::new();
                 let counts = if policy == OpenMeshPolicy::Reject {
-                    extrude_volume(&mesh, DMat4::IDENTITY, light, &mut tris)
+                    extrude_volume(
+                        &mesh,
+                        DMat4::IDENTITY,
+                        light,
+                        VolumeParts::Closed,
+                        &mut tris,
+                    )
                 } else {
                     // Per-triangle volumes of the same (closed) mesh, forced.
                     let p: Vec<DVec3> = mesh.positions().to_vec();
                     let open: Vec<u32> = mesh.triangles()[..3].iter().flatten().copied().collect();
                     let m = MeshTopology::new(&p, &open, OpenMeshPolicy::PerTriangle).unwrap();
                     assert!(!m.is_closed());
-                    extrude_volume(&m, DMat4::IDENTITY, light, &mut tris)
+                    extrude_volume(&m, DMat4::IDENTITY, light, VolumeParts::Closed, &mut tris)
                 };
                 assert_eq!(tris.len(), 3 * counts.total());
                 // Every edge of the volume is used once in each direction (closed, consistent).
@@ -242,12 +265,48 @@ mod tests {
     }
 
     #[test]
+    fn sides_only_leaves_out_both_caps() {
+        let mesh = tetrahedron();
+        let spot =
+            Light::Spot(SpotLight::new(DVec3::new(0.4, 5.0, -0.3), -DVec3::Y, 60.0, 50.0).unwrap());
+        let (mut closed, mut sides) = (Vec::new(), Vec::new());
+        let all = extrude_volume(
+            &mesh,
+            DMat4::IDENTITY,
+            &spot,
+            VolumeParts::Closed,
+            &mut closed,
+        );
+        let only = extrude_volume(
+            &mesh,
+            DMat4::IDENTITY,
+            &spot,
+            VolumeParts::SidesOnly,
+            &mut sides,
+        );
+        assert!(
+            all.light_cap > 0 && all.dark_cap > 0 && all.sides > 0,
+            "{all:?}"
+        );
+        assert_eq!(
+            only,
+            VolumeCounts {
+                light_cap: 0,
+                dark_cap: 0,
+                sides: all.sides
+            }
+        );
+        // The same side triangles, in the same order.
+        assert_eq!(&closed[closed.len() - sides.len()..], &sides[..]);
+    }
+
+    #[test]
     fn mirrored_placement_keeps_volumes_outward() {
         let mesh = tetrahedron();
         let light = Light::Directional(DirectionalLight::new(-DVec3::Y).unwrap());
         let mirror = DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0));
         let mut tris = Vec::new();
-        let counts = extrude_volume(&mesh, mirror, &light, &mut tris);
+        let counts = extrude_volume(&mesh, mirror, &light, VolumeParts::Closed, &mut tris);
         assert_eq!(counts.light_cap, 1, "only the slanted face looks up");
         let v = winding_number_times_volume(&tris, DVec3::new(-0.2, -3.0, -0.2), 1e3);
         assert!(v > 0.0, "{v}");

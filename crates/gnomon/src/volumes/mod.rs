@@ -8,10 +8,13 @@
 //! light-facing triangles (light cap), the back-facing ones sent to infinity (dark cap) and
 //! the quads of the possible silhouette edges extruded to infinity with w = 0. The renderer
 //! counts them in the stencil buffer under [`infinite_clip_from_view`], which never clips a
-//! point at infinity.
+//! point at infinity. [`NearClipVolume`] tells which casters' volumes can reach the near
+//! plane (z-fail) and which cannot (z-pass, without caps).
 
 mod extrusion;
+mod near_clip;
 mod topology;
 
-pub use extrusion::{VolumeCounts, extrude_volume, infinite_clip_from_view};
+pub use extrusion::{VolumeCounts, VolumeParts, extrude_volume, infinite_clip_from_view};
+pub use near_clip::{NearClipFallback, NearClipVolume};
 pub use topology::{MeshError, MeshTopology, OpenMeshPolicy};
