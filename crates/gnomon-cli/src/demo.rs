@@ -1,5 +1,5 @@
-//! `gnomon demo`: the built-in scene from its named views with every technique, written as
-//! images with an `index.html` that shows them side by side.
+//! `gnomon demo`: the built-in scene from its named views with every technique and with exact
+//! shadow volumes, written as images with an `index.html` that shows them side by side.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -7,7 +7,7 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use gnomon::{Camera, DirectionalLight, Lens, Light, ShadowTechnique, Technique};
-use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer};
+use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer, StencilMode};
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
@@ -54,10 +54,13 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         .into_iter()
         .map(|t| args.params.apply(t))
         .collect();
-    let total = DEMO_VIEWS.len() * techniques.len();
+    // Every map technique, then the shadow volumes.
+    let per_view = techniques.len() + 1;
+    let total = DEMO_VIEWS.len() * per_view;
     let mut rows = String::new();
     let mut all = Vec::new();
     let mut sums = [0.0f64; 3];
+    let mut volume_sums = [0.0f64; 2];
     for (v, view) in DEMO_VIEWS.iter().enumerate() {
         let lens = Lens {
             far: view.far,
@@ -93,7 +96,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             let fallback = setup.fallback().map_or("none", |f| f.name());
             eprintln!(
                 "[{:>2}/{total}] {:<15} {:<8} setup {:>7.1} us  shadow pass {:>6.1} ms  main pass {:>6.1} ms  fallback {fallback}",
-                v * techniques.len() + t + 1,
+                v * per_view + t + 1,
                 view.name,
                 technique.name(),
                 setup_us,
@@ -117,6 +120,49 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 "setup": report::setup_json(&setup),
             }));
         }
+        // Exact shadows: stenciled shadow volumes, z-pass or z-fail chosen per caster.
+        let drawn = renderer.render_volumes(&camera, &light, &settings, StencilMode::PerCaster)?;
+        let stem = format!("{}_volumes", view.name);
+        write_frame(
+            &drawn.frame,
+            &args.out.join(format!("{stem}.png")),
+            None,
+            None,
+        )?;
+        let (timings, stats) = (drawn.frame.timings, drawn.stats);
+        volume_sums[0] += timings.shadow_pass_ms;
+        volume_sums[1] += timings.main_pass_ms;
+        eprintln!(
+            "[{:>2}/{total}] {:<15} {:<8} {} volume triangles ({} casters z-pass, {} z-fail)  extrusion and stencil {:>6.1} ms  shading {:>6.1} ms",
+            v * per_view + per_view,
+            view.name,
+            "volumes",
+            stats.triangles,
+            stats.z_pass_casters,
+            stats.z_fail_casters,
+            timings.shadow_pass_ms,
+            timings.main_pass_ms,
+        );
+        cells.push_str(&format!(
+            "<td><img src=\"{stem}.png\" width=480><br>exact shadow volumes &middot; {} triangles \
+             ({} casters z-pass, {} z-fail) &middot; extrusion and stencil {:.1} ms &middot; \
+             shading {:.1} ms</td>",
+            stats.triangles,
+            stats.z_pass_casters,
+            stats.z_fail_casters,
+            timings.shadow_pass_ms,
+            timings.main_pass_ms
+        ));
+        all.push(json!({
+            "view": view.name,
+            "technique": "volumes",
+            "stencil": "per-caster",
+            "volume_triangles": stats.triangles,
+            "z_pass_casters": stats.z_pass_casters,
+            "z_fail_casters": stats.z_fail_casters,
+            "extrusion_and_stencil_ms": timings.shadow_pass_ms,
+            "shading_ms": timings.main_pass_ms,
+        }));
         rows.push_str(&format!(
             "<tr><th>{}<br><small>{}</small></th>{cells}</tr>",
             view.name, view.description
@@ -125,12 +171,14 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let header: String = techniques
         .iter()
         .map(|t| format!("<th>{}</th>", t.name()))
+        .chain(["<th>volumes (exact)</th>".to_string()])
         .collect();
     let html = format!(
         "<!doctype html><meta charset=utf-8><title>gnomon demo</title>\
          <style>body{{font-family:sans-serif}} td,th{{vertical-align:top;padding:6px}}</style>\
          <h1>gnomon demo: {} scene</h1><p>Each cell: the frame, and below it the shadow map as the \
-         light sees it with the camera's view frustum in red. {}x{} pixels, {}x{} shadow maps, \
+         light sees it with the camera's view frustum in red; the last column has the exact \
+         shadows of stenciled shadow volumes. {}x{} pixels, {}x{} shadow maps, \
          rendered on {}.</p><table><tr><th>view</th>{header}</tr>{rows}</table>\
          <p>Setups and timings: <a href=setups.json>setups.json</a></p>",
         layout.name,
@@ -150,12 +198,17 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         "setups.json",
         &serde_json::to_string_pretty(&all).expect("JSON of plain values"),
     )?;
-    let n = total as f64;
+    let maps = (DEMO_VIEWS.len() * techniques.len()) as f64;
+    let views = DEMO_VIEWS.len() as f64;
     eprintln!(
-        "mean over {total} frames: setup {:.1} us, shadow pass {:.1} ms, main pass {:.1} ms; {:.1} s in all",
-        sums[0] / n,
-        sums[1] / n,
-        sums[2] / n,
+        "mean over {maps} shadow-map frames: setup {:.1} us, shadow pass {:.1} ms, main pass {:.1} ms; \
+         over {views} shadow-volume frames: extrusion and stencil {:.1} ms, shading {:.1} ms; \
+         {:.1} s in all",
+        sums[0] / maps,
+        sums[1] / maps,
+        sums[2] / maps,
+        volume_sums[0] / views,
+        volume_sums[1] / views,
         started.elapsed().as_secs_f64()
     );
     println!("wrote {}", args.out.join("index.html").display());

@@ -295,15 +295,21 @@ fn demo_writes_every_view_and_technique() {
     let json: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("setups.json")).unwrap()).unwrap();
     let entries = json.as_array().unwrap();
+    // Every view with every map technique and with the exact shadow volumes.
     assert_eq!(
         entries.len(),
-        gnomon_scene::DEMO_VIEWS.len() * gnomon::Technique::NAMES.len()
+        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 1)
     );
-    assert!(
-        std::fs::read_to_string(dir.join("index.html"))
-            .unwrap()
-            .contains("overview")
-    );
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    assert!(html.contains("overview") && html.contains("volumes (exact)"));
+    for view in gnomon_scene::DEMO_VIEWS {
+        let volumes = entries
+            .iter()
+            .find(|e| e["view"] == view.name && e["technique"] == "volumes")
+            .unwrap_or_else(|| panic!("{}: no volumes entry", view.name));
+        assert!(volumes["volume_triangles"].as_u64().unwrap() > 100);
+        assert!(dir.join(format!("{}_volumes.png", view.name)).exists());
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -496,5 +502,89 @@ fn render_with_shadow_volumes_writes_a_mask_like_the_maps() {
     let mut args = RENDER.to_vec();
     args.extend(["--technique", "volumes", "--light-view", "x.png"]);
     assert_eq!(gnomon(&args).status.code(), Some(2));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `--mesh` renders a mesh file on a ground slab: a cube from an OFF file casts a shadow,
+/// and the per-caster stencil gives the same mask as z-fail; missing or broken files are
+/// usage errors naming the file.
+#[test]
+fn render_a_mesh_file_with_shadow_volumes() {
+    let dir = temp_dir("mesh");
+    let cube = dir.join("cube.off");
+    std::fs::write(
+        &cube,
+        "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n\
+         4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n",
+    )
+    .unwrap();
+    let render = |stencil: &str| {
+        let mask = dir.join(format!("{stencil}.png"));
+        let out = gnomon(&[
+            "render",
+            "--mesh",
+            cube.to_str().unwrap(),
+            "--mesh-height",
+            "4",
+            "--eye",
+            "12,9,14",
+            "--target",
+            "0,1,0",
+            "--light-dir",
+            "0.6,-1,-0.2",
+            "--technique",
+            "volumes",
+            "--stencil",
+            stencil,
+            "--size",
+            "160x90",
+            "--out",
+            dir.join("frame.png").to_str().unwrap(),
+            "--mask",
+            mask.to_str().unwrap(),
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(out.status.success(), "{stderr}");
+        (image::open(&mask).unwrap().into_luma8(), stderr)
+    };
+    let (z_fail, _) = render("z-fail");
+    let (per_caster, report) = render("per-caster");
+    assert!(report.contains("1 z-pass"), "{report}");
+    assert_eq!(z_fail, per_caster);
+    let shadowed = z_fail.pixels().filter(|p| p.0[0] == 0).count();
+    let lit = z_fail.pixels().filter(|p| p.0[0] == 255).count();
+    assert!(
+        shadowed > 200 && lit > 2000,
+        "{shadowed} shadowed, {lit} lit"
+    );
+
+    std::fs::write(
+        dir.join("broken.ply"),
+        "ply\nformat ascii 1.0\nend_header\n",
+    )
+    .unwrap();
+    for (file, says) in [
+        (dir.join("missing.off"), "cannot read"),
+        (dir.join("broken.ply"), "not a valid .ply file"),
+        (dir.join("cube.stl"), "unknown mesh format"),
+    ] {
+        let out = gnomon(&[
+            "render",
+            "--mesh",
+            file.to_str().unwrap(),
+            "--eye",
+            "12,9,14",
+            "--target",
+            "0,1,0",
+            "--light-dir",
+            "0.6,-1,-0.2",
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(
+            stderr.contains(says) && stderr.contains(file.to_str().unwrap()),
+            "{stderr}"
+        );
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }
