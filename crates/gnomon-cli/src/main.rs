@@ -1,13 +1,14 @@
 //! `gnomon`: the command-line tool.
 //!
 //! Subcommands: `setup` (print the shadow-map matrices for a camera, light and scene),
-//! `render` (draw it), `export` (the scene as OBJ) and `demo` (the built-in scene from its
-//! named views with every technique). Bad input gives a one-line error on stderr and exit
-//! code 2.
+//! `render` (draw it), `export` (the scene as OBJ), `demo` (the built-in scene from its
+//! named views with every technique) and `bench` (frame times side by side). Bad input
+//! gives a one-line error on stderr and exit code 2.
 
 #![forbid(unsafe_code)]
 
 mod args;
+mod bench;
 mod demo;
 mod render;
 mod report;
@@ -36,6 +37,9 @@ enum Command {
     /// Render the built-in demo scene from its named views with every technique, side by
     /// side in an HTML page.
     Demo(demo::DemoArgs),
+    /// Time techniques on the same scene and views (frames interleaved), with each one's
+    /// ratio to the focused shadow map.
+    Bench(Box<bench::BenchArgs>),
 }
 
 /// An error, printed on one line: exit code 2 for bad input, 1 for a failure at run time
@@ -111,6 +115,7 @@ fn main() -> ExitCode {
         Command::Render(a) => render::run(&a),
         Command::Export(a) => render::export(&a),
         Command::Demo(a) => demo::run(&a),
+        Command::Bench(a) => bench::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -588,3 +588,48 @@ fn render_a_mesh_file_with_shadow_volumes() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `gnomon bench` times every named view with each technique asked for, in one run, and
+/// gives each one's ratio to the focused map; bad technique names and zero frames are usage
+/// errors.
+#[test]
+fn bench_times_techniques_side_by_side() {
+    let out = gnomon(&[
+        "bench",
+        "--frames",
+        "1",
+        "--size",
+        "64x36",
+        "--shadow-map",
+        "256",
+        "--techniques",
+        "focused,volumes-per-caster",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let results = json["results"].as_array().unwrap();
+    assert_eq!(results.len(), 2 * gnomon_scene::DEMO_VIEWS.len());
+    for r in results {
+        assert!(r["frame_ms"].as_f64().unwrap() > 0.0, "{r}");
+        let ratio = r["vs_focused"].as_f64().unwrap();
+        if r["technique"] == "focused" {
+            assert_eq!(ratio, 1.0);
+        } else {
+            assert_eq!(r["technique"], "volumes-per-caster");
+            assert!(ratio > 0.0 && ratio.is_finite());
+        }
+    }
+    for bad in [
+        vec!["bench", "--techniques", "focused,shadowy"],
+        vec!["bench", "--frames", "0"],
+        vec!["bench", "--scene", "nowhere"],
+    ] {
+        let out = gnomon(&bad);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+    }
+}

@@ -653,6 +653,12 @@ impl Globals {
         self.extra[2] = 1.0;
         self
     }
+
+    /// The same, drawing the ambient term only (the mask as usual).
+    pub(crate) fn ambient_only(mut self) -> Self {
+        self.extra[2] = 2.0;
+        self
+    }
 }
 
 pub(crate) fn globals(

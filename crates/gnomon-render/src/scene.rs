@@ -174,6 +174,8 @@ pub(crate) struct GpuScene {
     pub caster_indices: std::ops::Range<u32>,
     /// All indices (the main pass draws these).
     pub all_indices: std::ops::Range<u32>,
+    /// Whether every instance receives shadows.
+    pub all_receive: bool,
 }
 
 impl GpuScene {
@@ -227,6 +229,7 @@ impl GpuScene {
             indices: index_buffer,
             caster_indices: 0..caster_index_count,
             all_indices: 0..indices.len() as u32,
+            all_receive: scene.instances.iter().all(|i| i.receives),
         }
     }
 }

@@ -22,8 +22,9 @@ struct Globals {
     // z: filter (0 one tap, 1 hardware 2x2, 2 5x5 PCF),
     // w: ambient.
     map: vec4<f32>,
-    // x: spot range, y: spot near distance, z: 1 to draw the direct light only (no
-    // ambient: shadow volumes add one light per pass).
+    // x: spot range, y: spot near distance, z: which terms to draw (0 ambient and direct
+    // light, 1 the direct light only, 2 the ambient term only: shadow volumes draw the
+    // ambient term once and add one light per pass).
     extra: vec4<f32>,
 };
 
@@ -172,8 +173,9 @@ fn fs_main(in: MainOut) -> Targets {
 
     var out: Targets;
     let diffuse = max(dot(n, to_light), 0.0) * cone * shadow;
-    let ambient = select(g.map.w, 0.0, g.extra.z > 0.5);
-    let light = ambient + (1.0 - g.map.w) * select(0.0, diffuse, in_light);
+    let ambient = select(g.map.w, 0.0, g.extra.z > 0.5 && g.extra.z < 1.5);
+    let direct = select(diffuse, 0.0, g.extra.z > 1.5 || !in_light);
+    let light = ambient + (1.0 - g.map.w) * direct;
     out.color = vec4<f32>(in.color.rgb * light, 1.0);
     let lit = facing && lit_one_tap > 0.5;
     out.mask = vec4<f32>(select(0.0, 1.0, lit), 0.0, 0.0, 1.0);

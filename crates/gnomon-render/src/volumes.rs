@@ -173,14 +173,15 @@ impl VolumeCasters {
 
 /// The pipelines of the volume passes.
 pub(crate) struct VolumePipelines {
-    depth: wgpu::RenderPipeline,
+    /// The scene's depth, the ambient term and the first light's mask as if shadowed.
+    depth_and_ambient: wgpu::RenderPipeline,
     z_fail: wgpu::RenderPipeline,
     z_pass: wgpu::RenderPipeline,
-    /// The ambient term everywhere (colour only).
-    ambient: wgpu::RenderPipeline,
     /// One light's direct light added where its stencil count is 0, and its mask.
     lit: wgpu::RenderPipeline,
-    /// Its mask where the count is not 0 (adds no colour).
+    /// Its mask where the count is not 0, and the direct light of instances that receive no
+    /// shadows (skipped for the first light when every instance receives: the ambient pass
+    /// wrote its mask).
     shadowed: wgpu::RenderPipeline,
 }
 
@@ -211,9 +212,7 @@ impl VolumePipelines {
             read_mask,
             write_mask,
         };
-        // Ambient: colour only. Lights: colour added (linear, before sRGB encoding), mask
-        // written.
-        let ambient_targets = [targets[0].clone(), None];
+        // Lights: colour added (linear, before sRGB encoding), mask written.
         let additive_targets = [
             targets[0].clone().map(|t| wgpu::ColorTargetState {
                 blend: Some(wgpu::BlendState {
@@ -277,16 +276,6 @@ impl VolumePipelines {
         use wgpu::StencilOperation as S;
         let no_stencil = wgpu::StencilState::default();
         Self {
-            depth: pipeline(
-                "volumes: scene depth",
-                globals_layout,
-                "vs_main",
-                scene_vertices,
-                None,
-                true,
-                C::Less,
-                no_stencil.clone(),
-            ),
             z_fail: pipeline(
                 "volumes: z-fail",
                 globals_layout,
@@ -317,14 +306,14 @@ impl VolumePipelines {
                     0xff,
                 ),
             ),
-            ambient: pipeline(
-                "volumes: ambient",
+            depth_and_ambient: pipeline(
+                "volumes: depth and ambient",
                 main_layout,
                 "vs_main",
                 scene_vertices,
-                Some(("fs_main", &ambient_targets)),
-                false,
-                C::LessEqual,
+                Some(("fs_main", targets)),
+                true,
+                C::Less,
                 no_stencil.clone(),
             ),
             lit: pipeline(
@@ -349,6 +338,13 @@ impl VolumePipelines {
             ),
         }
     }
+}
+
+/// Which lighting terms a draw adds.
+#[derive(Clone, Copy)]
+enum Terms {
+    AmbientOnly,
+    DirectOnly,
 }
 
 /// The depth-stencil attachment of the volume passes: depth cleared to 1 or loaded, stencil
@@ -416,7 +412,7 @@ impl Renderer {
             projection: MapProjection::Orthographic,
         };
         use wgpu::util::DeviceExt;
-        let uniform = |light: &Light, shadow_override, direct_only: bool| {
+        let uniform = |light: &Light, shadow_override, terms: Terms| {
             let g = globals(
                 camera,
                 clip_from_world,
@@ -425,10 +421,9 @@ impl Renderer {
                 settings,
                 shadow_override,
             );
-            let g = if direct_only {
-                g.direct_light_only()
-            } else {
-                g
+            let g = match terms {
+                Terms::AmbientOnly => g.ambient_only(),
+                Terms::DirectOnly => g.direct_light_only(),
             };
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("globals"),
@@ -458,40 +453,41 @@ impl Renderer {
             depth.create_view(&Default::default()),
             dummy_map.create_view(&Default::default()),
         );
-        // Shadowed with no direct light: the ambient term alone.
-        let ambient_uniform = uniform(&lights[0], ShadowOverride::Shadowed, false);
+        // The ambient term alone; the mask of the first light as if all were shadowed (the
+        // light's pass then writes where it reaches).
+        let ambient_uniform = uniform(&lights[0], ShadowOverride::Shadowed, Terms::AmbientOnly);
         let ambient_group = self.main_bind_group(&ambient_uniform, &dummy_view);
         let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
-            layout: &self.volumes.depth.get_bind_group_layout(0),
+            layout: &self.volumes.z_fail.get_bind_group_layout(0),
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: ambient_uniform.as_entire_binding(),
             }],
         });
+        let masks: Vec<wgpu::Texture> = lights
+            .iter()
+            .map(|_| self.mask_image(width, height))
+            .collect();
+        let mask_views: Vec<wgpu::TextureView> = masks
+            .iter()
+            .map(|m| m.create_view(&Default::default()))
+            .collect();
         let mut timings = Timings::default();
         let start = Instant::now();
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("volumes: scene depth"),
-                color_attachments: &[],
+                label: Some("volumes: depth and ambient"),
+                color_attachments: &[
+                    color_target(&color_view, Some(SKY)),
+                    color_target(&mask_views[0], Some(MASK_CLEAR)),
+                ],
                 depth_stencil_attachment: Some(depth_stencil(&depth_view, true, true)),
                 ..Default::default()
             });
-            pass.set_bind_group(0, &globals_group, &[]);
-            pass.set_pipeline(&self.volumes.depth);
-            self.scene.draw(&mut pass, self.scene.all_indices.clone());
-        }
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("volumes: ambient"),
-                color_attachments: &[color_target(&color_view, Some(SKY)), None],
-                depth_stencil_attachment: Some(depth_stencil(&depth_view, false, false)),
-                ..Default::default()
-            });
             pass.set_bind_group(0, &ambient_group, &[]);
-            pass.set_pipeline(&self.volumes.ambient);
+            pass.set_pipeline(&self.volumes.depth_and_ambient);
             self.scene.draw(&mut pass, self.scene.all_indices.clone());
         }
         self.gpu.queue.submit([encoder.finish()]);
@@ -499,8 +495,7 @@ impl Renderer {
         timings.main_pass_ms += start.elapsed().as_secs_f64() * 1e3;
 
         let mut stats = VolumeStats::default();
-        let mut masks = Vec::with_capacity(lights.len());
-        for light in lights {
+        for (k, light) in lights.iter().enumerate() {
             let start = Instant::now();
             let volumes = self.volume_casters.extrude(camera, light, mode);
             stats.triangles += volumes.stats.triangles;
@@ -543,11 +538,9 @@ impl Renderer {
             timings.shadow_pass_ms += start.elapsed().as_secs_f64() * 1e3;
 
             let start = Instant::now();
-            let mask = self.mask_image(width, height);
-            let mask_view = mask.create_view(&Default::default());
             let (lit_uniform, shadowed_uniform) = (
-                uniform(light, ShadowOverride::Lit, true),
-                uniform(light, ShadowOverride::Shadowed, true),
+                uniform(light, ShadowOverride::Lit, Terms::DirectOnly),
+                uniform(light, ShadowOverride::Shadowed, Terms::DirectOnly),
             );
             let (lit_group, shadowed_group) = (
                 self.main_bind_group(&lit_uniform, &dummy_view),
@@ -555,29 +548,35 @@ impl Renderer {
             );
             let mut encoder = device.create_command_encoder(&Default::default());
             {
+                // The first light's mask was started by the ambient pass; the others' start
+                // empty and get their shadowed pixels here. (Instances that receive no
+                // shadows get their direct light in the shadowed draw too, so the first light
+                // skips it only when every instance receives.)
+                let first = k == 0;
+                let skip_shadowed = first && self.scene.all_receive;
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("volumes: one light"),
                     color_attachments: &[
                         color_target(&color_view, None),
-                        color_target(&mask_view, Some(MASK_CLEAR)),
+                        color_target(&mask_views[k], (!first).then_some(MASK_CLEAR)),
                     ],
                     depth_stencil_attachment: Some(depth_stencil(&depth_view, false, false)),
                     ..Default::default()
                 });
                 pass.set_stencil_reference(0);
-                for (pipeline, group) in [
+                let draws = [
                     (&self.volumes.lit, &lit_group),
                     (&self.volumes.shadowed, &shadowed_group),
-                ] {
+                ];
+                for (pipeline, group) in draws.iter().take(if skip_shadowed { 1 } else { 2 }) {
                     pass.set_pipeline(pipeline);
-                    pass.set_bind_group(0, group, &[]);
+                    pass.set_bind_group(0, *group, &[]);
                     self.scene.draw(&mut pass, self.scene.all_indices.clone());
                 }
             }
             self.gpu.queue.submit([encoder.finish()]);
             self.gpu.wait()?;
             timings.main_pass_ms += start.elapsed().as_secs_f64() * 1e3;
-            masks.push(mask);
         }
         if let Some(error) = pollster::block_on(error_scope.pop()) {
             return Err(RenderError::Gpu(error.to_string()));

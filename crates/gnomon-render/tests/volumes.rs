@@ -361,3 +361,54 @@ fn several_lights_add_up_each_with_exact_shadows() {
     assert_eq!(off, 0);
     assert_eq!(both.stats.z_pass_casters + both.stats.z_fail_casters, 2);
 }
+
+/// Volumes shade like the shadow maps: the ambient pass plus the light's added direct term
+/// give the colours of the maps' single pass (one-tap lookups), for a caster that receives
+/// shadows and for one that does not (never shadowed, lit once).
+#[test]
+fn volumes_shade_like_the_maps() {
+    for receives in [true, false] {
+        let mut scene = RenderScene::mesh_on_ground("knot", real_mesh("knot1.off"), 10.0).unwrap();
+        scene.instances[1].receives = receives;
+        let renderer = common::renderer(&scene);
+        let settings = RenderSettings {
+            width: SIZE,
+            height: SIZE,
+            filter: gnomon_render::Filter::None,
+            ..RenderSettings::default()
+        };
+        let camera = camera(
+            DVec3::new(14.0, 12.0, 20.0),
+            DVec3::new(0.0, 3.0, 0.0),
+            1.0,
+            200.0,
+        );
+        let light = sun(0.5, -1.0, -0.3);
+        let (_, map) = common::render(
+            &renderer,
+            &scene,
+            &gnomon::Focused,
+            &camera,
+            &light,
+            2048,
+            &settings,
+        );
+        let volumes = renderer
+            .render_volumes(&camera, &light, &settings, StencilMode::ZFail)
+            .unwrap()
+            .frame;
+        let channels = map.color.len() / 4 * 3;
+        let differing = map
+            .color
+            .iter()
+            .zip(&volumes.color)
+            .enumerate()
+            .filter(|(i, (a, b))| i % 4 != 3 && a.abs_diff(**b) > 2)
+            .count();
+        println!("receives {receives}: {differing} of {channels} colour channels differ");
+        assert!(
+            differing * 200 < channels,
+            "receives {receives}: {differing} of {channels} channels differ"
+        );
+    }
+}

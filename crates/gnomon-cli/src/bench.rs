@@ -1,0 +1,254 @@
+//! `gnomon bench`: frame times of shadow techniques on the same scene and views, measured in
+//! one run (frames interleaved round-robin, so that a noisy machine slows every technique
+//! alike), with each technique's ratio to the focused shadow map.
+
+use std::time::Instant;
+
+use clap::Args;
+use glam::DVec3;
+use gnomon::{Camera, DirectionalLight, Lens, Light, ShadowTechnique, Technique};
+use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer, StencilMode, Timings};
+use gnomon_scene::DEMO_VIEWS;
+use serde_json::json;
+
+use crate::CliError;
+use crate::args::{TechniqueParams, timed_setup};
+use crate::demo::view_camera_and_light;
+use crate::render::{MeshArgs, parse_size, render_scene};
+
+/// `gnomon bench`.
+#[derive(Debug, Clone, Args)]
+pub struct BenchArgs {
+    /// The scene: a built-in scene's name (its named views are timed).
+    #[arg(long, default_value = "demo")]
+    pub scene: String,
+    #[command(flatten)]
+    pub mesh: MeshArgs,
+    /// What to time, comma-separated: shadow-map techniques (uniform, focused, lispsm, tsm,
+    /// xpsm, psm) and shadow volumes (volumes = z-fail, volumes-z-pass, volumes-per-caster).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "focused,volumes,volumes-per-caster"
+    )]
+    pub techniques: Vec<String>,
+    #[command(flatten)]
+    pub params: TechniqueParams,
+    /// Timed frames per view and technique (after one untimed warm-up frame).
+    #[arg(long, default_value_t = 10)]
+    pub frames: u32,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "960x540", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Shadow-map resolution in texels.
+    #[arg(long, default_value_t = 2048)]
+    pub shadow_map: u32,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// One thing timed.
+#[derive(Debug, Clone)]
+enum Entry {
+    Map(Technique),
+    Volumes(StencilMode),
+}
+
+impl Entry {
+    fn parse(name: &str) -> Result<Self, CliError> {
+        Ok(match name.trim() {
+            "volumes" | "volumes-z-fail" => Entry::Volumes(StencilMode::ZFail),
+            "volumes-z-pass" => Entry::Volumes(StencilMode::ZPass),
+            "volumes-per-caster" => Entry::Volumes(StencilMode::PerCaster),
+            other => Entry::Map(other.parse().map_err(|_| {
+                CliError::usage(format!(
+                    "unknown technique '{other}' (known: {}, volumes, volumes-z-pass, \
+                     volumes-per-caster)",
+                    Technique::NAMES.join(", ")
+                ))
+            })?),
+        })
+    }
+
+    fn name(&self) -> String {
+        match self {
+            Entry::Map(t) => t.name().to_string(),
+            Entry::Volumes(StencilMode::ZFail) => "volumes".into(),
+            Entry::Volumes(StencilMode::ZPass) => "volumes-z-pass".into(),
+            Entry::Volumes(StencilMode::PerCaster) => "volumes-per-caster".into(),
+        }
+    }
+}
+
+/// A view to time: name, camera, light.
+type View = (String, Camera, Light);
+
+/// The views: the demo's named views, or one oblique view of a mesh on its ground.
+fn views(args: &BenchArgs, aspect: f64) -> Result<Vec<View>, CliError> {
+    if args.mesh.mesh.is_some() {
+        let h = args.mesh.mesh_height;
+        let lens = Lens {
+            aspect,
+            near: 0.05 * h,
+            far: 20.0 * h,
+            ..Lens::default()
+        };
+        let camera = Camera::look_at(
+            DVec3::new(1.4, 1.2, 2.0) * h,
+            DVec3::new(0.0, 0.3 * h, 0.0),
+            DVec3::Y,
+            lens,
+        )?;
+        let light = Light::Directional(DirectionalLight::new(DVec3::new(0.5, -1.0, -0.3))?);
+        return Ok(vec![("oblique".into(), camera, light)]);
+    }
+    if args.scene != "demo" {
+        // Only the demo has named views; an unknown name is reported as such.
+        crate::args::scene_layout(&args.scene)?;
+        return Err(CliError::usage(format!(
+            "scene '{}' has no named views to time",
+            args.scene
+        )));
+    }
+    DEMO_VIEWS
+        .iter()
+        .map(|v| {
+            let (camera, light) = view_camera_and_light(v, aspect)?;
+            Ok((v.name.to_string(), camera, light))
+        })
+        .collect()
+}
+
+/// Mean and standard deviation.
+fn mean_sd(values: &[f64]) -> (f64, f64) {
+    let n = values.len().max(1) as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n;
+    (mean, var.sqrt())
+}
+
+/// Runs `gnomon bench`.
+pub fn run(args: &BenchArgs) -> Result<(), CliError> {
+    let entries = args
+        .techniques
+        .iter()
+        .map(|t| Entry::parse(t))
+        .collect::<Result<Vec<_>, _>>()?;
+    if entries.is_empty() {
+        return Err(CliError::usage("--techniques names nothing to time"));
+    }
+    if args.frames == 0 {
+        return Err(CliError::usage("--frames must be at least 1"));
+    }
+    let scene: RenderScene = render_scene(&args.scene, &args.mesh)?;
+    let bounds = scene.bounds()?;
+    let renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let settings = RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        ..RenderSettings::default()
+    };
+    let views = views(args, args.size.0 as f64 / args.size.1 as f64)?;
+    eprintln!(
+        "gnomon bench: {} views x {} techniques x {} frames at {}x{} on {}",
+        views.len(),
+        entries.len(),
+        args.frames,
+        args.size.0,
+        args.size.1,
+        renderer.gpu().describe()
+    );
+    // One frame: its time in ms (setup + shadow pass + main pass) and its timings.
+    let frame =
+        |entry: &Entry, camera: &Camera, light: &Light| -> Result<(f64, Timings), CliError> {
+            match entry {
+                Entry::Map(technique) => {
+                    let technique = args.params.apply(*technique);
+                    let (setup, setup_us) =
+                        timed_setup(&technique, camera, light, &bounds, args.shadow_map)?;
+                    let f = renderer.render(camera, light, &setup, &settings)?;
+                    let t = f.timings;
+                    Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
+                }
+                Entry::Volumes(mode) => {
+                    let f = renderer
+                        .render_volumes(camera, light, &settings, *mode)?
+                        .frame;
+                    let t = f.timings;
+                    Ok((t.shadow_pass_ms + t.main_pass_ms, t))
+                }
+            }
+        };
+    let started = Instant::now();
+    let mut results = Vec::new();
+    for (v, (view, camera, light)) in views.iter().enumerate() {
+        for entry in &entries {
+            frame(entry, camera, light)?; // warm-up
+        }
+        let mut times: Vec<Vec<(f64, Timings)>> = vec![Vec::new(); entries.len()];
+        for _ in 0..args.frames {
+            for (k, entry) in entries.iter().enumerate() {
+                times[k].push(frame(entry, camera, light)?);
+            }
+        }
+        let focused = entries
+            .iter()
+            .position(|e| e.name() == "focused")
+            .map(|k| mean_sd(&times[k].iter().map(|t| t.0).collect::<Vec<_>>()).0);
+        for (entry, samples) in entries.iter().zip(&times) {
+            let total: Vec<f64> = samples.iter().map(|t| t.0).collect();
+            let shadow: Vec<f64> = samples.iter().map(|t| t.1.shadow_pass_ms).collect();
+            let main: Vec<f64> = samples.iter().map(|t| t.1.main_pass_ms).collect();
+            let (mean, sd) = mean_sd(&total);
+            results.push(json!({
+                "view": view,
+                "technique": entry.name(),
+                "frame_ms": mean,
+                "frame_ms_sd": sd,
+                "shadow_pass_ms": mean_sd(&shadow).0,
+                "main_pass_ms": mean_sd(&main).0,
+                "vs_focused": focused.map(|f| mean / f),
+            }));
+        }
+        eprintln!(
+            "[{}/{}] {view} done ({:.1} s)",
+            v + 1,
+            views.len(),
+            started.elapsed().as_secs_f64()
+        );
+    }
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json!({
+                "device": renderer.gpu().describe(),
+                "size": [args.size.0, args.size.1],
+                "shadow_map": args.shadow_map,
+                "frames": args.frames,
+                "results": results,
+            }))
+            .expect("JSON of plain values")
+        );
+        return Ok(());
+    }
+    println!(
+        "{:<16} {:<20} {:>10} {:>8} {:>10} {:>10} {:>11}",
+        "view", "technique", "frame ms", "sd", "shadow ms", "main ms", "vs focused"
+    );
+    for r in &results {
+        println!(
+            "{:<16} {:<20} {:>10.2} {:>8.2} {:>10.2} {:>10.2} {:>11}",
+            r["view"].as_str().unwrap_or_default(),
+            r["technique"].as_str().unwrap_or_default(),
+            r["frame_ms"].as_f64().unwrap_or_default(),
+            r["frame_ms_sd"].as_f64().unwrap_or_default(),
+            r["shadow_pass_ms"].as_f64().unwrap_or_default(),
+            r["main_pass_ms"].as_f64().unwrap_or_default(),
+            r["vs_focused"]
+                .as_f64()
+                .map_or("-".to_string(), |x| format!("{x:.2}x")),
+        );
+    }
+    Ok(())
+}
