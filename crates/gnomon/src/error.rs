@@ -93,6 +93,11 @@ pub enum SetupError {
         /// The technique that failed.
         technique: &'static str,
     },
+    /// A measurement ([`crate::analysis`]) cannot be taken from the given map.
+    Unmeasurable {
+        /// Why.
+        what: &'static str,
+    },
 }
 
 impl fmt::Display for SetupError {
@@ -174,6 +179,7 @@ impl fmt::Display for SetupError {
                 f,
                 "technique {technique} produced a non-finite matrix (a bug in gnomon; please report it)"
             ),
+            SetupError::Unmeasurable { what } => write!(f, "cannot measure: {what}"),
         }
     }
 }
