@@ -108,6 +108,10 @@ pub struct TechniqueParams {
     /// rule).
     #[arg(long, allow_hyphen_values = true)]
     pub tsm_xi: Option<f64>,
+    /// TSM: where the focus point lies along the view, as a fraction of the way from the near
+    /// plane to the far end of the view body, in [0, 1] (default 0.8).
+    #[arg(long, allow_hyphen_values = true)]
+    pub tsm_focus: Option<f64>,
     /// XPSM: warp strength per world unit (default 0.05, for scenes in metres).
     #[arg(long, allow_hyphen_values = true)]
     pub xpsm_coef: Option<f64>,
@@ -129,6 +133,7 @@ impl TechniqueParams {
             }
             Technique::Tsm(mut t) => {
                 t.xi = self.tsm_xi.unwrap_or(t.xi);
+                t.focus = self.tsm_focus.unwrap_or(t.focus);
                 Technique::Tsm(t)
             }
             Technique::Psm(mut t) => {

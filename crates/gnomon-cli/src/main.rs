@@ -2,11 +2,13 @@
 //!
 //! Subcommands: `setup` (print the shadow-map matrices for a camera, light and scene),
 //! `render` (draw it), `export` (the scene as OBJ), `demo` (the built-in scene from its
-//! named views with every technique) and `bench` (frame times side by side). Bad input
+//! named views with every technique), `bench` (frame times side by side) and `analyze`
+//! (perspective aliasing of every technique from its matrices). Bad input
 //! gives a one-line error on stderr and exit code 2.
 
 #![forbid(unsafe_code)]
 
+mod analyze;
 mod args;
 mod bench;
 mod demo;
@@ -37,6 +39,9 @@ enum Command {
     /// Render the built-in demo scene from its named views with every technique, side by
     /// side in an HTML page.
     Demo(demo::DemoArgs),
+    /// Perspective aliasing dp/ds along the view axis of every technique, measured from its
+    /// matrices in the LiSPSM paper's ideal configuration (table, JSON, plot).
+    Analyze(Box<analyze::AnalyzeArgs>),
     /// Time techniques on the same scene and views (frames interleaved), with each one's
     /// ratio to the focused shadow map.
     Bench(Box<bench::BenchArgs>),
@@ -116,6 +121,7 @@ fn main() -> ExitCode {
         Command::Export(a) => render::export(&a),
         Command::Demo(a) => demo::run(&a),
         Command::Bench(a) => bench::run(&a),
+        Command::Analyze(a) => analyze::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

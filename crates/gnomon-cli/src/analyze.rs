@@ -1,0 +1,238 @@
+//! `gnomon analyze`: perspective aliasing dp/ds along the view axis, measured from every
+//! technique's actual matrices in the LiSPSM paper's ideal configuration (or with a tilt
+//! gamma between view and light): a table, JSON, and the paper's Figure 6 as an SVG plot.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use gnomon::analysis::{AliasingCurve, IdealConfiguration, view_axis_aliasing};
+use gnomon::{MapSettings, Psm, ShadowTechnique, Technique, compute_setup};
+use serde_json::json;
+
+use crate::CliError;
+use crate::args::TechniqueParams;
+
+/// `gnomon analyze`.
+#[derive(Debug, Clone, Args)]
+pub struct AnalyzeArgs {
+    /// Near plane distance z_n.
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub zn: f64,
+    /// Far plane distance z_f.
+    #[arg(long, default_value_t = 100.0, allow_hyphen_values = true)]
+    pub zf: f64,
+    /// Angle between the view direction and the light's direction of travel, degrees, in
+    /// (0, 180); 90 is the paper's ideal case.
+    #[arg(long, default_value_t = 90.0, allow_hyphen_values = true)]
+    pub gamma: f64,
+    #[command(flatten)]
+    pub params: TechniqueParams,
+    /// Samples along the view axis (spaced geometrically from z_n to z_f).
+    #[arg(long, default_value_t = 200)]
+    pub samples: usize,
+    /// Shadow-map resolution in texels (the one-texel inset shows at small sizes).
+    #[arg(long, default_value_t = 2048)]
+    pub shadow_map: u32,
+    /// Print JSON instead of a table (with every sampled curve).
+    #[arg(long)]
+    pub json: bool,
+    /// Also write the curves as an SVG plot (log y axis): the LiSPSM paper's Figure 6 and
+    /// the SPPSM paper's Figure 1 for all techniques.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+}
+
+/// One analysed technique.
+struct Row {
+    label: String,
+    fallback: Option<&'static str>,
+    curve: Result<AliasingCurve, String>,
+}
+
+/// The techniques analysed: every technique with its parameters, and PSM as in the papers
+/// (the virtual camera not slid back: n = z_n), which the LiSPSM paper's Figure 6 plots.
+fn techniques(params: &TechniqueParams) -> Vec<(String, Technique)> {
+    let mut out = Vec::new();
+    for technique in Technique::all() {
+        let technique = params.apply(technique);
+        if let Technique::Psm(_) = technique {
+            out.push((
+                "psm-paper".to_string(),
+                Technique::Psm(Psm {
+                    slide_back: Some(0.0),
+                }),
+            ));
+        }
+        out.push((technique.name().to_string(), technique));
+    }
+    out
+}
+
+/// Runs `gnomon analyze`.
+pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
+    let config = IdealConfiguration::new(args.zn, args.zf, args.gamma)?;
+    if args.samples < 2 || args.samples > 100_000 {
+        return Err(CliError::usage(format!(
+            "--samples must be in 2..=100000 (got {})",
+            args.samples
+        )));
+    }
+    let (camera, light, scene) = (config.camera()?, config.light()?, config.scene()?);
+    let mut rows = Vec::new();
+    for (label, technique) in techniques(&args.params) {
+        let setup = compute_setup(
+            &technique,
+            &camera,
+            &light,
+            &scene,
+            MapSettings::with_resolution(args.shadow_map),
+        )?;
+        let curve =
+            view_axis_aliasing(&setup.maps[0], &config, args.samples).map_err(|e| e.to_string());
+        rows.push(Row {
+            label,
+            fallback: setup.fallback().map(|f| f.name()),
+            curve,
+        });
+    }
+    if let Some(path) = &args.plot {
+        plot(path, &config, &rows)?;
+    }
+    let ideal = config.logarithmic_ideal();
+    if args.json {
+        let techniques: Vec<_> = rows
+            .iter()
+            .map(|r| match &r.curve {
+                Ok(c) => json!({
+                    "technique": r.label,
+                    "fallback": r.fallback,
+                    "max": c.max,
+                    "z_of_max": c.z_of_max,
+                    "at_z_n": c.at_near,
+                    "at_z_f": c.at_far,
+                    "min": c.min,
+                    "z_of_min": c.z_of_min,
+                    "curve": c.z.iter().zip(&c.dp_ds).map(|(z, v)| [*z, *v]).collect::<Vec<_>>(),
+                }),
+                Err(e) => json!({"technique": r.label, "fallback": r.fallback, "error": e}),
+            })
+            .collect();
+        let out = json!({
+            "z_n": config.z_near,
+            "z_f": config.z_far,
+            "gamma_degrees": config.gamma_degrees,
+            "shadow_map": args.shadow_map,
+            "logarithmic_ideal": ideal,
+            "techniques": techniques,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&out).expect("JSON of plain values")
+        );
+        return Ok(());
+    }
+    println!(
+        "dp/ds along the view axis (projection term 1), z_n = {}, z_f = {}, gamma = {} degrees, \
+         {}x{} maps",
+        config.z_near, config.z_far, config.gamma_degrees, args.shadow_map, args.shadow_map
+    );
+    println!(
+        "{:<10} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}  fallback",
+        "technique", "max", "z of max", "at z_n", "at z_f", "min", "z of min"
+    );
+    for r in &rows {
+        match &r.curve {
+            Ok(c) => println!(
+                "{:<10} {:>9.3} {:>9.2} {:>9.3} {:>9.3} {:>9.3} {:>9.2}  {}",
+                r.label,
+                c.max,
+                c.z_of_max,
+                c.at_near,
+                c.at_far,
+                c.min,
+                c.z_of_min,
+                r.fallback.unwrap_or("none")
+            ),
+            Err(e) => println!("{:<10} not measurable: {e}", r.label),
+        }
+    }
+    println!(
+        "logarithmic ideal z_n ln(z_f / z_n) = {ideal:.3} (no single map has a smaller maximum)"
+    );
+    if let Some(path) = &args.plot {
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// The curves on a log y axis, with the logarithmic ideal as a dashed line.
+fn plot(path: &std::path::Path, config: &IdealConfiguration, rows: &[Row]) -> Result<(), CliError> {
+    use plotters::prelude::*;
+    let error = |e: String| CliError::runtime(format!("cannot plot to {}: {e}", path.display()));
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).map_err(|e| error(e.to_string()))?;
+    }
+    let curves: Vec<(&str, &AliasingCurve)> = rows
+        .iter()
+        .filter_map(|r| r.curve.as_ref().ok().map(|c| (r.label.as_str(), c)))
+        .collect();
+    let ideal = config.logarithmic_ideal();
+    let (lo, hi) = curves.iter().fold((ideal, ideal), |(lo, hi), (_, c)| {
+        (lo.min(c.min), hi.max(c.max))
+    });
+    let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| error(e.to_string()))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!(
+                "perspective aliasing dp/ds, z_n = {}, z_f = {}, gamma = {} deg",
+                config.z_near, config.z_far, config.gamma_degrees
+            ),
+            ("sans-serif", 22),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(
+            config.z_near..config.z_far,
+            (0.5 * lo..2.0 * hi).log_scale(),
+        )
+        .map_err(|e| error(e.to_string()))?;
+    chart
+        .configure_mesh()
+        .x_desc("z (distance along the view axis)")
+        .y_desc("dp/ds")
+        .draw()
+        .map_err(|e| error(e.to_string()))?;
+    for (k, (label, c)) in curves.iter().enumerate() {
+        let color = Palette99::pick(k).to_rgba();
+        chart
+            .draw_series(LineSeries::new(
+                c.z.iter().copied().zip(c.dp_ds.iter().copied()),
+                color.stroke_width(2),
+            ))
+            .map_err(|e| error(e.to_string()))?
+            .label(*label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+    }
+    chart
+        .draw_series(DashedLineSeries::new(
+            [(config.z_near, ideal), (config.z_far, ideal)],
+            6,
+            4,
+            BLACK.stroke_width(1),
+        ))
+        .map_err(|e| error(e.to_string()))?
+        .label(format!("logarithmic ideal {ideal:.2}"))
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| error(e.to_string()))?;
+    root.present().map_err(|e| error(e.to_string()))?;
+    Ok(())
+}
