@@ -12,6 +12,7 @@ mod analyze;
 mod args;
 mod bench;
 mod demo;
+mod heatmap;
 mod render;
 mod report;
 

@@ -8,8 +8,8 @@ use gnomon_render::{
     DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer, StencilMode,
 };
 
-use crate::CliError;
 use crate::args::{LightArgs, TechniqueArg, TechniqueParams, ViewArgs, scene_layout, timed_setup};
+use crate::{CliError, heatmap};
 
 /// Shadow-map filtering on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -141,6 +141,16 @@ pub struct RenderArgs {
     /// Also write the shadow map as the light sees it, with the view frustum over it (PNG).
     #[arg(long)]
     pub light_view: Option<PathBuf>,
+    /// Also write the per-pixel sampling error as a heat map with a legend (PNG): pixels per
+    /// texel along the worst direction, from the shader's derivatives of the shadow
+    /// coordinate; 1 = one texel per pixel (white), warmer = undersampled, blue = more than
+    /// one texel per pixel.
+    #[arg(long)]
+    pub error_map: Option<PathBuf>,
+    /// Print a JSON summary on stdout: timings, fallback, and the sampling error's
+    /// percentiles (p50, p95, p99, max) over the pixels with geometry the map sees.
+    #[arg(long)]
+    pub json: bool,
 }
 
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -258,9 +268,40 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             ..DepthBias::default()
         },
         light_view: args.light_view.is_some(),
+        metrics: args.error_map.is_some() || args.json,
         ..RenderSettings::default()
     };
     let frame = renderer.render(&camera, &light, &setup, &settings)?;
+    if let (Some(path), Some(metrics)) = (&args.error_map, &frame.metrics) {
+        let image = heatmap::draw(metrics, frame.width, frame.height);
+        // The legend strip makes it taller than the frame.
+        let image_height = (image.len() / 4) as u32 / frame.width;
+        write_png(
+            path,
+            frame.width,
+            image_height,
+            image::ColorType::Rgba8,
+            &image,
+        )?;
+    }
+    if args.json {
+        let t = frame.timings;
+        let metrics = frame.metrics.as_ref().expect("metrics asked for");
+        let summary = serde_json::json!({
+            "technique": technique.name(),
+            "device": renderer.gpu().describe(),
+            "fallback": setup.fallback().map(|f| f.name()),
+            "setup_us": setup_us,
+            "shadow_pass_ms": t.shadow_pass_ms,
+            "main_pass_ms": t.main_pass_ms,
+            "undersampling": heatmap::percentiles(metrics, &metrics.undersampling),
+            "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&summary).expect("JSON of plain values")
+        );
+    }
     write_frame(
         &frame,
         &args.out,
@@ -291,9 +332,9 @@ fn run_volumes(
     camera: &gnomon::Camera,
     light: &gnomon::Light,
 ) -> Result<(), CliError> {
-    if args.light_view.is_some() {
+    if args.light_view.is_some() || args.error_map.is_some() || args.json {
         return Err(CliError::usage(
-            "--light-view shows a shadow map; shadow volumes have none",
+            "--light-view, --error-map and --json describe a shadow map; shadow volumes have none",
         ));
     }
     let renderer = Renderer::new(Gpu::new()?, scene)?;

@@ -60,6 +60,8 @@ pub struct RenderSettings {
     pub ambient: f64,
     /// Also return the shadow map as the light sees it, with the view frustum drawn over it.
     pub light_view: bool,
+    /// Also return the per-pixel sampling metrics ([`Frame::metrics`]).
+    pub metrics: bool,
 }
 
 impl Default for RenderSettings {
@@ -71,6 +73,7 @@ impl Default for RenderSettings {
             bias: DepthBias::default(),
             ambient: 0.25,
             light_view: false,
+            metrics: false,
         }
     }
 }
@@ -100,8 +103,46 @@ pub struct Frame {
     pub mask: Vec<u8>,
     /// The shadow map as the light sees it (RGBA, `resolution` square), if asked for.
     pub light_view: Option<(u32, Vec<u8>)>,
+    /// The per-pixel sampling metrics, if asked for ([`RenderSettings::metrics`]).
+    pub metrics: Option<PixelMetrics>,
     /// Times of the passes.
     pub timings: Timings,
+}
+
+/// Per pixel, how the shadow map samples what the pixel sees: J is the Jacobian of the
+/// map's texel coordinates with respect to screen pixels, from the fragment shader's
+/// derivatives of the shadow coordinate (so it includes projection aliasing, the surface's
+/// orientation, as well as perspective aliasing).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PixelMetrics {
+    /// Pixels per texel along the worst direction, 1 / sigma_min(J): 1 = one texel per
+    /// pixel, above 1 the map is undersampled (a texel spans several pixels). 0 where the
+    /// pixel has no geometry, NaN where the map does not see the point.
+    pub undersampling: Vec<f32>,
+    /// Pixels per texel in area, 1 / |det J| (the SPPSM paper's area measure, its eq. 3).
+    pub area: Vec<f32>,
+    /// N.L with the geometric normal turned toward the camera (0 where no geometry).
+    pub n_dot_l: Vec<f32>,
+}
+
+impl PixelMetrics {
+    /// From the metrics image (RGBA 32-bit floats: undersampling, area, N.L, coverage).
+    fn from_rgba(bytes: &[u8]) -> Self {
+        let mut m = Self::default();
+        for texel in bytes.chunks_exact(16) {
+            let f = |k: usize| f32::from_le_bytes(texel[4 * k..4 * k + 4].try_into().unwrap());
+            let covered = f(3) > 0.5;
+            m.undersampling.push(if covered { f(0) } else { 0.0 });
+            m.area.push(if covered { f(1) } else { 0.0 });
+            m.n_dot_l.push(if covered { f(2) } else { 0.0 });
+        }
+        m
+    }
+
+    /// Whether pixel `i` has geometry that the map sees.
+    pub fn measured(&self, i: usize) -> bool {
+        self.undersampling[i] > 0.0 && self.undersampling[i].is_finite()
+    }
 }
 
 /// Where the main pass's shadow factor comes from.
@@ -132,6 +173,7 @@ pub(crate) struct Globals {
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+const METRICS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Draws a scene with shadow setups. Holds the GPU, the pipelines and the scene's buffers.
@@ -266,7 +308,11 @@ impl Renderer {
             &main_pipeline_layout,
             "vs_main",
             "fs_main",
-            &[Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())],
+            &[
+                Some(COLOR_FORMAT.into()),
+                Some(MASK_FORMAT.into()),
+                Some(METRICS_FORMAT.into()),
+            ],
         );
         let volumes = VolumePipelines::new(
             device,
@@ -348,7 +394,7 @@ impl Renderer {
         Ok((width, height))
     }
 
-    /// The main pass's colour and mask images (see [`main_targets`]).
+    /// The main pass's colour and mask images (see [`color_target`]).
     pub(crate) fn main_images(&self, width: u32, height: u32) -> (wgpu::Texture, wgpu::Texture) {
         (
             self.color_image(width, height),
@@ -356,7 +402,7 @@ impl Renderer {
         )
     }
 
-    /// A colour image (see [`main_targets`]).
+    /// A colour image (see [`color_target`]).
     pub(crate) fn color_image(&self, width: u32, height: u32) -> wgpu::Texture {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         texture(
@@ -374,7 +420,7 @@ impl Renderer {
         readback::read_texture(&self.gpu, color, wgpu::TextureAspect::All, 4)
     }
 
-    /// A mask image (see [`main_targets`]).
+    /// A mask image (see [`color_target`]).
     pub(crate) fn mask_image(&self, width: u32, height: u32) -> wgpu::Texture {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         texture(&self.gpu.device, "mask", width, height, MASK_FORMAT, usage)
@@ -493,6 +539,7 @@ impl Renderer {
         // Main pass.
         let start = Instant::now();
         let (color, mask) = self.main_images(width, height);
+        let metrics = texture("metrics", width, height, METRICS_FORMAT, attachment);
         let depth = texture(
             "depth",
             width,
@@ -500,9 +547,10 @@ impl Renderer {
             DEPTH_FORMAT,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
-        let (color_view, mask_view, depth_view) = (
+        let (color_view, mask_view, metrics_view, depth_view) = (
             color.create_view(&Default::default()),
             mask.create_view(&Default::default()),
+            metrics.create_view(&Default::default()),
             depth.create_view(&Default::default()),
         );
         let bind_group = self.main_bind_group(&uniform, &shadow_view);
@@ -510,7 +558,11 @@ impl Renderer {
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("main"),
-                color_attachments: &main_targets(&color_view, &mask_view),
+                color_attachments: &[
+                    color_target(&color_view, Some(SKY)),
+                    color_target(&mask_view, Some(MASK_CLEAR)),
+                    color_target(&metrics_view, Some(wgpu::Color::TRANSPARENT)),
+                ],
                 depth_stencil_attachment: Some(cleared_depth(&depth_view)),
                 ..Default::default()
             });
@@ -541,6 +593,12 @@ impl Renderer {
         } else {
             None
         };
+        let metrics = if settings.metrics {
+            let bytes = readback::read_texture(&self.gpu, &metrics, wgpu::TextureAspect::All, 16)?;
+            Some(PixelMetrics::from_rgba(&bytes))
+        } else {
+            None
+        };
         let readback_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(Frame {
             width,
@@ -548,6 +606,7 @@ impl Renderer {
             color: color_bytes,
             mask: mask_bytes,
             light_view,
+            metrics,
             timings: Timings {
                 shadow_pass_ms,
                 main_pass_ms,
@@ -580,17 +639,6 @@ pub(crate) fn texture(
         usage,
         view_formats: &[],
     })
-}
-
-/// The main pass's colour and mask targets, cleared to the sky and to [`MASK_EMPTY`].
-pub(crate) fn main_targets<'a>(
-    color_view: &'a wgpu::TextureView,
-    mask_view: &'a wgpu::TextureView,
-) -> [Option<wgpu::RenderPassColorAttachment<'a>>; 2] {
-    [
-        color_target(color_view, Some(SKY)),
-        color_target(mask_view, Some(MASK_CLEAR)),
-    ]
 }
 
 /// The colour image's background.

@@ -79,6 +79,11 @@ fn vs_main(
 struct Targets {
     @location(0) color: vec4<f32>,
     @location(1) mask: vec4<f32>,
+    // x: pixels per texel along the worst direction (1 / sigma_min of the Jacobian of
+    // texel coordinates by screen pixels), y: pixels per texel in area (1 / |det J|),
+    // z: N.L (geometric normal toward the camera), w: 1 (geometry here). x and y are -1
+    // where the map does not see the point.
+    @location(2) metrics: vec4<f32>,
 };
 
 // The world size of the largest texel side at a point: from the gradients of the map's
@@ -124,8 +129,31 @@ fn shadow_lookup(world: vec3<f32>, mode: i32) -> f32 {
     return textureSampleCompareLevel(shadow_map, shadow_nearest, uv, reference);
 }
 
+// The Jacobian of the map's texel coordinates by screen pixels at a point, reduced to
+// (1 / sigma_min, 1 / |det|). Derivatives: call in uniform control flow.
+fn sampling_metrics(world: vec3<f32>) -> vec2<f32> {
+    let clip = g.light_clip_from_world * vec4<f32>(world, 1.0);
+    let texel = (clip.xy / clip.w) * 0.5 * g.map.x;
+    // Fine derivatives: each pixel's own row and column of its 2x2 quad.
+    let jx = dpdxFine(texel);
+    let jy = dpdyFine(texel);
+    // J^T J = [[a, b], [b, c]]: its eigenvalues are the squared singular values.
+    let a = dot(jx, jx);
+    let b = dot(jx, jy);
+    let c = dot(jy, jy);
+    let half_trace = 0.5 * (a + c);
+    let root = sqrt(max(0.25 * (a - c) * (a - c) + b * b, 0.0));
+    let sigma_min = sqrt(max(half_trace - root, 0.0));
+    let det = abs(jx.x * jy.y - jx.y * jy.x);
+    if (clip.w <= 0.0) {
+        return vec2<f32>(-1.0, -1.0);
+    }
+    return vec2<f32>(1.0 / max(sigma_min, 1e-30), 1.0 / max(det, 1e-30));
+}
+
 @fragment
 fn fs_main(in: MainOut) -> Targets {
+    let sampling = sampling_metrics(in.world);
     // The geometric normal (the triangle's plane), turned toward the camera.
     var n_geo = normalize(cross(dpdx(in.world), dpdy(in.world)));
     let to_eye = g.eye.xyz - in.world;
@@ -179,6 +207,7 @@ fn fs_main(in: MainOut) -> Targets {
     out.color = vec4<f32>(in.color.rgb * light, 1.0);
     let lit = facing && lit_one_tap > 0.5;
     out.mask = vec4<f32>(select(0.0, 1.0, lit), 0.0, 0.0, 1.0);
+    out.metrics = vec4<f32>(sampling, n_dot_l_geo, 1.0);
     return out;
 }
 

@@ -602,6 +602,7 @@ impl Renderer {
                 color: color_bytes,
                 mask,
                 light_view: None,
+                metrics: None,
                 timings,
             },
             light_masks,

@@ -22,7 +22,11 @@
 //! The free parameter (section 4): n_opt = z_n + sqrt(z_f z_n) equalises the perspective
 //! aliasing error dp/ds at the near and far planes in the ideal case (view perpendicular to
 //! the light); in general n = (z_n + sqrt(z_n z_f')) / sin(gamma) with the section 4.4
-//! refinement z_f' = z_n + (Y_max - Y_min) sin(gamma). As gamma -> 0 (view along the light)
+//! refinement z_f' = z_n + (Y_max - Y_min) sin(gamma), where z_n is the view depth at which
+//! the visible scene begins: the near plane's distance in the paper's ideal case (B = the
+//! view frustum), the least view depth of P when the view reaches the scene only beyond its
+//! near plane (a distant view of the scene would otherwise be warped as if the viewer stood
+//! in it, and the map spent on one corner). As gamma -> 0 (view along the light)
 //! or 180 degrees (view into the light), n -> infinity and the map converges smoothly to the
 //! focused map. The user may set n.
 //!
@@ -90,8 +94,11 @@ impl ShadowTechnique for Lispsm {
             let inv_n_world = match self.n {
                 Some(n) => 1.0 / n,
                 None => {
-                    // n_opt / sin(gamma), with z_f replaced by z_n + (f - n) sin(gamma) (4.4).
-                    let z_n = c.input.camera.lens().near;
+                    // n_opt / sin(gamma), with z_f replaced by z_n + (f - n) sin(gamma) (4.4),
+                    // and z_n the view depth where the visible scene begins (the near plane's
+                    // distance in the paper's ideal case, farther when the view reaches the
+                    // scene only beyond it).
+                    let z_n = c.near_depth;
                     c.sin_gamma / (z_n + (z_n * (z_n + c.depth_world * c.sin_gamma)).sqrt())
                 }
             };

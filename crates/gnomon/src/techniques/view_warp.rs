@@ -111,9 +111,7 @@ impl LightSpace {
 }
 
 /// What a technique sees when it chooses its warp.
-pub(crate) struct WarpContext<'a> {
-    /// The setup's input.
-    pub input: &'a SetupInput<'a>,
+pub(crate) struct WarpContext {
     /// B's extents in light space (X, Y, Z).
     pub body_light: Extents,
     /// B's extent along light space's y axis in world units (for a directional light the
@@ -125,6 +123,9 @@ pub(crate) struct WarpContext<'a> {
     /// The eye in light space (for a spot light: its image when it is in front of the light,
     /// with X clamped to B's; else B's centre).
     pub eye_light: DVec3,
+    /// How far along the view the visible scene begins: the least view depth of P (the view
+    /// frustum clipped by the scene box), at least the camera's near distance.
+    pub near_depth: f64,
 }
 
 /// Where a warp is centred along Y and how strong it is; see [`Warp`].
@@ -353,12 +354,24 @@ pub(crate) fn view_warp_setup(
             (eye_light, body_up.1 - body_up.0)
         }
     };
+    let near_depth = visible
+        .view_body
+        .faces()
+        .flatten()
+        .map(|p| view.dot(*p - eye))
+        .fold(f64::INFINITY, f64::min);
+    let near = input.camera.lens().near;
+    let near_depth = if near_depth.is_finite() {
+        near_depth.max(near)
+    } else {
+        near
+    };
     let choice = choose(&WarpContext {
-        input,
         body_light,
         depth_world,
         sin_gamma,
         eye_light,
+        near_depth,
     });
     let warp = Warp {
         space,
