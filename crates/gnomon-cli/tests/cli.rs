@@ -714,3 +714,56 @@ fn analyze_reproduces_the_papers() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `--error-map` writes the sampling error as a heat map with a legend strip under the frame,
+/// and `--json` gives its percentiles; a bigger map lowers them (fewer pixels per texel).
+#[test]
+fn render_writes_an_error_map_and_its_percentiles() {
+    let dir = temp_dir("error-map");
+    let run = |shadow_map: &str| {
+        let path = dir.join(format!("error_{shadow_map}.png"));
+        let frame = dir.join("frame.png");
+        // RENDER without its --shadow-map.
+        let mut args: Vec<&str> = RENDER[..RENDER.len() - 2].to_vec();
+        args.extend([
+            "--shadow-map",
+            shadow_map,
+            "--out",
+            frame.to_str().unwrap(),
+            "--error-map",
+            path.to_str().unwrap(),
+            "--json",
+        ]);
+        let out = gnomon(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+        let image = image::open(&path).unwrap().into_rgba8();
+        (json, image)
+    };
+    let (small, image) = run("512");
+    let (large, _) = run("2048");
+    assert_eq!(
+        image.dimensions(),
+        (160, 90 + 30),
+        "legend strip under the frame"
+    );
+    let p = |j: &Value, k: &str| j["undersampling"][k].as_f64().unwrap();
+    for j in [&small, &large] {
+        assert!(j["undersampling"]["pixels"].as_u64().unwrap() > 5000, "{j}");
+        assert!(
+            p(j, "p50") <= p(j, "p95") && p(j, "p95") <= p(j, "p99") && p(j, "p99") <= p(j, "max")
+        );
+        assert!(j["area_undersampling"]["p50"].as_f64().unwrap() > 0.0);
+    }
+    // Four times the resolution: four times fewer pixels per texel, to a few percent.
+    let ratio = p(&small, "p50") / p(&large, "p50");
+    assert!((ratio / 4.0 - 1.0).abs() < 0.05, "p50 ratio {ratio}");
+    let mut args = RENDER.to_vec();
+    args.extend(["--technique", "volumes", "--error-map", "x.png"]);
+    assert_eq!(gnomon(&args).status.code(), Some(2));
+    std::fs::remove_dir_all(dir).unwrap();
+}
