@@ -136,11 +136,11 @@ pub fn draw(metrics: &PixelMetrics, width: u32, height: u32) -> Vec<u8> {
     out
 }
 
-/// p50, p95, p99 and max of `values` over the pixels the map measured, as JSON (null when
-/// none).
+/// p50, p95, p99 and max of `values` over the visible pixels that face the light
+/// ([`PixelMetrics::lit_facing`]: N.L > 0.1), as JSON (null when none).
 pub fn percentiles(metrics: &PixelMetrics, values: &[f32]) -> Value {
     let mut v: Vec<f64> = (0..values.len())
-        .filter(|&i| metrics.measured(i))
+        .filter(|&i| metrics.lit_facing(i))
         .map(|i| values[i] as f64)
         .filter(|x| x.is_finite())
         .collect();

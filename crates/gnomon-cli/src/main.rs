@@ -2,8 +2,9 @@
 //!
 //! Subcommands: `setup` (print the shadow-map matrices for a camera, light and scene),
 //! `render` (draw it), `export` (the scene as OBJ), `demo` (the built-in scene from its
-//! named views with every technique), `bench` (frame times side by side) and `analyze`
-//! (perspective aliasing of every technique from its matrices). Bad input
+//! named views with every technique), `bench` (frame times side by side), `analyze`
+//! (perspective aliasing of every technique from its matrices) and `compare` (every
+//! technique against the exact shadow volumes). Bad input
 //! gives a one-line error on stderr and exit code 2.
 
 #![forbid(unsafe_code)]
@@ -11,6 +12,7 @@
 mod analyze;
 mod args;
 mod bench;
+mod compare;
 mod demo;
 mod heatmap;
 mod render;
@@ -43,6 +45,9 @@ enum Command {
     /// Perspective aliasing dp/ds along the view axis of every technique, measured from its
     /// matrices in the LiSPSM paper's ideal configuration (table, JSON, plot).
     Analyze(Box<analyze::AnalyzeArgs>),
+    /// Every technique against the exact shadow volumes over named views: image grids, wrong
+    /// pixels, sampling error percentiles and times (Markdown and JSON).
+    Compare(Box<compare::CompareArgs>),
     /// Time techniques on the same scene and views (frames interleaved), with each one's
     /// ratio to the focused shadow map.
     Bench(Box<bench::BenchArgs>),
@@ -123,6 +128,7 @@ fn main() -> ExitCode {
         Command::Demo(a) => demo::run(&a),
         Command::Bench(a) => bench::run(&a),
         Command::Analyze(a) => analyze::run(&a),
+        Command::Compare(a) => compare::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

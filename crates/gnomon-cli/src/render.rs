@@ -148,7 +148,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub error_map: Option<PathBuf>,
     /// Print a JSON summary on stdout: timings, fallback, and the sampling error's
-    /// percentiles (p50, p95, p99, max) over the pixels with geometry the map sees.
+    /// percentiles (p50, p95, p99, max) over the visible pixels that face the light
+    /// (N.L > 0.1).
     #[arg(long)]
     pub json: bool,
 }

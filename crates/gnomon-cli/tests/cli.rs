@@ -767,3 +767,72 @@ fn render_writes_an_error_map_and_its_percentiles() {
     assert_eq!(gnomon(&args).status.code(), Some(2));
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `gnomon compare` renders each view with each technique and the exact volumes, and writes
+/// a grid per view, a Markdown table and JSON: wrong pixels against the volumes (a 2048 map
+/// is wrong on fewer pixels than a 256 one), undersampling percentiles, times.
+#[test]
+fn compare_writes_grids_tables_and_json() {
+    let dir = temp_dir("compare");
+    let run = |shadow_map: &str| {
+        let out = gnomon(&[
+            "compare",
+            "--views",
+            "street,low_sun",
+            "--techniques",
+            "focused,lispsm",
+            "--shadow-map",
+            shadow_map,
+            "--size",
+            "240x135",
+            "--out",
+            dir.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap())
+                .unwrap();
+        json
+    };
+    let coarse = run("256");
+    let fine = run("2048");
+    let markdown = std::fs::read_to_string(dir.join("index.md")).unwrap();
+    assert!(markdown.contains("| focused |") && markdown.contains("## street"));
+    for view in ["street", "low_sun"] {
+        let grid = image::open(dir.join(format!("{view}.png"))).unwrap();
+        // Three columns; a row per technique and one for the volumes, each with the legend.
+        assert_eq!((grid.width(), grid.height()), (3 * 240, 3 * (135 + 30)));
+    }
+    let wrong = |json: &Value, view: usize, technique: usize| {
+        json["views"][view]["techniques"][technique]["wrong_percent"]
+            .as_f64()
+            .unwrap()
+    };
+    for view in 0..2 {
+        for technique in 0..2 {
+            let row = &fine["views"][view]["techniques"][technique];
+            assert!(row["compared_pixels"].as_u64().unwrap() > 5000, "{row}");
+            assert!(row["undersampling"]["p99"].as_f64().unwrap() > 0.0, "{row}");
+            assert!(row["frame_ms"].as_f64().unwrap() > 0.0, "{row}");
+            let (c, f) = (
+                wrong(&coarse, view, technique),
+                wrong(&fine, view, technique),
+            );
+            assert!(
+                f < 5.0 && f < c,
+                "view {view} technique {technique}: {f}% vs {c}%"
+            );
+        }
+    }
+    for bad in [
+        vec!["compare", "--views", "nowhere"],
+        vec!["compare", "--techniques", "blurry"],
+    ] {
+        assert_eq!(gnomon(&bad).status.code(), Some(2), "{bad:?}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -117,7 +117,8 @@ pub struct Frame {
 pub struct PixelMetrics {
     /// Pixels per texel along the worst direction, 1 / sigma_min(J): 1 = one texel per
     /// pixel, above 1 the map is undersampled (a texel spans several pixels). 0 where the
-    /// pixel has no geometry, NaN where the map does not see the point.
+    /// pixel has no geometry, negative where the map does not see the point, at most 10^6
+    /// (a surface edge-on to the light).
     pub undersampling: Vec<f32>,
     /// Pixels per texel in area, 1 / |det J| (the SPPSM paper's area measure, its eq. 3).
     pub area: Vec<f32>,
@@ -142,6 +143,13 @@ impl PixelMetrics {
     /// Whether pixel `i` has geometry that the map sees.
     pub fn measured(&self, i: usize) -> bool {
         self.undersampling[i] > 0.0 && self.undersampling[i].is_finite()
+    }
+
+    /// Whether pixel `i` has geometry that the map sees and that faces the light
+    /// (N.L > 0.1): where the shadow map's sampling shows (elsewhere the light does not
+    /// reach, and surfaces edge-on to the light are not resolved by any map).
+    pub fn lit_facing(&self, i: usize) -> bool {
+        self.measured(i) && self.n_dot_l[i] > 0.1
     }
 }
 

@@ -148,7 +148,8 @@ fn sampling_metrics(world: vec3<f32>) -> vec2<f32> {
     if (clip.w <= 0.0) {
         return vec2<f32>(-1.0, -1.0);
     }
-    return vec2<f32>(1.0 / max(sigma_min, 1e-30), 1.0 / max(det, 1e-30));
+    // At most a million pixels per texel: a surface edge-on to the light is not resolved.
+    return vec2<f32>(1.0 / max(sigma_min, 1e-6), 1.0 / max(det, 1e-6));
 }
 
 @fragment

@@ -34,7 +34,15 @@ pub const DEMO_VIEWS: &[DemoView] = &[
         eye: [260.0, 190.0, 260.0],
         target: [0.0, 0.0, 0.0],
         light_direction: [-0.4, -1.0, -0.25],
-        description: "the whole scene from high up, sun high",
+        description: "the whole scene from high up, sun high behind the viewer",
+    },
+    DemoView {
+        name: "overhead_sun",
+        far: 400.0,
+        eye: [-150.0, 60.0, 150.0],
+        target: [0.0, 0.0, 0.0],
+        light_direction: [0.05, -1.0, 0.08],
+        description: "the city at noon: the sun straight overhead, short shadows",
     },
     DemoView {
         name: "street",
@@ -67,6 +75,14 @@ pub const DEMO_VIEWS: &[DemoView] = &[
         target: [0.0, 0.0, 0.0],
         light_direction: [-0.55, -0.65, -0.55],
         description: "looking along the light",
+    },
+    DemoView {
+        name: "light_behind",
+        far: 400.0,
+        eye: [-190.0, 14.0, 58.0],
+        target: [0.0, 4.0, 10.0],
+        light_direction: [0.85, -0.4, -0.15],
+        description: "a low sun behind the viewer, shadows falling away from the camera",
     },
 ];
 

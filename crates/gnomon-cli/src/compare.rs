@@ -1,0 +1,337 @@
+//! `gnomon compare`: every technique against the exact shadow volumes, view by view: an image
+//! grid (frame, mask errors, sampling error map) and a table per view (wrong pixels, the
+//! sampling error's percentiles, setup and frame times), as Markdown and JSON.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use gnomon::{ShadowTechnique, Technique};
+use gnomon_render::{
+    Filter, Frame, Gpu, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderScene, RenderSettings, Renderer,
+    StencilMode,
+};
+use gnomon_scene::DEMO_VIEWS;
+use serde_json::{Value, json};
+
+use crate::args::{TechniqueParams, scene_layout, timed_setup};
+use crate::demo::view_camera_and_light;
+use crate::render::{parse_size, write_png};
+use crate::{CliError, heatmap};
+
+/// `gnomon compare`.
+#[derive(Debug, Clone, Args)]
+pub struct CompareArgs {
+    /// The scene: a built-in scene with named views.
+    #[arg(long, default_value = "demo")]
+    pub scene: String,
+    /// The views: `all` or names, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "all")]
+    pub views: Vec<String>,
+    /// The shadow-map techniques: `all` or names, comma-separated (the exact shadow volumes
+    /// are always drawn: they are the reference).
+    #[arg(long, value_delimiter = ',', default_value = "all")]
+    pub techniques: Vec<String>,
+    #[command(flatten)]
+    pub params: TechniqueParams,
+    /// Shadow-map resolution in texels.
+    #[arg(long, default_value_t = 1024)]
+    pub shadow_map: u32,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "640x360", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Where to write the report (index.md, report.json, one grid image per view).
+    #[arg(long, default_value = "gnomon-compare")]
+    pub out: PathBuf,
+}
+
+/// Share of N.L > 0.1 pixels a map gets wrong against the exact mask.
+#[derive(Debug, Clone, Copy, Default)]
+struct MaskErrors {
+    compared: usize,
+    false_shadow: usize,
+    missed_shadow: usize,
+}
+
+impl MaskErrors {
+    fn wrong_percent(&self) -> f64 {
+        100.0 * (self.false_shadow + self.missed_shadow) as f64 / self.compared.max(1) as f64
+    }
+}
+
+/// Colours of the mask-error image.
+const FALSE_SHADOW: [u8; 3] = [230, 30, 30];
+const MISSED_SHADOW: [u8; 3] = [30, 110, 245];
+
+/// Compares a map's mask with the exact one on the pixels with N.L > 0.1, and draws the
+/// frame in grey with false shadow in red and missed shadow in blue.
+fn mask_errors(map: &Frame, exact: &Frame) -> (MaskErrors, Vec<u8>) {
+    let metrics = map.metrics.as_ref().expect("metrics asked for");
+    let mut errors = MaskErrors::default();
+    let mut image = Vec::with_capacity(map.color.len());
+    for (i, rgba) in map.color.chunks_exact(4).enumerate() {
+        let grey = (0.3 * rgba[0] as f64 + 0.59 * rgba[1] as f64 + 0.11 * rgba[2] as f64) as u8;
+        let mut rgb = [grey / 2 + 64; 3];
+        let (m, e) = (map.mask[i], exact.mask[i]);
+        if m != MASK_EMPTY && e != MASK_EMPTY && metrics.n_dot_l[i] > 0.1 {
+            errors.compared += 1;
+            if m == MASK_UNLIT && e == MASK_LIT {
+                errors.false_shadow += 1;
+                rgb = FALSE_SHADOW;
+            } else if m == MASK_LIT && e == MASK_UNLIT {
+                errors.missed_shadow += 1;
+                rgb = MISSED_SHADOW;
+            }
+        }
+        image.extend_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
+    }
+    (errors, image)
+}
+
+/// The techniques named on the command line.
+fn techniques(args: &CompareArgs) -> Result<Vec<Technique>, CliError> {
+    if args.techniques.iter().any(|t| t == "all") {
+        return Ok(Technique::all()
+            .into_iter()
+            .map(|t| args.params.apply(t))
+            .collect());
+    }
+    args.techniques
+        .iter()
+        .map(|name| {
+            name.parse::<Technique>()
+                .map(|t| args.params.apply(t))
+                .map_err(|e| CliError::usage(e.to_string()))
+        })
+        .collect()
+}
+
+/// Runs `gnomon compare`.
+pub fn run(args: &CompareArgs) -> Result<(), CliError> {
+    let started = Instant::now();
+    let layout = scene_layout(&args.scene)?;
+    if args.scene != "demo" {
+        return Err(CliError::usage(format!(
+            "scene '{}' has no named views to compare",
+            args.scene
+        )));
+    }
+    let views: Vec<_> = if args.views.iter().any(|v| v == "all") {
+        DEMO_VIEWS.iter().collect()
+    } else {
+        args.views
+            .iter()
+            .map(|name| {
+                DEMO_VIEWS.iter().find(|v| v.name == name).ok_or_else(|| {
+                    CliError::usage(format!(
+                        "unknown view '{name}' (known: all, {})",
+                        DEMO_VIEWS
+                            .iter()
+                            .map(|v| v.name)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ))
+                })
+            })
+            .collect::<Result<_, _>>()?
+    };
+    let techniques = techniques(args)?;
+    if techniques.is_empty() || views.is_empty() {
+        return Err(CliError::usage("nothing to compare"));
+    }
+    let scene = RenderScene::from_layout(&layout);
+    let bounds = scene.bounds()?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
+    let renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let (width, height) = args.size;
+    let settings = RenderSettings {
+        width,
+        height,
+        filter: Filter::Hardware2x2,
+        metrics: true,
+        ..RenderSettings::default()
+    };
+    let progress = indicatif::ProgressBar::new((views.len() * (techniques.len() + 1)) as u64);
+    progress.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
+            .expect("a valid template"),
+    );
+    let mut markdown = format!(
+        "# gnomon compare: {} scene\n\n{}x{} pixels, {}x{} shadow maps, rendered on {}. Wrong \
+         pixels: share of the pixels with N.L > 0.1 whose one-tap shadow-map mask differs from \
+         the exact shadow volumes' (false shadow: shadowed by the map, lit in fact; missed \
+         shadow: the reverse). Undersampling: pixels per texel along the worst direction \
+         (1 = one texel per pixel), over the same pixels. Frame: setup + shadow pass + main pass, GPU waited.\n\n\
+         Each grid has one row per technique in the table's order, then the exact shadow \
+         volumes; columns: the frame, the mask errors (red: false shadow, blue: missed \
+         shadow), the sampling error map.\n",
+        layout.name,
+        width,
+        height,
+        args.shadow_map,
+        args.shadow_map,
+        renderer.gpu().describe()
+    );
+    // One untimed frame first: the first draw compiles the pipelines.
+    if let Some(view) = views.first() {
+        let (camera, light) = view_camera_and_light(view, width as f64 / height as f64)?;
+        let (setup, _) = timed_setup(&techniques[0], &camera, &light, &bounds, args.shadow_map)?;
+        renderer.render(&camera, &light, &setup, &settings)?;
+        renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
+    }
+    let mut report = Vec::new();
+    let mut summary: Vec<(String, Vec<f64>, Vec<f64>)> = techniques
+        .iter()
+        .map(|t| (t.name().to_string(), Vec::new(), Vec::new()))
+        .collect();
+    for view in &views {
+        let (camera, light) = view_camera_and_light(view, width as f64 / height as f64)?;
+        progress.set_message(format!("{}: volumes", view.name));
+        let exact = renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
+        let exact_ms = exact.frame.timings.shadow_pass_ms + exact.frame.timings.main_pass_ms;
+        progress.inc(1);
+        // The grid: cells of the frame's size plus the error map's legend strip.
+        let cell_height = height + 30;
+        let grid_width = 3 * width;
+        let grid_height = cell_height * (techniques.len() as u32 + 1);
+        let mut grid = vec![255u8; (grid_width * grid_height * 4) as usize];
+        let mut paste = |image: &[u8], w: u32, h: u32, column: u32, row: u32| {
+            for y in 0..h {
+                let from = (y * w * 4) as usize;
+                let to = (((row * cell_height + y) * grid_width + column * width) * 4) as usize;
+                grid[to..to + (w * 4) as usize]
+                    .copy_from_slice(&image[from..from + (w * 4) as usize]);
+            }
+        };
+        let mut rows = Vec::new();
+        for (k, technique) in techniques.iter().enumerate() {
+            progress.set_message(format!("{}: {}", view.name, technique.name()));
+            let (setup, setup_us) =
+                timed_setup(technique, &camera, &light, &bounds, args.shadow_map)?;
+            let frame = renderer.render(&camera, &light, &setup, &settings)?;
+            let metrics = frame.metrics.as_ref().expect("metrics asked for");
+            let (errors, error_image) = mask_errors(&frame, &exact.frame);
+            let t = frame.timings;
+            let frame_ms = setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms;
+            let undersampling = heatmap::percentiles(metrics, &metrics.undersampling);
+            paste(&frame.color, width, height, 0, k as u32);
+            paste(&error_image, width, height, 1, k as u32);
+            paste(
+                &heatmap::draw(metrics, width, height),
+                width,
+                cell_height,
+                2,
+                k as u32,
+            );
+            summary[k].1.push(errors.wrong_percent());
+            summary[k]
+                .2
+                .push(undersampling["p99"].as_f64().unwrap_or(f64::NAN));
+            rows.push(json!({
+                "technique": technique.name(),
+                "fallback": setup.fallback().map(|f| f.name()),
+                "wrong_percent": errors.wrong_percent(),
+                "false_shadow_percent": 100.0 * errors.false_shadow as f64 / errors.compared.max(1) as f64,
+                "missed_shadow_percent": 100.0 * errors.missed_shadow as f64 / errors.compared.max(1) as f64,
+                "compared_pixels": errors.compared,
+                "undersampling": undersampling,
+                "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
+                "setup_us": setup_us,
+                "frame_ms": frame_ms,
+            }));
+            progress.inc(1);
+        }
+        let row = techniques.len() as u32;
+        paste(&exact.frame.color, width, height, 0, row);
+        let exact_mask: Vec<u8> = exact
+            .frame
+            .mask
+            .iter()
+            .flat_map(|&m| [m, m, m, 255])
+            .collect();
+        paste(&exact_mask, width, height, 1, row);
+        let grid_path = args.out.join(format!("{}.png", view.name));
+        write_png(
+            &grid_path,
+            grid_width,
+            grid_height,
+            image::ColorType::Rgba8,
+            &grid,
+        )?;
+        let _ = write!(
+            markdown,
+            "\n## {} ({})\n\nExact shadow volumes: frame {exact_ms:.1} ms.\n\n\
+             | technique | wrong pixels | false shadow | missed shadow | undersampling p50 | p95 | p99 | max | setup (us) | frame (ms) | fallback |\n\
+             | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |\n",
+            view.name, view.description
+        );
+        for r in &rows {
+            let u = &r["undersampling"];
+            let f = |v: &Value| v.as_f64().map_or("-".to_string(), |x| format!("{x:.2}"));
+            let _ = writeln!(
+                markdown,
+                "| {} | {:.3}% | {:.3}% | {:.3}% | {} | {} | {} | {} | {:.1} | {:.1} | {} |",
+                r["technique"].as_str().unwrap_or_default(),
+                r["wrong_percent"].as_f64().unwrap_or_default(),
+                r["false_shadow_percent"].as_f64().unwrap_or_default(),
+                r["missed_shadow_percent"].as_f64().unwrap_or_default(),
+                f(&u["p50"]),
+                f(&u["p95"]),
+                f(&u["p99"]),
+                f(&u["max"]),
+                r["setup_us"].as_f64().unwrap_or_default(),
+                r["frame_ms"].as_f64().unwrap_or_default(),
+                r["fallback"].as_str().unwrap_or("none"),
+            );
+        }
+        let _ = writeln!(markdown, "\n![{}]({}.png)", view.name, view.name);
+        report.push(json!({
+            "view": view.name,
+            "description": view.description,
+            "volumes_frame_ms": exact_ms,
+            "techniques": rows,
+        }));
+    }
+    progress.finish_and_clear();
+    let _ = write!(
+        markdown,
+        "\n## Over all views\n\n| technique | mean wrong pixels | worst view | mean undersampling p99 |\n| --- | ---: | ---: | ---: |\n"
+    );
+    for (name, wrong, p99) in &summary {
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+        let worst = wrong.iter().copied().fold(0.0, f64::max);
+        let _ = writeln!(
+            markdown,
+            "| {name} | {:.3}% | {worst:.3}% | {:.2} |",
+            mean(wrong),
+            mean(p99)
+        );
+    }
+    let write = |name: &str, text: &str| {
+        let path = args.out.join(name);
+        std::fs::write(&path, text)
+            .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))
+    };
+    write("index.md", &markdown)?;
+    write(
+        "report.json",
+        &serde_json::to_string_pretty(&json!({
+            "scene": layout.name,
+            "size": [width, height],
+            "shadow_map": args.shadow_map,
+            "device": renderer.gpu().describe(),
+            "views": report,
+        }))
+        .expect("JSON of plain values"),
+    )?;
+    eprintln!(
+        "compared {} techniques over {} views in {:.1} s",
+        techniques.len(),
+        views.len(),
+        started.elapsed().as_secs_f64()
+    );
+    println!("wrote {}", args.out.join("index.md").display());
+    Ok(())
+}
