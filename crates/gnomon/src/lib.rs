@@ -49,11 +49,11 @@ pub use camera::{Camera, Lens};
 pub use error::SetupError;
 pub use light::{DirectionalLight, Light, SPOT_NEAR_FRACTION, SpotLight};
 pub use setup::{
-    Diagnostics, Fallback, LightFrameKind, MAX_RESOLUTION, MIN_RESOLUTION, MapProjection,
-    MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique, Technique,
-    UnknownTechnique, compute_setup,
+    CastersBySide, Diagnostics, Fallback, LightFrameKind, MAX_RESOLUTION, MIN_RESOLUTION,
+    MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
+    Technique, UnknownTechnique, compute_setup,
 };
-pub use techniques::{Focused, Lispsm, Psm, Tsm, Uniform, Xpsm};
+pub use techniques::{Focused, Lispsm, PerspectiveMap, Psm, Sppsm, Tsm, Uniform, Xpsm};
 
 /// Largest magnitude accepted for positions and distances (world units). Beyond it `f32`
 /// GPU matrices lose all precision; inputs above it are rejected with

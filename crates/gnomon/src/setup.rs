@@ -9,7 +9,7 @@ use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::error::SetupError;
 use crate::light::Light;
-use crate::techniques::{Focused, Lispsm, Psm, Tsm, Uniform, Xpsm};
+use crate::techniques::{Focused, Lispsm, Psm, Sppsm, Tsm, Uniform, Xpsm};
 
 /// Smallest supported shadow-map resolution, in texels.
 pub const MIN_RESOLUTION: u32 = 8;
@@ -135,6 +135,13 @@ impl ShadowMap {
 pub enum MapSelection {
     /// There is one map.
     Single,
+    /// Two maps and a world plane (a, b, c, d) with (a, b, c) of unit length: a point p
+    /// reads `maps[1]` where a p.x + b p.y + c p.z + d > 0, else `maps[0]` (SPPSM: the
+    /// perspective map on the positive side, the focused map on the other).
+    Plane {
+        /// The plane, world space.
+        plane_world: DVec4,
+    },
 }
 
 impl MapSelection {
@@ -142,8 +149,30 @@ impl MapSelection {
     pub fn kind(&self) -> &'static str {
         match self {
             MapSelection::Single => "single",
+            MapSelection::Plane { .. } => "plane",
         }
     }
+
+    /// Which map the world point `p` reads (an index into [`ShadowSetup::maps`]).
+    pub fn map_for(&self, p: DVec3) -> usize {
+        match self {
+            MapSelection::Single => 0,
+            MapSelection::Plane { plane_world } => {
+                usize::from(plane_world.truncate().dot(p) + plane_world.w > 0.0)
+            }
+        }
+    }
+}
+
+/// How a two-map setup's caster boxes fall on its plane (what each depth pass draws).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct CastersBySide {
+    /// Wholly on the focused map's side: drawn into it only.
+    pub focused_only: usize,
+    /// Wholly on the perspective map's side: drawn into it only.
+    pub perspective_only: usize,
+    /// Straddling the plane: drawn into both.
+    pub both: usize,
 }
 
 /// A degenerate but valid configuration and what the technique did about it.
@@ -169,6 +198,9 @@ pub enum Fallback {
     /// The technique's paper defines its warp for directional lights only (TSM, XPSM); for a
     /// spot light the focused map is used.
     SpotLightNotWarped,
+    /// SPPSM: the separating plane is undefined (the perspective map fell back, or the two
+    /// maps sample alike everywhere); the focused map alone is used.
+    NoSeparatingPlane,
 }
 
 impl Fallback {
@@ -182,6 +214,7 @@ impl Fallback {
             Fallback::NoCasterForReceivers => "no_caster_for_receivers",
             Fallback::DegenerateFocusBody => "degenerate_focus_body",
             Fallback::SpotLightNotWarped => "spot_light_not_warped",
+            Fallback::NoSeparatingPlane => "no_separating_plane",
         }
     }
 
@@ -208,6 +241,9 @@ impl Fallback {
             }
             Fallback::SpotLightNotWarped => {
                 "this technique's warp is defined for directional lights only; the focused map is used"
+            }
+            Fallback::NoSeparatingPlane => {
+                "the separating plane is undefined (the perspective map fell back or both maps sample alike); the focused map alone is used"
             }
         }
     }
@@ -264,6 +300,8 @@ pub struct Diagnostics {
     pub focus_body_vertices: usize,
     /// Whether the scene box had to grow to hold every box.
     pub scene_box_grown: bool,
+    /// Two-map setups (SPPSM): how the caster boxes fall on the plane.
+    pub casters_by_side: Option<CastersBySide>,
 }
 
 impl Diagnostics {
@@ -279,6 +317,7 @@ impl Diagnostics {
             casters_clipped_by_light_near: 0,
             focus_body_vertices: 0,
             scene_box_grown: scene.scene_box_grown(),
+            casters_by_side: None,
         }
     }
 }
@@ -340,12 +379,16 @@ pub enum Technique {
     Xpsm(Xpsm),
     /// Perspective shadow map (PSM).
     Psm(Psm),
+    /// Separating-plane perspective shadow maps (SPPSM): the focused map and a perspective
+    /// one.
+    Sppsm(Sppsm),
 }
 
 impl Technique {
     /// The names [`Technique::from_str`] accepts.
-    pub const NAMES: &'static [&'static str] =
-        &["uniform", "focused", "psm", "lispsm", "tsm", "xpsm"];
+    pub const NAMES: &'static [&'static str] = &[
+        "uniform", "focused", "psm", "lispsm", "tsm", "xpsm", "sppsm",
+    ];
 
     /// Each technique with default parameters.
     pub fn all() -> Vec<Technique> {
@@ -363,6 +406,7 @@ impl Technique {
             Technique::Tsm(t) => t,
             Technique::Xpsm(t) => t,
             Technique::Psm(t) => t,
+            Technique::Sppsm(t) => t,
         }
     }
 }
@@ -405,6 +449,7 @@ impl FromStr for Technique {
             "tsm" => Ok(Technique::Tsm(Tsm::default())),
             "xpsm" => Ok(Technique::Xpsm(Xpsm::default())),
             "psm" => Ok(Technique::Psm(Psm::default())),
+            "sppsm" => Ok(Technique::Sppsm(Sppsm::default())),
             _ => Err(UnknownTechnique(s.to_string())),
         }
     }

@@ -11,12 +11,14 @@
 //!   0 <= z <= 1, and so does that caster point; no visible receiver point lands beyond the
 //!   far plane (z > 1 would shadow it wrongly);
 //! - the focused map covers the visible receivers at least as tightly as the uniform map
-//!   (its inset square's footprint in the map plane is no larger).
+//!   (its inset square's footprint in the map plane is no larger);
+//! - SPPSM (two maps and a plane): the same, for the map each receiver point's side of the
+//!   plane picks, with its shadowing caster points in that same map.
 
 use glam::{DVec3, DVec4};
 use gnomon::{
     Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, Psm, SceneBounds,
-    ShadowMap, ShadowSetup, SpotLight, Technique, Tsm, Uniform, Xpsm, compute_setup,
+    ShadowMap, ShadowSetup, SpotLight, Sppsm, Technique, Tsm, Uniform, Xpsm, compute_setup,
 };
 use proptest::prelude::*;
 use proptest::test_runner::TestRng;
@@ -369,17 +371,22 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
     let tsm = setup(Technique::Tsm(Tsm::default()))?;
     let xpsm = setup(Technique::Xpsm(Xpsm::default()))?;
     let psm = setup(Technique::Psm(Psm::default()))?;
+    let sppsm = setup(Technique::Sppsm(Sppsm::default()))?;
     let mut rng = TestRng::from_seed(
         proptest::test_runner::RngAlgorithm::ChaCha,
         &[seed as u8; 32],
     );
     let points = visible_receiver_points(cfg, &mut rng);
-    for setup in [&uniform, &focused, &lispsm, &tsm, &xpsm, &psm] {
-        let map = &setup.maps[0];
-        if !(map.clip_from_world.is_finite() && map.depth_from_world.is_finite()) {
-            return Err(format!("{}: non-finite matrix", setup.technique));
+    for setup in [&uniform, &focused, &lispsm, &tsm, &xpsm, &psm, &sppsm] {
+        for map in &setup.maps {
+            if !(map.clip_from_world.is_finite() && map.depth_from_world.is_finite()) {
+                return Err(format!("{}: non-finite matrix", setup.technique));
+            }
         }
         for &r in &points {
+            // Two-map setups: the receiver reads the map its side of the plane picks, and the
+            // casters shadowing it (on the same light ray, so on the same side) must be there.
+            let map = &setup.maps[setup.selection.map_for(r)];
             let ctx = |e: String| {
                 format!(
                     "{} ({:?}): receiver: {e}",

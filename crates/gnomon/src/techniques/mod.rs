@@ -3,6 +3,7 @@
 mod focused;
 mod lispsm;
 mod psm;
+mod sppsm;
 mod tsm;
 mod uniform;
 mod view_warp;
@@ -11,6 +12,7 @@ mod xpsm;
 pub use focused::Focused;
 pub use lispsm::Lispsm;
 pub use psm::Psm;
+pub use sppsm::{PerspectiveMap, Sppsm, ray_area_density, separating_plane};
 pub use tsm::Tsm;
 pub use uniform::Uniform;
 pub(crate) use uniform::fixed_projector;

@@ -1,0 +1,375 @@
+//! Separating-plane perspective shadow maps (SPPSM).
+//!
+//! Mikkelsen, "Separating-Plane Perspective Shadow Mapping" (2007),
+//! `shared/papers/sppsm-separating-plane-mikkelsen-2007.md`.
+//!
+//! Two maps for the same camera and light: the focused map (FSM) and a perspective one (PSM
+//! as in the paper, or LiSPSM, TSM, XPSM). For a map M (world to unnormalised texel
+//! coordinates), the area a screen pixel covers in the map is |det J| (section 3.1); the paper
+//! shows (sections 3.2, 5) that for maps sharing the light's projection the comparison
+//! |det J_P| > |det J_F| is the side of a plane through the light's eye point (eq. 7):
+//!
+//! ```text
+//! cbrt|det M_P| w_F - cbrt|det M_F| w_P > 0
+//! ```
+//!
+//! where det M is the determinant of the map's rows (x, y, w) on the rays of the light and w
+//! its homogeneous w. Every map here is constant along the light's rays (its rows x, y and w
+//! vanish on the light's eye point), so the rows can be written in coordinates of the rays:
+//! for a spot light the direction from the light, u = p - L (then det M is the paper's
+//! det(A_34)); for a directional light the light-plane coordinates (X, Y, 1) of a point
+//! (p = X right + Y up + Z d), where the paper's 3x3 minor vanishes for orthographic maps but
+//! the same comparison holds with det M of the 2D projective map (X, Y) -> texel (the
+//! Jacobian by the screen is that map's Jacobian times one shared by both maps). The plane
+//! then contains the light direction.
+//!
+//! Iterative focusing (section 6): each map is refocused on the part of I (the scene seen by
+//! the camera and the light) on its side of the plane, and the plane recomputed; in the last
+//! iteration the plane is kept, so that I's part on the plane stays inside both focus regions
+//! and the sign of the plane alone picks the map. Refocusing hands the technique the scene
+//! with every box cut to the half-space (the box around each cut part): the plane contains
+//! the light's rays, so a caster's part on the other side cannot shadow a receiver on this
+//! side.
+//!
+//! Selection: [`MapSelection::Plane`], positive side = the perspective map (`maps[1]`),
+//! negative side = the focused map (`maps[0]`). Degenerate cases: when the perspective
+//! technique falls back (its warp is undefined: view along the light, spot lights for TSM
+//! and XPSM, a flat B) or the two maps sample alike everywhere, the plane is undefined and
+//! the focused map alone is used ([`Fallback::NoSeparatingPlane`]); nothing visible gives
+//! the uniform map as for every technique.
+
+use glam::{DMat3, DVec3, DVec4};
+
+use crate::bounds::{Aabb, SceneBounds};
+use crate::error::SetupError;
+use crate::light::Light;
+use crate::setup::{
+    CastersBySide, Fallback, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
+};
+use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};
+
+/// The perspective map of an SPPSM setup.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PerspectiveMap {
+    /// Perspective shadow maps (the paper's choice).
+    Psm(Psm),
+    /// Light space perspective shadow maps.
+    Lispsm(Lispsm),
+    /// Trapezoidal shadow maps.
+    Tsm(Tsm),
+    /// Extended perspective shadow maps.
+    Xpsm(Xpsm),
+}
+
+impl PerspectiveMap {
+    /// The names [`PerspectiveMap::from_name`] accepts.
+    pub const NAMES: &'static [&'static str] = &["psm", "lispsm", "tsm", "xpsm"];
+
+    /// The technique with default parameters by name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name.to_ascii_lowercase().as_str() {
+            "psm" => Self::Psm(Psm::default()),
+            "lispsm" => Self::Lispsm(Lispsm::default()),
+            "tsm" => Self::Tsm(Tsm::default()),
+            "xpsm" => Self::Xpsm(Xpsm::default()),
+            _ => return None,
+        })
+    }
+
+    fn as_dyn(&self) -> &dyn ShadowTechnique {
+        match self {
+            Self::Psm(t) => t,
+            Self::Lispsm(t) => t,
+            Self::Tsm(t) => t,
+            Self::Xpsm(t) => t,
+        }
+    }
+
+    /// The technique's name.
+    pub fn name(&self) -> &'static str {
+        self.as_dyn().name()
+    }
+}
+
+/// Separating-plane perspective shadow maps (Mikkelsen 2007): the focused map and a
+/// perspective map, each pixel reading the one with the better area sampling; see the module
+/// documentation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sppsm {
+    /// The perspective map: PSM, LiSPSM, TSM or XPSM (with its parameters).
+    pub perspective: PerspectiveMap,
+    /// Focusing iterations, 1 to 20: 1 focuses both maps on all of I.
+    pub iterations: u32,
+}
+
+impl Default for Sppsm {
+    /// PSM (as in the paper's implementation) and 10 iterations.
+    fn default() -> Self {
+        Self {
+            perspective: PerspectiveMap::Psm(Psm::default()),
+            iterations: 10,
+        }
+    }
+}
+
+impl Sppsm {
+    /// The most focusing iterations allowed.
+    pub const MAX_ITERATIONS: u32 = 20;
+
+    fn validate(&self) -> Result<(), SetupError> {
+        if !(1..=Self::MAX_ITERATIONS).contains(&self.iterations) {
+            return Err(SetupError::InvalidParameter {
+                name: "sppsm iterations (1 to 20)",
+                value: self.iterations as f64,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A map's rows (x, y, w) on the light's rays, in unnormalised texel units: for a
+/// directional light on the light-plane coordinates (X, Y, 1), for a spot light on the
+/// direction u = p - L from the light. Rows of the returned matrix: x, y, w.
+fn ray_rows(map: &ShadowMap, basis: &[DVec4; 3]) -> DMat3 {
+    let m = map.clip_from_world;
+    let texel = 0.5 * map.resolution as f64;
+    let row = |r: usize| basis.map(|b| m.row(r).dot(b));
+    let (x, y, w) = (row(0), row(1), row(3));
+    // Unnormalised texel coordinates: (x + w, y + w) res / 2 over w; adding w to x and y
+    // leaves the determinant alone, the scale does not.
+    DMat3::from_cols_array(&[
+        texel * x[0],
+        texel * y[0],
+        w[0],
+        texel * x[1],
+        texel * y[1],
+        w[1],
+        texel * x[2],
+        texel * y[2],
+        w[2],
+    ])
+}
+
+/// The basis in which the maps' rows are compared, and how a 3-vector of coefficients in it
+/// becomes a world plane (n, d): for a directional light (right, 0), (up, 0), (0, 1); for a
+/// spot light the world axes as directions from the light.
+fn ray_basis(light: &Light) -> ([DVec4; 3], impl Fn(DVec3) -> DVec4) {
+    match light {
+        Light::Directional(d) => {
+            let forward = d.direction();
+            let right = forward.any_orthonormal_vector();
+            let up = right.cross(forward);
+            (
+                [right.extend(0.0), up.extend(0.0), DVec4::W],
+                Box::new(move |l: DVec3| (l.x * right + l.y * up).extend(l.z))
+                    as Box<dyn Fn(DVec3) -> DVec4>,
+            )
+        }
+        Light::Spot(s) => {
+            let position = s.position();
+            (
+                [DVec4::X, DVec4::Y, DVec4::Z],
+                Box::new(move |l: DVec3| l.extend(-l.dot(position))) as Box<dyn Fn(DVec3) -> DVec4>,
+            )
+        }
+    }
+}
+
+/// The separating plane of eq. 7 in world space, normalised (|n| = 1): positive where the
+/// perspective map covers a pixel with more texels (larger |det J|) than the focused map.
+/// `None` when the plane is undefined (the maps sample alike everywhere, or a map is
+/// singular on the light's rays).
+pub fn separating_plane(
+    focused: &ShadowMap,
+    perspective: &ShadowMap,
+    light: &Light,
+) -> Option<DVec4> {
+    let (basis, to_world) = ray_basis(light);
+    let (f, p) = (ray_rows(focused, &basis), ray_rows(perspective, &basis));
+    let (det_f, det_p) = (f.determinant().abs().cbrt(), p.determinant().abs().cbrt());
+    // Rows of a DMat3 built column by column: row 2 (w) is (col0.z, col1.z, col2.z).
+    let w = |m: &DMat3| DVec3::new(m.x_axis.z, m.y_axis.z, m.z_axis.z);
+    let coefficients = det_p * w(&f) - det_f * w(&p);
+    let plane = to_world(coefficients);
+    let length = plane.truncate().length();
+    if !(length.is_finite() && length > 1e-12 * (det_p * w(&f).length() + det_f * w(&p).length()))
+        || det_f == 0.0
+        || det_p == 0.0
+    {
+        return None;
+    }
+    Some(plane / length)
+}
+
+/// |det J| of a map at a world point, J the Jacobian of its unnormalised texel coordinates
+/// with respect to the light-ray coordinates of [`separating_plane`] (the screen's Jacobian
+/// is this times a factor both maps share): |det M| / w^3.
+pub fn ray_area_density(map: &ShadowMap, light: &Light, p: DVec3) -> f64 {
+    let (basis, _) = ray_basis(light);
+    let m = ray_rows(map, &basis);
+    let w = map.clip_from_world.row(3).dot(p.extend(1.0));
+    m.determinant().abs() / w.abs().powi(3)
+}
+
+/// The box's part on the side `sign` (1 or -1) of `plane`, as the box around it; `None` when
+/// nothing of it is there.
+fn cut_box(b: &Aabb, plane: DVec4, sign: f64) -> Option<Aabb> {
+    let corners = b.corners();
+    let side = |p: DVec3| sign * (plane.truncate().dot(p) + plane.w);
+    let values = corners.map(side);
+    if values.iter().all(|v| *v >= 0.0) {
+        return Some(*b);
+    }
+    let mut min = DVec3::INFINITY;
+    let mut max = DVec3::NEG_INFINITY;
+    let mut add = |p: DVec3| {
+        min = min.min(p);
+        max = max.max(p);
+    };
+    for (k, c) in corners.iter().enumerate() {
+        if values[k] >= 0.0 {
+            add(*c);
+        }
+    }
+    // Edges: corners whose indices differ in one bit (Aabb::corners orders x, y, z bits).
+    for a in 0..8 {
+        for bit in [1, 2, 4] {
+            let b_index = a ^ bit;
+            if a < b_index && (values[a] >= 0.0) != (values[b_index] >= 0.0) {
+                let t = values[a] / (values[a] - values[b_index]);
+                add(corners[a] + (corners[b_index] - corners[a]) * t);
+            }
+        }
+    }
+    if !(min.is_finite() && max.is_finite()) {
+        return None;
+    }
+    Aabb::new(min, max.max(min)).ok()
+}
+
+/// The scene with every box cut to the side `sign` of `plane`, or `None` when no receiver is
+/// left there.
+fn scene_on_side(scene: &SceneBounds, plane: DVec4, sign: f64) -> Option<SceneBounds> {
+    let cut = |boxes: &[Aabb]| -> Vec<Aabb> {
+        boxes
+            .iter()
+            .filter_map(|b| cut_box(b, plane, sign))
+            .collect()
+    };
+    let receivers = cut(scene.receivers());
+    if receivers.is_empty() {
+        return None;
+    }
+    let scene_box = cut_box(&scene.scene_box(), plane, sign)?;
+    SceneBounds::new(cut(scene.casters()), receivers, Some(scene_box)).ok()
+}
+
+/// How many caster boxes lie wholly on each side of `plane`, or straddle it.
+fn casters_by_side(scene: &SceneBounds, plane: DVec4) -> CastersBySide {
+    let mut counts = CastersBySide::default();
+    for b in scene.casters() {
+        let (c, h) = (b.center(), b.half_extents());
+        let n = plane.truncate();
+        let d = n.dot(c) + plane.w;
+        let r = n.abs().dot(h);
+        if d - r >= 0.0 {
+            counts.perspective_only += 1;
+        } else if d + r <= 0.0 {
+            counts.focused_only += 1;
+        } else {
+            counts.both += 1;
+        }
+    }
+    counts
+}
+
+impl ShadowTechnique for Sppsm {
+    fn name(&self) -> &'static str {
+        "sppsm"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        self.validate()?;
+        let on = |scene: &SceneBounds, technique: &dyn ShadowTechnique| {
+            technique.setup(&SetupInput { scene, ..*input })
+        };
+        let focused = on(input.scene, &Focused)?;
+        let perspective = on(input.scene, self.perspective.as_dyn())?;
+        let single = |mut setup: ShadowSetup, fallback: Option<Fallback>| {
+            setup.technique = self.name();
+            if let Some(f) = fallback {
+                setup.diagnostics.fallbacks.insert(0, f);
+            }
+            Ok(setup)
+        };
+        // Nothing visible: the uniform map, as every technique gives.
+        if focused.fallback() == Some(Fallback::NoVisibleReceiver)
+            || focused.fallback() == Some(Fallback::SpotLightMissesView)
+        {
+            return single(focused, None);
+        }
+        if !perspective.diagnostics.fallbacks.is_empty()
+            && perspective.fallback() != Some(Fallback::NoCasterForReceivers)
+        {
+            // Say why: the perspective map's own fallbacks follow.
+            let mut setup = focused;
+            for f in &perspective.diagnostics.fallbacks {
+                if !setup.diagnostics.fallbacks.contains(f) {
+                    setup.diagnostics.fallbacks.push(*f);
+                }
+            }
+            return single(setup, Some(Fallback::NoSeparatingPlane));
+        }
+        let Some(mut plane) = separating_plane(&focused.maps[0], &perspective.maps[0], input.light)
+        else {
+            return single(focused, Some(Fallback::NoSeparatingPlane));
+        };
+        let (mut focused_map, mut perspective_map) = (focused.maps[0], perspective.maps[0]);
+        // The plane the current maps were focused around (None: both on all of I, where any
+        // plane selects correctly).
+        let mut focus_plane = None;
+        for iteration in 2..=self.iterations {
+            // Each map on its side of the current plane; if a side has no receiver or a map
+            // falls back, the maps of the previous iteration stay.
+            let (Some(negative), Some(positive)) = (
+                scene_on_side(input.scene, plane, -1.0),
+                scene_on_side(input.scene, plane, 1.0),
+            ) else {
+                break;
+            };
+            let (f, p) = (
+                on(&negative, &Focused)?,
+                on(&positive, self.perspective.as_dyn())?,
+            );
+            if !f.diagnostics.fallbacks.is_empty() || !p.diagnostics.fallbacks.is_empty() {
+                break;
+            }
+            (focused_map, perspective_map) = (f.maps[0], p.maps[0]);
+            focus_plane = Some(plane);
+            // In the last iteration the plane stays: I's part on it is inside both maps.
+            if iteration == self.iterations {
+                break;
+            }
+            match separating_plane(&focused_map, &perspective_map, input.light) {
+                Some(next) => plane = next,
+                None => break,
+            }
+        }
+        if let Some(kept) = focus_plane {
+            plane = kept;
+        }
+        let mut diagnostics = focused.diagnostics.clone();
+        diagnostics.casters_by_side = Some(casters_by_side(input.scene, plane));
+        for f in perspective.diagnostics.fallbacks {
+            if !diagnostics.fallbacks.contains(&f) {
+                diagnostics.fallbacks.push(f);
+            }
+        }
+        Ok(ShadowSetup {
+            technique: self.name(),
+            maps: vec![focused_map, perspective_map],
+            selection: MapSelection::Plane { plane_world: plane },
+            diagnostics,
+        })
+    }
+}
