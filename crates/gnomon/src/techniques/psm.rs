@@ -100,7 +100,7 @@ impl ShadowTechnique for Psm {
             mut diagnostics,
         } = match warp_basis(input, self.name()) {
             Ok(basis) => basis,
-            Err(uniform) => return Ok(uniform),
+            Err(uniform) => return Ok(*uniform),
         };
         let (eye, forward, near) = (camera.eye(), camera.forward(), camera.lens().near);
         let depth = |p: DVec3| (p - eye).dot(forward);

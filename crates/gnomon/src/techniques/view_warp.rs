@@ -223,7 +223,7 @@ pub(crate) struct WarpBasis {
 pub(crate) fn warp_basis(
     input: &SetupInput<'_>,
     technique: &'static str,
-) -> Result<WarpBasis, ShadowSetup> {
+) -> Result<WarpBasis, Box<ShadowSetup>> {
     let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
     let tolerance = tolerance(input.scene, Some(input.camera), input.light);
     let fixed = fixed_projector(input.light);
@@ -243,12 +243,12 @@ pub(crate) fn warp_basis(
     if let Some(fallback) = nothing_to_see {
         diagnostics.fallbacks.push(fallback);
         let map = uniform_map(input.light, input.scene, input.map, &mut diagnostics);
-        return Err(ShadowSetup {
+        return Err(Box::new(ShadowSetup {
             technique,
             maps: vec![map],
             selection: MapSelection::Single,
             diagnostics,
-        });
+        }));
     }
     let region = ConvexPolyhedron::from_box(&input.scene.scene_box())
         .clip_all(light_planes.iter().flatten(), tolerance);
@@ -317,7 +317,7 @@ pub(crate) fn view_warp_setup(
         mut diagnostics,
     } = match warp_basis(input, technique) {
         Ok(basis) => basis,
-        Err(uniform) => return Ok(uniform),
+        Err(uniform) => return Ok(*uniform),
     };
     diagnostics.light_frame = LightFrameKind::ViewAligned;
     let linear_row = input.light.linear_depth_row();
