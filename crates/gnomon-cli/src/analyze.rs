@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use gnomon::analysis::{AliasingCurve, IdealConfiguration, view_axis_aliasing};
+use gnomon::analysis::{AliasingCurve, IdealConfiguration, setup_view_axis_aliasing};
 use gnomon::{MapSettings, Psm, ShadowTechnique, Technique, compute_setup};
 use serde_json::json;
 
@@ -88,7 +88,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
             MapSettings::with_resolution(args.shadow_map),
         )?;
         let curve =
-            view_axis_aliasing(&setup.maps[0], &config, args.samples).map_err(|e| e.to_string());
+            setup_view_axis_aliasing(&setup, &config, args.samples).map_err(|e| e.to_string());
         rows.push(Row {
             label,
             fallback: setup.fallback().map(|f| f.name()),

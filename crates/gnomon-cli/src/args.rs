@@ -3,8 +3,8 @@
 use clap::{Args, ValueEnum};
 use glam::DVec3;
 use gnomon::{
-    Camera, DirectionalLight, Lens, Light, MapSettings, SceneBounds, ShadowSetup, SpotLight,
-    Technique, compute_setup,
+    Camera, DirectionalLight, Lens, Light, MapSettings, PerspectiveMap, SceneBounds, ShadowSetup,
+    SpotLight, Technique, compute_setup,
 };
 
 use crate::CliError;
@@ -95,6 +95,21 @@ pub enum TechniqueArg {
     Xpsm,
     /// Perspective shadow map (PSM).
     Psm,
+    /// Separating-plane PSM: the focused map and a perspective one (SPPSM).
+    Sppsm,
+}
+
+/// The perspective map of SPPSM on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SppsmWithArg {
+    /// Perspective shadow maps (the paper's choice).
+    Psm,
+    /// Light space perspective shadow maps.
+    Lispsm,
+    /// Trapezoidal shadow maps.
+    Tsm,
+    /// Extended perspective shadow maps.
+    Xpsm,
 }
 
 /// Technique parameters; each applies to its technique and is ignored by the others.
@@ -121,6 +136,13 @@ pub struct TechniqueParams {
     /// PSM: how far the virtual camera slides back, in world units (default sqrt(z_n z_f)).
     #[arg(long, allow_hyphen_values = true)]
     pub psm_slide_back: Option<f64>,
+    /// SPPSM: the perspective map next to the focused one (default psm); the parameters
+    /// above apply to it.
+    #[arg(long, value_enum)]
+    pub sppsm_with: Option<SppsmWithArg>,
+    /// SPPSM: focusing iterations, 1 to 20 (default 10).
+    #[arg(long)]
+    pub sppsm_iterations: Option<u32>,
 }
 
 impl TechniqueParams {
@@ -144,6 +166,31 @@ impl TechniqueParams {
                 t.coef = self.xpsm_coef.unwrap_or(t.coef);
                 t.epsilon_w = self.xpsm_epsilon_w.unwrap_or(t.epsilon_w);
                 Technique::Xpsm(t)
+            }
+            Technique::Sppsm(mut t) => {
+                if let Some(with) = self.sppsm_with {
+                    t.perspective = match with {
+                        SppsmWithArg::Psm => PerspectiveMap::Psm(Default::default()),
+                        SppsmWithArg::Lispsm => PerspectiveMap::Lispsm(Default::default()),
+                        SppsmWithArg::Tsm => PerspectiveMap::Tsm(Default::default()),
+                        SppsmWithArg::Xpsm => PerspectiveMap::Xpsm(Default::default()),
+                    };
+                }
+                // The perspective map's own parameters, as for the technique alone.
+                t.perspective = match self.apply(match t.perspective {
+                    PerspectiveMap::Psm(p) => Technique::Psm(p),
+                    PerspectiveMap::Lispsm(p) => Technique::Lispsm(p),
+                    PerspectiveMap::Tsm(p) => Technique::Tsm(p),
+                    PerspectiveMap::Xpsm(p) => Technique::Xpsm(p),
+                }) {
+                    Technique::Psm(p) => PerspectiveMap::Psm(p),
+                    Technique::Lispsm(p) => PerspectiveMap::Lispsm(p),
+                    Technique::Tsm(p) => PerspectiveMap::Tsm(p),
+                    Technique::Xpsm(p) => PerspectiveMap::Xpsm(p),
+                    _ => t.perspective,
+                };
+                t.iterations = self.sppsm_iterations.unwrap_or(t.iterations);
+                Technique::Sppsm(t)
             }
             other => other,
         }

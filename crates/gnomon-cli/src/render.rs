@@ -49,6 +49,8 @@ pub enum RenderTechniqueArg {
     Xpsm,
     /// Perspective shadow map (PSM).
     Psm,
+    /// Separating-plane PSM: the focused map and a perspective one (SPPSM).
+    Sppsm,
     /// Exact shadows: stenciled shadow volumes.
     Volumes,
 }
@@ -63,6 +65,7 @@ impl RenderTechniqueArg {
             Self::Tsm => TechniqueArg::Tsm,
             Self::Xpsm => TechniqueArg::Xpsm,
             Self::Psm => TechniqueArg::Psm,
+            Self::Sppsm => TechniqueArg::Sppsm,
             Self::Volumes => return None,
         })
     }
@@ -138,9 +141,14 @@ pub struct RenderArgs {
     /// 255 lit, 0 not lit, 128 no geometry).
     #[arg(long)]
     pub mask: Option<PathBuf>,
-    /// Also write the shadow map as the light sees it, with the view frustum over it (PNG).
+    /// Also write the shadow map as the light sees it, with the view frustum over it (PNG;
+    /// SPPSM: both maps side by side, the focused one on the left).
     #[arg(long)]
     pub light_view: Option<PathBuf>,
+    /// SPPSM: tint pixels by the map they read (red: the perspective map, blue: the focused
+    /// map), as in the paper's figures.
+    #[arg(long)]
+    pub tint: bool,
     /// Also write the per-pixel sampling error as a heat map with a legend (PNG): pixels per
     /// texel along the worst direction, from the shader's derivatives of the shadow
     /// coordinate; 1 = one texel per pixel (white), warmer = undersampled, blue = more than
@@ -240,8 +248,14 @@ pub fn write_frame(
             &frame.mask,
         )?;
     }
-    if let (Some(path), Some((size, rgba))) = (light_view, &frame.light_view) {
-        write_png(path, *size, *size, image::ColorType::Rgba8, rgba)?;
+    if let (Some(path), Some(view)) = (light_view, &frame.light_view) {
+        write_png(
+            path,
+            view.width,
+            view.height,
+            image::ColorType::Rgba8,
+            &view.rgba,
+        )?;
     }
     Ok(())
 }
@@ -270,6 +284,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         },
         light_view: args.light_view.is_some(),
         metrics: args.error_map.is_some() || args.json,
+        tint: args.tint,
         ..RenderSettings::default()
     };
     let frame = renderer.render(&camera, &light, &setup, &settings)?;

@@ -1,6 +1,6 @@
 //! Setups as JSON and as text.
 
-use gnomon::{MapProjection, ShadowSetup};
+use gnomon::{MapProjection, MapSelection, ShadowSetup};
 use serde_json::{Value, json};
 
 /// The JSON form of a setup: `{"technique", "fallback", "maps", "selection", "diagnostics"}`;
@@ -27,7 +27,13 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
         "technique": setup.technique,
         "fallback": setup.fallback().map(|f| f.name()),
         "maps": maps,
-        "selection": { "kind": setup.selection.kind() },
+        "selection": match setup.selection {
+            MapSelection::Single => json!({ "kind": "single" }),
+            MapSelection::Plane { plane_world } => json!({
+                "kind": "plane",
+                "plane_world": plane_world.to_array(),
+            }),
+        },
         "diagnostics": {
             "fallbacks": d.fallbacks.iter().map(|f| json!({"name": f.name(), "reason": f.reason()})).collect::<Vec<_>>(),
             "light_frame": d.light_frame.name(),
@@ -38,6 +44,11 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
             "casters_clipped_by_light_near": d.casters_clipped_by_light_near,
             "focus_body_vertices": d.focus_body_vertices,
             "scene_box_grown": d.scene_box_grown,
+            "casters_by_side": d.casters_by_side.map(|c| json!({
+                "focused_only": c.focused_only,
+                "perspective_only": c.perspective_only,
+                "both": c.both,
+            })),
         },
     })
 }
@@ -69,6 +80,20 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
         d.culled_casters,
         d.focus_body_vertices
     );
+    if let MapSelection::Plane { plane_world: p } = setup.selection {
+        let _ = writeln!(
+            s,
+            "selection: plane {:.6} x + {:.6} y + {:.6} z + {:.6} > 0 reads map 1 (perspective), else map 0 (focused)",
+            p.x, p.y, p.z, p.w
+        );
+    }
+    if let Some(c) = d.casters_by_side {
+        let _ = writeln!(
+            s,
+            "casters: {} in the focused map only, {} in the perspective map only, {} in both",
+            c.focused_only, c.perspective_only, c.both
+        );
+    }
     for (i, m) in setup.maps.iter().enumerate() {
         let _ = writeln!(
             s,

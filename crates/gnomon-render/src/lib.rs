@@ -25,7 +25,9 @@ mod volumes;
 
 pub use error::RenderError;
 pub use gpu::Gpu;
-pub use renderer::{DepthBias, Filter, Frame, PixelMetrics, RenderSettings, Renderer, Timings};
+pub use renderer::{
+    DepthBias, Filter, Frame, LightView, PixelMetrics, RenderSettings, Renderer, Timings,
+};
 pub use scene::{Instance, RenderScene};
 pub use volumes::{StencilMode, VolumeFrame, VolumeStats};
 

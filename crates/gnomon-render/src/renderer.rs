@@ -1,6 +1,6 @@
 use std::time::Instant;
 
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DVec3, DVec4};
 use gnomon::{Camera, Light, MapSelection, ShadowMap, ShadowSetup};
 
 use crate::scene::{GpuScene, RenderScene, Vertex};
@@ -62,6 +62,9 @@ pub struct RenderSettings {
     pub light_view: bool,
     /// Also return the per-pixel sampling metrics ([`Frame::metrics`]).
     pub metrics: bool,
+    /// Two-map setups: tint each pixel by the map it reads (red: the second, perspective
+    /// map; blue: the first, focused map), as in the SPPSM paper's figures.
+    pub tint: bool,
 }
 
 impl Default for RenderSettings {
@@ -74,6 +77,7 @@ impl Default for RenderSettings {
             ambient: 0.25,
             light_view: false,
             metrics: false,
+            tint: false,
         }
     }
 }
@@ -101,12 +105,48 @@ pub struct Frame {
     /// The direct-light mask, one byte per pixel: [`crate::MASK_LIT`], [`crate::MASK_UNLIT`] or
     /// [`crate::MASK_EMPTY`].
     pub mask: Vec<u8>,
-    /// The shadow map as the light sees it (RGBA, `resolution` square), if asked for.
-    pub light_view: Option<(u32, Vec<u8>)>,
+    /// The shadow map(s) as the light sees them, if asked for.
+    pub light_view: Option<LightView>,
     /// The per-pixel sampling metrics, if asked for ([`RenderSettings::metrics`]).
     pub metrics: Option<PixelMetrics>,
     /// Times of the passes.
     pub timings: Timings,
+}
+
+/// The shadow maps as the light sees them (near = dark, far = light), with the camera's view
+/// frustum in red; two maps side by side (the first on the left), in RGBA.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LightView {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// RGBA bytes, rows top to bottom.
+    pub rgba: Vec<u8>,
+}
+
+impl LightView {
+    /// Square views (size, RGBA) side by side, on a white background.
+    fn side_by_side(views: &[(u32, Vec<u8>)]) -> Self {
+        let width: u32 = views.iter().map(|v| v.0).sum();
+        let height = views.iter().map(|v| v.0).max().unwrap_or(0);
+        let mut rgba = vec![255u8; (width * height * 4) as usize];
+        let mut x0 = 0;
+        for (size, view) in views {
+            for y in 0..*size {
+                let from = (y * size * 4) as usize;
+                let to = ((y * width + x0) * 4) as usize;
+                rgba[to..to + (size * 4) as usize]
+                    .copy_from_slice(&view[from..from + (size * 4) as usize]);
+            }
+            x0 += size;
+        }
+        Self {
+            width,
+            height,
+            rgba,
+        }
+    }
 }
 
 /// Per pixel, how the shadow map samples what the pixel sees: J is the Jacobian of the
@@ -177,6 +217,10 @@ pub(crate) struct Globals {
     bias: [f32; 4],
     map: [f32; 4],
     extra: [f32; 4],
+    light_clip_from_world_b: [[f32; 4]; 4],
+    depth_from_world_b: [f32; 4],
+    plane: [f32; 4],
+    selection: [f32; 4],
 }
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -240,6 +284,17 @@ impl Renderer {
                     binding: 3,
                     visibility: wgpu::ShaderStages::FRAGMENT,
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+                // The second map of two-map setups (SPPSM).
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
                     count: None,
                 },
             ],
@@ -358,11 +413,13 @@ impl Renderer {
         })
     }
 
-    /// The main pass's bind group: the globals and a shadow map.
+    /// The main pass's bind group: the globals and the shadow maps (the second the same as
+    /// the first for one map).
     pub(crate) fn main_bind_group(
         &self,
         uniform: &wgpu::Buffer,
         shadow_view: &wgpu::TextureView,
+        second_view: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
         self.gpu
             .device
@@ -385,6 +442,10 @@ impl Renderer {
                     wgpu::BindGroupEntry {
                         binding: 3,
                         resource: wgpu::BindingResource::Sampler(&self.nearest_sampler),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::TextureView(second_view),
                     },
                 ],
             })
@@ -454,7 +515,9 @@ impl Renderer {
     }
 
     /// Renders one frame of `camera` lit by `light`, with the shadow maps of `setup` (computed
-    /// by the core crate for the same camera, light and scene).
+    /// by the core crate for the same camera, light and scene): one map, or two maps and the
+    /// plane that picks one per pixel (SPPSM; each caster drawn into the maps of the sides
+    /// its bounds reach).
     pub fn render(
         &self,
         camera: &Camera,
@@ -464,83 +527,113 @@ impl Renderer {
     ) -> Result<Frame, RenderError> {
         let (width, height) = self.image_size(settings)?;
         let max = self.gpu.device.limits().max_texture_dimension_2d;
-        let map = match (setup.selection, setup.maps.as_slice()) {
-            (MapSelection::Single, [map]) => *map,
-            _ => {
+        // The maps, each with the side of the plane whose casters it draws (None: all).
+        let maps: Vec<(ShadowMap, Option<(DVec4, f64)>)> =
+            match (setup.selection, setup.maps.as_slice()) {
+                (MapSelection::Single, [map]) => vec![(*map, None)],
+                (MapSelection::Plane { plane_world }, [first, second]) => vec![
+                    (*first, Some((plane_world, -1.0))),
+                    (*second, Some((plane_world, 1.0))),
+                ],
+                _ => {
+                    return Err(RenderError::Invalid(format!(
+                        "setup '{}' has {} maps for a {} selection",
+                        setup.technique,
+                        setup.maps.len(),
+                        setup.selection.kind()
+                    )));
+                }
+            };
+        for (map, _) in &maps {
+            if map.resolution > max {
                 return Err(RenderError::Invalid(format!(
-                    "setup '{}' has no single map",
-                    setup.technique
+                    "shadow map {} exceeds the GPU's limit {max}",
+                    map.resolution
                 )));
             }
-        };
-        if map.resolution > max {
-            return Err(RenderError::Invalid(format!(
-                "shadow map {} exceeds the GPU's limit {max}",
-                map.resolution
-            )));
         }
         let device = &self.gpu.device;
         let error_scope = self
             .gpu
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
-
-        let globals = globals(
-            camera,
-            camera.clip_from_world(),
-            light,
-            &map,
-            settings,
-            ShadowOverride::Map,
-        );
-        let uniform = {
+        let uniform_buffer = |g: &Globals| {
             use wgpu::util::DeviceExt;
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("globals"),
-                contents: bytemuck::bytes_of(&globals),
+                contents: bytemuck::bytes_of(g),
                 usage: wgpu::BufferUsages::UNIFORM,
             })
         };
+        // Each map's own globals (its depth pass reads the first map's slots), and the main
+        // pass's with both maps.
+        let map_globals = |map: &ShadowMap| {
+            globals(
+                camera,
+                camera.clip_from_world(),
+                light,
+                map,
+                settings,
+                ShadowOverride::Map,
+            )
+        };
+        let main_globals = match (setup.selection, maps.get(1)) {
+            (MapSelection::Plane { plane_world }, Some((second, _))) => {
+                map_globals(&maps[0].0).with_second_map(second, plane_world, settings.tint)
+            }
+            _ => map_globals(&maps[0].0),
+        };
         let texture = |label, w, h, format, usage| texture(device, label, w, h, format, usage);
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let shadow_texture = texture(
-            "shadow map",
-            map.resolution,
-            map.resolution,
-            DEPTH_FORMAT,
-            attachment | wgpu::TextureUsages::TEXTURE_BINDING,
-        );
-        let shadow_view = shadow_texture.create_view(&Default::default());
 
-        // Depth pass.
+        // Depth passes.
         let start = Instant::now();
-        let depth_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("globals"),
-            layout: &self.depth_pipeline.get_bind_group_layout(0),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            }],
-        });
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadow depth"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(cleared_depth(&shadow_view)),
-                ..Default::default()
+        let mut shadow_textures = Vec::new();
+        for (map, side) in &maps {
+            let shadow_texture = texture(
+                "shadow map",
+                map.resolution,
+                map.resolution,
+                DEPTH_FORMAT,
+                attachment | wgpu::TextureUsages::TEXTURE_BINDING,
+            );
+            let shadow_view = shadow_texture.create_view(&Default::default());
+            let uniform = uniform_buffer(&map_globals(map));
+            let depth_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("globals"),
+                layout: &self.depth_pipeline.get_bind_group_layout(0),
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                }],
             });
-            // The border texels stay cleared to the far depth: lookups outside the focus
-            // region read as lit.
-            let inset = map.viewport_inset;
-            let inner = map.resolution - 2 * inset;
-            pass.set_scissor_rect(inset, inset, inner, inner);
-            pass.set_pipeline(&self.depth_pipeline);
-            pass.set_bind_group(0, &depth_bind_group, &[]);
-            self.scene
-                .draw(&mut pass, self.scene.caster_indices.clone());
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("shadow depth"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(cleared_depth(&shadow_view)),
+                    ..Default::default()
+                });
+                // The border texels stay cleared to the far depth: lookups outside the focus
+                // region read as lit.
+                let inset = map.viewport_inset;
+                let inner = map.resolution - 2 * inset;
+                pass.set_scissor_rect(inset, inset, inner, inner);
+                pass.set_pipeline(&self.depth_pipeline);
+                pass.set_bind_group(0, &depth_bind_group, &[]);
+                match side {
+                    None => self
+                        .scene
+                        .draw(&mut pass, self.scene.caster_indices.clone()),
+                    Some((plane, sign)) => {
+                        self.scene.draw_casters_on_side(&mut pass, *plane, *sign)
+                    }
+                }
+            }
+            self.gpu.queue.submit([encoder.finish()]);
+            shadow_textures.push((shadow_texture, shadow_view));
         }
-        self.gpu.queue.submit([encoder.finish()]);
         self.gpu.wait()?;
         let shadow_pass_ms = start.elapsed().as_secs_f64() * 1e3;
 
@@ -561,7 +654,9 @@ impl Renderer {
             metrics.create_view(&Default::default()),
             depth.create_view(&Default::default()),
         );
-        let bind_group = self.main_bind_group(&uniform, &shadow_view);
+        let uniform = uniform_buffer(&main_globals);
+        let second_view = &shadow_textures[shadow_textures.len() - 1].1;
+        let bind_group = self.main_bind_group(&uniform, &shadow_textures[0].1, second_view);
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -588,16 +683,21 @@ impl Renderer {
         let start = Instant::now();
         let (color_bytes, mask_bytes) = self.read_main_images(&color, &mask)?;
         let light_view = if settings.light_view {
-            let depth = readback::read_texture(
-                &self.gpu,
-                &shadow_texture,
-                wgpu::TextureAspect::DepthOnly,
-                4,
-            )?;
-            Some((
-                map.resolution,
-                light_view::draw(&depth, map.resolution, camera, &map),
-            ))
+            // The maps side by side, as the light sees them.
+            let mut views = Vec::new();
+            for ((map, _), (shadow_texture, _)) in maps.iter().zip(&shadow_textures) {
+                let depth = readback::read_texture(
+                    &self.gpu,
+                    shadow_texture,
+                    wgpu::TextureAspect::DepthOnly,
+                    4,
+                )?;
+                views.push((
+                    map.resolution,
+                    light_view::draw(&depth, map.resolution, camera, map),
+                ));
+            }
+            Some(LightView::side_by_side(&views))
         } else {
             None
         };
@@ -715,6 +815,26 @@ impl Globals {
         self.extra[2] = 2.0;
         self
     }
+
+    /// The same with a second map, read on the positive side of `plane_world`; `tint`
+    /// colours pixels by the map they read.
+    pub(crate) fn with_second_map(
+        mut self,
+        map: &ShadowMap,
+        plane_world: DVec4,
+        tint: bool,
+    ) -> Self {
+        self.light_clip_from_world_b = mat(map.clip_from_world);
+        self.depth_from_world_b = map.depth_from_world.as_vec4().to_array();
+        self.plane = plane_world.as_vec4().to_array();
+        self.selection = [
+            2.0,
+            if tint { 1.0 } else { 0.0 },
+            map.resolution as f32,
+            0.0,
+        ];
+        self
+    }
 }
 
 pub(crate) fn globals(
@@ -760,5 +880,10 @@ pub(crate) fn globals(
             settings.ambient as f32,
         ],
         extra,
+        // One map: the second slot repeats the first and is never read.
+        light_clip_from_world_b: mat(map.clip_from_world),
+        depth_from_world_b: map.depth_from_world.as_vec4().to_array(),
+        plane: [0.0; 4],
+        selection: [1.0, 0.0, map.resolution as f32, 0.0],
     }
 }

@@ -172,6 +172,9 @@ pub(crate) struct GpuScene {
     pub indices: wgpu::Buffer,
     /// Indices of the casters (the depth pass draws these).
     pub caster_indices: std::ops::Range<u32>,
+    /// Each caster's indices and world bounds (min, max), for setups with two maps: a caster
+    /// is drawn into the maps of the sides of the plane its bounds reach.
+    pub casters: Vec<(std::ops::Range<u32>, DVec3, DVec3)>,
     /// All indices (the main pass draws these).
     pub all_indices: std::ops::Range<u32>,
     /// Whether every instance receives shadows.
@@ -179,6 +182,26 @@ pub(crate) struct GpuScene {
 }
 
 impl GpuScene {
+    /// Binds the buffers and draws the casters whose bounds reach the side `sign` (1 or -1)
+    /// of `plane` (world).
+    pub fn draw_casters_on_side(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        plane: glam::DVec4,
+        sign: f64,
+    ) {
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        let n = plane.truncate();
+        for (range, lo, hi) in &self.casters {
+            let (c, h) = (0.5 * (*lo + *hi), 0.5 * (*hi - *lo));
+            let reach = sign * (n.dot(c) + plane.w) + n.abs().dot(h);
+            if reach >= 0.0 {
+                pass.draw_indexed(range.clone(), 0, 0..1);
+            }
+        }
+    }
+
     /// Binds the buffers and draws the triangles of `indices`.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, indices: std::ops::Range<u32>) {
         pass.set_vertex_buffer(0, self.vertices.slice(..));
@@ -194,8 +217,10 @@ impl GpuScene {
         let caster_count = order.len();
         order.extend(scene.instances.iter().filter(|i| !i.casts));
         let mut caster_index_count = 0;
+        let mut casters = Vec::new();
         for (k, instance) in order.iter().enumerate() {
             let mesh = &scene.meshes[instance.mesh];
+            let first_index = indices.len() as u32;
             let m = instance.world_from_object;
             let normal_matrix = DMat3::from_mat4(m).inverse().transpose();
             let base = vertices.len() as u32;
@@ -210,6 +235,14 @@ impl GpuScene {
                 });
             }
             indices.extend(mesh.indices.iter().map(|i| base + i));
+            if k < caster_count {
+                let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+                for p in &mesh.positions {
+                    let w = m.transform_point3(*p);
+                    (lo, hi) = (lo.min(w), hi.max(w));
+                }
+                casters.push((first_index..indices.len() as u32, lo, hi));
+            }
             if k + 1 == caster_count {
                 caster_index_count = indices.len() as u32;
             }
@@ -228,6 +261,7 @@ impl GpuScene {
             vertices: vertex_buffer,
             indices: index_buffer,
             caster_indices: 0..caster_index_count,
+            casters,
             all_indices: 0..indices.len() as u32,
             all_receive: scene.instances.iter().all(|i| i.receives),
         }

@@ -26,12 +26,21 @@ struct Globals {
     // light, 1 the direct light only, 2 the ambient term only: shadow volumes draw the
     // ambient term once and add one light per pass).
     extra: vec4<f32>,
+    // Two-map setups (SPPSM): the second map's matrices (the first map's again for one map),
+    // the world plane on whose positive side a point reads the second map, and
+    // x: 2 for two maps (else 1), y: 1 to tint (red: second map, blue: first), z: the second
+    // map's resolution.
+    light_clip_from_world_b: mat4x4<f32>,
+    depth_from_world_b: vec4<f32>,
+    plane: vec4<f32>,
+    selection: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> g: Globals;
 @group(0) @binding(1) var shadow_map: texture_depth_2d;
 @group(0) @binding(2) var shadow_linear: sampler_comparison;
 @group(0) @binding(3) var shadow_nearest: sampler_comparison;
+@group(0) @binding(4) var shadow_map_b: texture_depth_2d;
 
 struct DepthOut {
     @builtin(position) clip: vec4<f32>,
@@ -86,11 +95,21 @@ struct Targets {
     @location(2) metrics: vec4<f32>,
 };
 
+// Which map a point reads: the second one on the positive side of the plane (two maps).
+fn reads_second_map(world: vec3<f32>) -> bool {
+    return g.selection.x > 1.5 && dot(g.plane.xyz, world) + g.plane.w > 0.0;
+}
+
 // The world size of the largest texel side at a point: from the gradients of the map's
 // normalised coordinates, (row_i - ndc_i row_w) / w, exact for any projective map (warps
 // stretch texels differently along x and y).
-fn texel_world_size(world: vec3<f32>) -> f32 {
-    let m = g.light_clip_from_world;
+fn texel_world_size(world: vec3<f32>, second: bool) -> f32 {
+    var m = g.light_clip_from_world;
+    var resolution = g.map.x;
+    if (second) {
+        m = g.light_clip_from_world_b;
+        resolution = g.selection.z;
+    }
     let clip = m * vec4<f32>(world, 1.0);
     if (clip.w <= 0.0) {
         return 0.0;
@@ -100,40 +119,56 @@ fn texel_world_size(world: vec3<f32>) -> f32 {
     let row_w = vec3<f32>(m[0][3], m[1][3], m[2][3]);
     let gx = (row_x - (clip.x / clip.w) * row_w) / clip.w;
     let gy = (row_y - (clip.y / clip.w) * row_w) / clip.w;
-    return (2.0 / g.map.x) / max(min(length(gx), length(gy)), 1e-30);
+    return (2.0 / resolution) / max(min(length(gx), length(gy)), 1e-30);
+}
+
+// One comparison tap of the first or the second map.
+fn tap(second: bool, s: sampler_comparison, uv: vec2<f32>, reference: f32) -> f32 {
+    if (second) {
+        return textureSampleCompareLevel(shadow_map_b, s, uv, reference);
+    }
+    return textureSampleCompareLevel(shadow_map, s, uv, reference);
 }
 
 // 1 where the point is lit according to the shadow map, 0 where it is shadowed.
-fn shadow_lookup(world: vec3<f32>, mode: i32) -> f32 {
-    let clip = g.light_clip_from_world * vec4<f32>(world, 1.0);
+fn shadow_lookup(world: vec3<f32>, mode: i32, second: bool) -> f32 {
+    var m = g.light_clip_from_world;
+    var depth_row = g.depth_from_world;
+    var resolution = g.map.x;
+    if (second) {
+        m = g.light_clip_from_world_b;
+        depth_row = g.depth_from_world_b;
+        resolution = g.selection.z;
+    }
+    let clip = m * vec4<f32>(world, 1.0);
     if (clip.w <= 0.0) {
         return 1.0;
     }
     let ndc = clip.xyz / clip.w;
     let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
-    let reference = dot(g.depth_from_world, vec4<f32>(world, 1.0));
+    let reference = dot(depth_row, vec4<f32>(world, 1.0));
     if (mode == 1) {
-        return textureSampleCompareLevel(shadow_map, shadow_linear, uv, reference);
+        return tap(second, shadow_linear, uv, reference);
     }
     if (mode == 2) {
-        let texel = 1.0 / g.map.x;
+        let texel = 1.0 / resolution;
         var sum = 0.0;
         for (var y = -2; y <= 2; y++) {
             for (var x = -2; x <= 2; x++) {
                 let offset = vec2<f32>(f32(x), f32(y)) * texel;
-                sum += textureSampleCompareLevel(shadow_map, shadow_nearest, uv + offset, reference);
+                sum += tap(second, shadow_nearest, uv + offset, reference);
             }
         }
         return sum / 25.0;
     }
-    return textureSampleCompareLevel(shadow_map, shadow_nearest, uv, reference);
+    return tap(second, shadow_nearest, uv, reference);
 }
 
 // The Jacobian of the map's texel coordinates by screen pixels at a point, reduced to
 // (1 / sigma_min, 1 / |det|). Derivatives: call in uniform control flow.
-fn sampling_metrics(world: vec3<f32>) -> vec2<f32> {
-    let clip = g.light_clip_from_world * vec4<f32>(world, 1.0);
-    let texel = (clip.xy / clip.w) * 0.5 * g.map.x;
+fn sampling_metrics(world: vec3<f32>, m: mat4x4<f32>, resolution: f32) -> vec2<f32> {
+    let clip = m * vec4<f32>(world, 1.0);
+    let texel = (clip.xy / clip.w) * 0.5 * resolution;
     // Fine derivatives: each pixel's own row and column of its 2x2 quad.
     let jx = dpdxFine(texel);
     let jy = dpdyFine(texel);
@@ -154,7 +189,11 @@ fn sampling_metrics(world: vec3<f32>) -> vec2<f32> {
 
 @fragment
 fn fs_main(in: MainOut) -> Targets {
-    let sampling = sampling_metrics(in.world);
+    // Both maps' metrics in uniform control flow (derivatives), then the one the point reads.
+    let second = reads_second_map(in.world);
+    let sampling_a = sampling_metrics(in.world, g.light_clip_from_world, g.map.x);
+    let sampling_b = sampling_metrics(in.world, g.light_clip_from_world_b, g.selection.z);
+    let sampling = select(sampling_a, sampling_b, second);
     // The geometric normal (the triangle's plane), turned toward the camera.
     var n_geo = normalize(cross(dpdx(in.world), dpdy(in.world)));
     let to_eye = g.eye.xyz - in.world;
@@ -184,7 +223,7 @@ fn fs_main(in: MainOut) -> Targets {
 
     // Normal offset: move the lookup along the geometric normal by a fraction of a texel,
     // more where the light grazes the surface.
-    let offset = g.bias.w * texel_world_size(in.world) * clamp(1.0 - n_dot_l_geo, 0.0, 1.0);
+    let offset = g.bias.w * texel_world_size(in.world, second) * clamp(1.0 - n_dot_l_geo, 0.0, 1.0);
     let lookup = in.world + n_geo * offset;
 
     var lit_one_tap = 1.0;
@@ -195,8 +234,8 @@ fn fs_main(in: MainOut) -> Targets {
             lit_one_tap = select(0.0, 1.0, g.map.y < 1.5);
             shadow = lit_one_tap;
         } else {
-            lit_one_tap = shadow_lookup(lookup, 0);
-            shadow = shadow_lookup(lookup, i32(g.map.z));
+            lit_one_tap = shadow_lookup(lookup, 0, second);
+            shadow = shadow_lookup(lookup, i32(g.map.z), second);
         }
     }
 
@@ -205,7 +244,11 @@ fn fs_main(in: MainOut) -> Targets {
     let ambient = select(g.map.w, 0.0, g.extra.z > 0.5 && g.extra.z < 1.5);
     let direct = select(diffuse, 0.0, g.extra.z > 1.5 || !in_light);
     let light = ambient + (1.0 - g.map.w) * direct;
-    out.color = vec4<f32>(in.color.rgb * light, 1.0);
+    var tint = vec3<f32>(1.0, 1.0, 1.0);
+    if (g.selection.y > 0.5 && g.selection.x > 1.5) {
+        tint = select(vec3<f32>(0.55, 0.7, 1.0), vec3<f32>(1.0, 0.55, 0.5), second);
+    }
+    out.color = vec4<f32>(in.color.rgb * light * tint, 1.0);
     let lit = facing && lit_one_tap > 0.5;
     out.mask = vec4<f32>(select(0.0, 1.0, lit), 0.0, 0.0, 1.0);
     out.metrics = vec4<f32>(sampling, n_dot_l_geo, 1.0);

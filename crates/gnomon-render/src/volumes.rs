@@ -456,7 +456,7 @@ impl Renderer {
         // The ambient term alone; the mask of the first light as if all were shadowed (the
         // light's pass then writes where it reaches).
         let ambient_uniform = uniform(&lights[0], ShadowOverride::Shadowed, Terms::AmbientOnly);
-        let ambient_group = self.main_bind_group(&ambient_uniform, &dummy_view);
+        let ambient_group = self.main_bind_group(&ambient_uniform, &dummy_view, &dummy_view);
         let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
             layout: &self.volumes.z_fail.get_bind_group_layout(0),
@@ -543,8 +543,8 @@ impl Renderer {
                 uniform(light, ShadowOverride::Shadowed, Terms::DirectOnly),
             );
             let (lit_group, shadowed_group) = (
-                self.main_bind_group(&lit_uniform, &dummy_view),
-                self.main_bind_group(&shadowed_uniform, &dummy_view),
+                self.main_bind_group(&lit_uniform, &dummy_view, &dummy_view),
+                self.main_bind_group(&shadowed_uniform, &dummy_view, &dummy_view),
             );
             let mut encoder = device.create_command_encoder(&Default::default());
             {

@@ -25,7 +25,7 @@ use crate::bounds::{Aabb, SceneBounds};
 use crate::camera::{Camera, Lens};
 use crate::error::{SetupError, check_scalar};
 use crate::light::{DirectionalLight, Light};
-use crate::setup::ShadowMap;
+use crate::setup::{MapSelection, ShadowMap, ShadowSetup};
 
 /// The LiSPSM paper's ideal configuration, with the tilt gamma between the view direction
 /// and the light's direction of travel free.
@@ -141,8 +141,32 @@ pub fn view_axis_dp_ds(
     config: &IdealConfiguration,
     z: f64,
 ) -> Result<f64, SetupError> {
+    view_axis_dp_ds_of(&[*map], MapSelection::Single, config, z)
+}
+
+/// [`view_axis_dp_ds`] for a setup: at each point, the map its selection picks (SPPSM: the
+/// side of the plane).
+pub fn setup_view_axis_dp_ds(
+    setup: &ShadowSetup,
+    config: &IdealConfiguration,
+    z: f64,
+) -> Result<f64, SetupError> {
+    view_axis_dp_ds_of(&setup.maps, setup.selection, config, z)
+}
+
+fn view_axis_dp_ds_of(
+    maps: &[ShadowMap],
+    selection: MapSelection,
+    config: &IdealConfiguration,
+    z: f64,
+) -> Result<f64, SetupError> {
+    let z = check_scalar("z", z)?.clamp(config.z_near, config.z_far);
+    let map = maps
+        .get(selection.map_for(DVec3::new(0.0, 0.0, -z)))
+        .ok_or(SetupError::Unmeasurable {
+            what: "the setup has no map for the view axis",
+        })?;
     let (z_n, z_f) = (config.z_near, config.z_far);
-    let z = check_scalar("z", z)?.clamp(z_n, z_f);
     let failure = |what: &'static str| SetupError::Unmeasurable { what };
     let s = |z: f64| {
         map_coordinates(map, DVec3::new(0.0, 0.0, -z)).ok_or(failure("view axis behind the map"))
@@ -168,6 +192,23 @@ pub fn view_axis_aliasing(
     config: &IdealConfiguration,
     samples: usize,
 ) -> Result<AliasingCurve, SetupError> {
+    aliasing_curve(config, samples, |z| view_axis_dp_ds(map, config, z))
+}
+
+/// [`view_axis_aliasing`] for a setup, each point read from the map its selection picks.
+pub fn setup_view_axis_aliasing(
+    setup: &ShadowSetup,
+    config: &IdealConfiguration,
+    samples: usize,
+) -> Result<AliasingCurve, SetupError> {
+    aliasing_curve(config, samples, |z| setup_view_axis_dp_ds(setup, config, z))
+}
+
+fn aliasing_curve(
+    config: &IdealConfiguration,
+    samples: usize,
+    dp_ds: impl Fn(f64) -> Result<f64, SetupError>,
+) -> Result<AliasingCurve, SetupError> {
     if samples < 2 {
         return Err(SetupError::InvalidParameter {
             name: "samples (at least 2)",
@@ -181,7 +222,7 @@ pub fn view_axis_aliasing(
     for k in 0..samples {
         let z = (z_n * ratio.powf(k as f64 / (samples - 1) as f64)).clamp(z_n, z_f);
         zs.push(z);
-        values.push(view_axis_dp_ds(map, config, z)?);
+        values.push(dp_ds(z)?);
     }
     let (mut k_max, mut k_min) = (0, 0);
     for (k, v) in values.iter().enumerate() {
