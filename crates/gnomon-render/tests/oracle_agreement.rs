@@ -5,7 +5,10 @@
 mod common;
 
 use glam::DVec3;
-use gnomon::{Camera, DirectionalLight, Focused, Lens, Light, Lispsm, Psm, SpotLight, Technique};
+use gnomon::{
+    Camera, DirectionalLight, Focused, Lens, Light, Lispsm, PerspectiveMap, Psm, SpotLight, Sppsm,
+    Technique,
+};
 use gnomon_render::{RenderScene, RenderSettings};
 
 const SIZE: u32 = 256;
@@ -97,12 +100,18 @@ fn custom_views_agree_with_exact_shadows() {
         };
         let camera = Camera::look_at(view.eye, view.target, DVec3::Y, lens).unwrap();
         let oracle = common::oracle(&scene, &camera, &view.light, SIZE, SIZE);
-        // Spot lights: also the warps that take the spot through its own perspective.
+        // Spot lights: also the warps that take the spot through its own perspective, and
+        // SPPSM with them (two maps, the plane through the light).
         let techniques = match view.light {
             Light::Spot(_) => vec![
                 Technique::Focused(Focused),
                 Technique::Lispsm(Lispsm::default()),
                 Technique::Psm(Psm::default()),
+                Technique::Sppsm(Sppsm::default()),
+                Technique::Sppsm(Sppsm {
+                    perspective: PerspectiveMap::Lispsm(Lispsm::default()),
+                    iterations: 10,
+                }),
             ],
             Light::Directional(_) => vec![Technique::Focused(Focused)],
         };
