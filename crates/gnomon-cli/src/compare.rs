@@ -89,22 +89,45 @@ fn mask_errors(map: &Frame, exact: &Frame) -> (MaskErrors, Vec<u8>) {
     (errors, image)
 }
 
-/// The techniques named on the command line.
-fn techniques(args: &CompareArgs) -> Result<Vec<Technique>, CliError> {
-    if args.techniques.iter().any(|t| t == "all") {
-        return Ok(Technique::all()
-            .into_iter()
-            .map(|t| args.params.apply(t))
-            .collect());
+/// One row of the tables: a label, a technique and its maps' resolution.
+struct Entry {
+    label: String,
+    technique: Technique,
+    resolution: u32,
+}
+
+/// The techniques named on the command line. SPPSM comes twice: with each of its two maps
+/// at `--shadow-map` (as in the paper), and as `sppsm-same-texels` with two maps of half
+/// the area (the texel count of one map).
+fn techniques(args: &CompareArgs) -> Result<Vec<Entry>, CliError> {
+    let named: Vec<Technique> = if args.techniques.iter().any(|t| t == "all") {
+        Technique::all()
+    } else {
+        args.techniques
+            .iter()
+            .map(|name| {
+                name.parse::<Technique>()
+                    .map_err(|e| CliError::usage(e.to_string()))
+            })
+            .collect::<Result<_, _>>()?
+    };
+    let mut entries = Vec::new();
+    for technique in named {
+        let technique = args.params.apply(technique);
+        entries.push(Entry {
+            label: technique.name().to_string(),
+            technique,
+            resolution: args.shadow_map,
+        });
+        if let Technique::Sppsm(_) = technique {
+            entries.push(Entry {
+                label: "sppsm-same-texels".into(),
+                technique,
+                resolution: ((args.shadow_map as f64) / std::f64::consts::SQRT_2).round() as u32,
+            });
+        }
     }
-    args.techniques
-        .iter()
-        .map(|name| {
-            name.parse::<Technique>()
-                .map(|t| args.params.apply(t))
-                .map_err(|e| CliError::usage(e.to_string()))
-        })
-        .collect()
+    Ok(entries)
 }
 
 /// Runs `gnomon compare`.
@@ -162,8 +185,10 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         "# gnomon compare: {} scene\n\n{}x{} pixels, {}x{} shadow maps, rendered on {}. Wrong \
          pixels: share of the pixels with N.L > 0.1 whose one-tap shadow-map mask differs from \
          the exact shadow volumes' (false shadow: shadowed by the map, lit in fact; missed \
-         shadow: the reverse). Undersampling: pixels per texel along the worst direction \
-         (1 = one texel per pixel), over the same pixels. Frame: setup + shadow pass + main pass, GPU waited.\n\n\
+         shadow: the reverse). SPPSM comes twice: its two maps at the size above each, and \
+         (sppsm-same-texels) two maps of half the area, the texels of one map. Undersampling: pixels per texel along the worst direction \
+         (1 = one texel per pixel), over the same pixels; area p99: pixels per texel in area \
+         (1 / |det J|, the measure SPPSM's plane compares). Frame: setup + shadow pass + main pass, GPU waited.\n\n\
          Each grid has one row per technique in the table's order, then the exact shadow \
          volumes; columns: the frame, the mask errors (red: false shadow, blue: missed \
          shadow), the sampling error map.\n",
@@ -177,14 +202,20 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     // One untimed frame first: the first draw compiles the pipelines.
     if let Some(view) = views.first() {
         let (camera, light) = view_camera_and_light(view, width as f64 / height as f64)?;
-        let (setup, _) = timed_setup(&techniques[0], &camera, &light, &bounds, args.shadow_map)?;
+        let (setup, _) = timed_setup(
+            &techniques[0].technique,
+            &camera,
+            &light,
+            &bounds,
+            techniques[0].resolution,
+        )?;
         renderer.render(&camera, &light, &setup, &settings)?;
         renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
     }
     let mut report = Vec::new();
     let mut summary: Vec<(String, Vec<f64>, Vec<f64>)> = techniques
         .iter()
-        .map(|t| (t.name().to_string(), Vec::new(), Vec::new()))
+        .map(|t| (t.label.clone(), Vec::new(), Vec::new()))
         .collect();
     for view in &views {
         let (camera, light) = view_camera_and_light(view, width as f64 / height as f64)?;
@@ -206,10 +237,10 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             }
         };
         let mut rows = Vec::new();
-        for (k, technique) in techniques.iter().enumerate() {
-            progress.set_message(format!("{}: {}", view.name, technique.name()));
+        for (k, entry) in techniques.iter().enumerate() {
+            progress.set_message(format!("{}: {}", view.name, entry.label));
             let (setup, setup_us) =
-                timed_setup(technique, &camera, &light, &bounds, args.shadow_map)?;
+                timed_setup(&entry.technique, &camera, &light, &bounds, entry.resolution)?;
             let frame = renderer.render(&camera, &light, &setup, &settings)?;
             let metrics = frame.metrics.as_ref().expect("metrics asked for");
             let (errors, error_image) = mask_errors(&frame, &exact.frame);
@@ -230,7 +261,9 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
                 .2
                 .push(undersampling["p99"].as_f64().unwrap_or(f64::NAN));
             rows.push(json!({
-                "technique": technique.name(),
+                "technique": entry.label,
+                "shadow_map": entry.resolution,
+                "maps": setup.maps.len(),
                 "fallback": setup.fallback().map(|f| f.name()),
                 "wrong_percent": errors.wrong_percent(),
                 "false_shadow_percent": 100.0 * errors.false_shadow as f64 / errors.compared.max(1) as f64,
@@ -263,8 +296,8 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         let _ = write!(
             markdown,
             "\n## {} ({})\n\nExact shadow volumes: frame {exact_ms:.1} ms.\n\n\
-             | technique | wrong pixels | false shadow | missed shadow | undersampling p50 | p95 | p99 | max | setup (us) | frame (ms) | fallback |\n\
-             | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |\n",
+             | technique | wrong pixels | false shadow | missed shadow | undersampling p50 | p95 | p99 | max | area p99 | setup (us) | frame (ms) | fallback |\n\
+             | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |\n",
             view.name, view.description
         );
         for r in &rows {
@@ -272,7 +305,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             let f = |v: &Value| v.as_f64().map_or("-".to_string(), |x| format!("{x:.2}"));
             let _ = writeln!(
                 markdown,
-                "| {} | {:.3}% | {:.3}% | {:.3}% | {} | {} | {} | {} | {:.1} | {:.1} | {} |",
+                "| {} | {:.3}% | {:.3}% | {:.3}% | {} | {} | {} | {} | {} | {:.1} | {:.1} | {} |",
                 r["technique"].as_str().unwrap_or_default(),
                 r["wrong_percent"].as_f64().unwrap_or_default(),
                 r["false_shadow_percent"].as_f64().unwrap_or_default(),
@@ -281,6 +314,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
                 f(&u["p95"]),
                 f(&u["p99"]),
                 f(&u["max"]),
+                f(&r["area_undersampling"]["p99"]),
                 r["setup_us"].as_f64().unwrap_or_default(),
                 r["frame_ms"].as_f64().unwrap_or_default(),
                 r["fallback"].as_str().unwrap_or("none"),

@@ -836,3 +836,112 @@ fn compare_writes_grids_tables_and_json() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// SPPSM on the command line: the setup JSON has both maps, the plane (positive side = the
+/// perspective map, containing the light direction) and how the casters fall on it; render
+/// tints by map and shows both maps in the light view.
+#[test]
+fn sppsm_setup_and_render() {
+    let view = [
+        "--eye",
+        "120,25,190",
+        "--target",
+        "0,5,0",
+        "--light-dir",
+        "1,-0.18,0.3",
+        "--shadow-map",
+        "512",
+    ];
+    let mut args = vec![
+        "setup",
+        "--technique",
+        "sppsm",
+        "--sppsm-with",
+        "lispsm",
+        "--sppsm-iterations",
+        "4",
+        "--json",
+    ];
+    args.extend(view);
+    let out = gnomon(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["technique"], "sppsm");
+    assert_eq!(json["maps"].as_array().unwrap().len(), 2);
+    assert_eq!(json["selection"]["kind"], "plane");
+    let plane: Vec<f64> = json["selection"]["plane_world"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let d = DVec3::new(1.0, -0.18, 0.3).normalize();
+    let n = DVec3::new(plane[0], plane[1], plane[2]);
+    assert!(
+        (n.length() - 1.0).abs() < 1e-9 && n.dot(d).abs() < 1e-9,
+        "{plane:?}"
+    );
+    let sides = &json["diagnostics"]["casters_by_side"];
+    let total = ["focused_only", "perspective_only", "both"]
+        .iter()
+        .map(|k| sides[k].as_u64().unwrap())
+        .sum::<u64>();
+    assert_eq!(
+        total,
+        json["diagnostics"]["relevant_casters"].as_u64().unwrap()
+            + json["diagnostics"]["culled_casters"].as_u64().unwrap()
+    );
+
+    let dir = temp_dir("sppsm");
+    let light = dir.join("light.png");
+    let render = |tint: bool| {
+        let frame = dir.join(format!("frame_{tint}.png"));
+        let mut args = vec!["render", "--technique", "sppsm", "--size", "160x90"];
+        args.extend(view);
+        args.extend([
+            "--out",
+            frame.to_str().unwrap(),
+            "--light-view",
+            light.to_str().unwrap(),
+        ]);
+        if tint {
+            args.push("--tint");
+        }
+        let out = gnomon(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let frame = image::open(&frame).unwrap().into_rgb8();
+        let red = frame
+            .pixels()
+            .filter(|p| p.0[0] as i32 > p.0[2] as i32 + 20)
+            .count();
+        let blue = frame
+            .pixels()
+            .filter(|p| p.0[2] as i32 > p.0[0] as i32 + 20)
+            .count();
+        (red, blue)
+    };
+    let ((red, blue), (plain_red, plain_blue)) = (render(true), render(false));
+    let light_view = image::open(&light).unwrap();
+    assert_eq!(
+        (light_view.width(), light_view.height()),
+        (1024, 512),
+        "both maps side by side"
+    );
+    // The tint turns the perspective map's pixels red and the focused map's blue.
+    assert!(
+        red > plain_red + 200 && blue > plain_blue + 200,
+        "{red} / {plain_red} red, {blue} / {plain_blue} blue"
+    );
+    let mut bad = vec!["setup", "--technique", "sppsm", "--sppsm-iterations", "0"];
+    bad.extend(view);
+    assert_eq!(gnomon(&bad).status.code(), Some(2));
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -234,7 +234,8 @@ pub struct Renderer {
     pub(crate) scene: GpuScene,
     layout: wgpu::BindGroupLayout,
     depth_pipeline: wgpu::RenderPipeline,
-    main_pipeline: wgpu::RenderPipeline,
+    /// The main pass, [two maps][sampling metrics].
+    main_pipelines: [[wgpu::RenderPipeline; 2]; 2],
     linear_sampler: wgpu::Sampler,
     nearest_sampler: wgpu::Sampler,
     pub(crate) volumes: VolumePipelines,
@@ -327,7 +328,8 @@ impl Renderer {
                         layout,
                         vertex_entry,
                         fragment_entry,
-                        targets: &[Option<wgpu::ColorTargetState>]| {
+                        targets: &[Option<wgpu::ColorTargetState>],
+                        constants: &[(&str, f64)]| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(layout),
@@ -352,7 +354,10 @@ impl Renderer {
                 fragment: Some(wgpu::FragmentState {
                     module: &shader,
                     entry_point: Some(fragment_entry),
-                    compilation_options: Default::default(),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants,
+                        ..Default::default()
+                    },
                     targets,
                 }),
                 multiview_mask: None,
@@ -365,18 +370,27 @@ impl Renderer {
             "vs_depth",
             "fs_depth",
             &[],
+            &[],
         );
-        let main_pipeline = pipeline(
-            "main",
-            &main_pipeline_layout,
-            "vs_main",
-            "fs_main",
-            &[
-                Some(COLOR_FORMAT.into()),
-                Some(MASK_FORMAT.into()),
-                Some(METRICS_FORMAT.into()),
-            ],
-        );
+        // The main pass specialised (pipeline-overridable constants) for one or two maps,
+        // without and with the sampling metrics target: [two maps][metrics].
+        let main_pipelines = [false, true].map(|two_maps| {
+            [false, true].map(|metrics| {
+                let mut targets = vec![Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())];
+                if metrics {
+                    targets.push(Some(METRICS_FORMAT.into()));
+                }
+                let flag = |on: bool| if on { 1.0 } else { 0.0 };
+                pipeline(
+                    "main",
+                    &main_pipeline_layout,
+                    "vs_main",
+                    "fs_main",
+                    &targets,
+                    &[("TWO_MAPS", flag(two_maps)), ("METRICS", flag(metrics))],
+                )
+            })
+        });
         let volumes = VolumePipelines::new(
             device,
             &shader,
@@ -407,7 +421,7 @@ impl Renderer {
             scene,
             layout,
             depth_pipeline,
-            main_pipeline,
+            main_pipelines,
             linear_sampler,
             nearest_sampler,
         })
@@ -640,7 +654,9 @@ impl Renderer {
         // Main pass.
         let start = Instant::now();
         let (color, mask) = self.main_images(width, height);
-        let metrics = texture("metrics", width, height, METRICS_FORMAT, attachment);
+        let metrics = settings
+            .metrics
+            .then(|| texture("metrics", width, height, METRICS_FORMAT, attachment));
         let depth = texture(
             "depth",
             width,
@@ -648,28 +664,33 @@ impl Renderer {
             DEPTH_FORMAT,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
-        let (color_view, mask_view, metrics_view, depth_view) = (
+        let (color_view, mask_view, depth_view) = (
             color.create_view(&Default::default()),
             mask.create_view(&Default::default()),
-            metrics.create_view(&Default::default()),
             depth.create_view(&Default::default()),
         );
+        let metrics_view = metrics.as_ref().map(|m| m.create_view(&Default::default()));
         let uniform = uniform_buffer(&main_globals);
         let second_view = &shadow_textures[shadow_textures.len() - 1].1;
         let bind_group = self.main_bind_group(&uniform, &shadow_textures[0].1, second_view);
         let mut encoder = device.create_command_encoder(&Default::default());
         {
+            let mut targets = vec![
+                color_target(&color_view, Some(SKY)),
+                color_target(&mask_view, Some(MASK_CLEAR)),
+            ];
+            if let Some(view) = &metrics_view {
+                targets.push(color_target(view, Some(wgpu::Color::TRANSPARENT)));
+            }
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("main"),
-                color_attachments: &[
-                    color_target(&color_view, Some(SKY)),
-                    color_target(&mask_view, Some(MASK_CLEAR)),
-                    color_target(&metrics_view, Some(wgpu::Color::TRANSPARENT)),
-                ],
+                color_attachments: &targets,
                 depth_stencil_attachment: Some(cleared_depth(&depth_view)),
                 ..Default::default()
             });
-            pass.set_pipeline(&self.main_pipeline);
+            pass.set_pipeline(
+                &self.main_pipelines[usize::from(maps.len() == 2)][usize::from(settings.metrics)],
+            );
             pass.set_bind_group(0, &bind_group, &[]);
             self.scene.draw(&mut pass, self.scene.all_indices.clone());
         }
@@ -701,11 +722,13 @@ impl Renderer {
         } else {
             None
         };
-        let metrics = if settings.metrics {
-            let bytes = readback::read_texture(&self.gpu, &metrics, wgpu::TextureAspect::All, 16)?;
-            Some(PixelMetrics::from_rgba(&bytes))
-        } else {
-            None
+        let metrics = match &metrics {
+            Some(texture) => {
+                let bytes =
+                    readback::read_texture(&self.gpu, texture, wgpu::TextureAspect::All, 16)?;
+                Some(PixelMetrics::from_rgba(&bytes))
+            }
+            None => None,
         };
         let readback_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(Frame {

@@ -36,6 +36,10 @@ struct Globals {
     selection: vec4<f32>,
 };
 
+// Pipeline specialisations of the main pass: two maps (SPPSM), sampling metrics.
+override TWO_MAPS: bool = false;
+override METRICS: bool = false;
+
 @group(0) @binding(0) var<uniform> g: Globals;
 @group(0) @binding(1) var shadow_map: texture_depth_2d;
 @group(0) @binding(2) var shadow_linear: sampler_comparison;
@@ -97,7 +101,7 @@ struct Targets {
 
 // Which map a point reads: the second one on the positive side of the plane (two maps).
 fn reads_second_map(world: vec3<f32>) -> bool {
-    return g.selection.x > 1.5 && dot(g.plane.xyz, world) + g.plane.w > 0.0;
+    return TWO_MAPS && dot(g.plane.xyz, world) + g.plane.w > 0.0;
 }
 
 // The world size of the largest texel side at a point: from the gradients of the map's
@@ -191,9 +195,13 @@ fn sampling_metrics(world: vec3<f32>, m: mat4x4<f32>, resolution: f32) -> vec2<f
 fn fs_main(in: MainOut) -> Targets {
     // Both maps' metrics in uniform control flow (derivatives), then the one the point reads.
     let second = reads_second_map(in.world);
-    let sampling_a = sampling_metrics(in.world, g.light_clip_from_world, g.map.x);
-    let sampling_b = sampling_metrics(in.world, g.light_clip_from_world_b, g.selection.z);
-    let sampling = select(sampling_a, sampling_b, second);
+    // Only when asked for (a constant, so the branch is uniform control flow).
+    var sampling = vec2<f32>(0.0, 0.0);
+    if (METRICS) {
+        let sampling_a = sampling_metrics(in.world, g.light_clip_from_world, g.map.x);
+        let sampling_b = sampling_metrics(in.world, g.light_clip_from_world_b, g.selection.z);
+        sampling = select(sampling_a, sampling_b, second);
+    }
     // The geometric normal (the triangle's plane), turned toward the camera.
     var n_geo = normalize(cross(dpdx(in.world), dpdy(in.world)));
     let to_eye = g.eye.xyz - in.world;
@@ -245,7 +253,7 @@ fn fs_main(in: MainOut) -> Targets {
     let direct = select(diffuse, 0.0, g.extra.z > 1.5 || !in_light);
     let light = ambient + (1.0 - g.map.w) * direct;
     var tint = vec3<f32>(1.0, 1.0, 1.0);
-    if (g.selection.y > 0.5 && g.selection.x > 1.5) {
+    if (TWO_MAPS && g.selection.y > 0.5) {
         tint = select(vec3<f32>(0.55, 0.7, 1.0), vec3<f32>(1.0, 0.55, 0.5), second);
     }
     out.color = vec4<f32>(in.color.rgb * light * tint, 1.0);
