@@ -25,7 +25,10 @@
 //! points to clip space).
 //!
 //! Techniques (each cites its paper): [`Uniform`] (SSM), [`Focused`] (FSM with unit cube
-//! clipping), [`Lispsm`] (LiSPSM), [`Tsm`] (TSM), [`Xpsm`] (XPSM), [`Psm`] (PSM). Every technique implements [`ShadowTechnique`]; [`Technique`] names them all.
+//! clipping), [`Lispsm`] (LiSPSM), [`Tsm`] (TSM), [`Xpsm`] (XPSM), [`Psm`] (PSM), [`Sppsm`]
+//! (two maps and a separating plane). Every technique implements [`ShadowTechnique`];
+//! [`Technique`] names them all. [`analysis`] measures aliasing from the matrices;
+//! [`volumes`] builds exact shadow volumes.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
