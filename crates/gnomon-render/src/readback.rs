@@ -7,6 +7,17 @@ pub(crate) fn read_texture(
     aspect: wgpu::TextureAspect,
     bytes_per_texel: u32,
 ) -> Result<Vec<u8>, RenderError> {
+    read_texture_layer(gpu, texture, aspect, bytes_per_texel, 0)
+}
+
+/// [`read_texture`] for one layer of an array texture.
+pub(crate) fn read_texture_layer(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    aspect: wgpu::TextureAspect,
+    bytes_per_texel: u32,
+    layer: u32,
+) -> Result<Vec<u8>, RenderError> {
     let (width, height) = (texture.width(), texture.height());
     let unpadded = width * bytes_per_texel;
     let padded =
@@ -26,7 +37,11 @@ pub(crate) fn read_texture(
         wgpu::TexelCopyTextureInfo {
             texture,
             mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
             aspect,
         },
         wgpu::TexelCopyBufferInfo {

@@ -270,7 +270,7 @@ impl Renderer {
                     visibility: wgpu::ShaderStages::FRAGMENT,
                     ty: wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
                         multisampled: false,
                     },
                     count: None,
@@ -285,17 +285,6 @@ impl Renderer {
                     binding: 3,
                     visibility: wgpu::ShaderStages::FRAGMENT,
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                    count: None,
-                },
-                // The second map of two-map setups (SPPSM).
-                wgpu::BindGroupLayoutEntry {
-                    binding: 4,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
                     count: None,
                 },
             ],
@@ -427,13 +416,12 @@ impl Renderer {
         })
     }
 
-    /// The main pass's bind group: the globals and the shadow maps (the second the same as
-    /// the first for one map).
+    /// The main pass's bind group: the globals and the shadow maps (an array view, one layer
+    /// per map).
     pub(crate) fn main_bind_group(
         &self,
         uniform: &wgpu::Buffer,
         shadow_view: &wgpu::TextureView,
-        second_view: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
         self.gpu
             .device
@@ -456,10 +444,6 @@ impl Renderer {
                     wgpu::BindGroupEntry {
                         binding: 3,
                         resource: wgpu::BindingResource::Sampler(&self.nearest_sampler),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: wgpu::BindingResource::TextureView(second_view),
                     },
                 ],
             })
@@ -566,6 +550,14 @@ impl Renderer {
                 )));
             }
         }
+        // The maps are layers of one texture: one size.
+        let resolution = maps[0].0.resolution;
+        if maps.iter().any(|(m, _)| m.resolution != resolution) {
+            return Err(RenderError::Invalid(format!(
+                "setup '{}' has maps of different sizes",
+                setup.technique
+            )));
+        }
         let device = &self.gpu.device;
         let error_scope = self
             .gpu
@@ -600,18 +592,23 @@ impl Renderer {
         let texture = |label, w, h, format, usage| texture(device, label, w, h, format, usage);
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
 
-        // Depth passes.
+        // Depth passes, one layer each.
         let start = Instant::now();
-        let mut shadow_textures = Vec::new();
-        for (map, side) in &maps {
-            let shadow_texture = texture(
-                "shadow map",
-                map.resolution,
-                map.resolution,
-                DEPTH_FORMAT,
-                attachment | wgpu::TextureUsages::TEXTURE_BINDING,
-            );
-            let shadow_view = shadow_texture.create_view(&Default::default());
+        let shadow_texture = texture_layers(
+            device,
+            "shadow maps",
+            resolution,
+            maps.len() as u32,
+            DEPTH_FORMAT,
+            attachment | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        for (layer, (map, side)) in maps.iter().enumerate() {
+            let shadow_view = shadow_texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer as u32,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
             let uniform = uniform_buffer(&map_globals(map));
             let depth_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("globals"),
@@ -646,7 +643,6 @@ impl Renderer {
                 }
             }
             self.gpu.queue.submit([encoder.finish()]);
-            shadow_textures.push((shadow_texture, shadow_view));
         }
         self.gpu.wait()?;
         let shadow_pass_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -671,8 +667,11 @@ impl Renderer {
         );
         let metrics_view = metrics.as_ref().map(|m| m.create_view(&Default::default()));
         let uniform = uniform_buffer(&main_globals);
-        let second_view = &shadow_textures[shadow_textures.len() - 1].1;
-        let bind_group = self.main_bind_group(&uniform, &shadow_textures[0].1, second_view);
+        let shadow_array = shadow_texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let bind_group = self.main_bind_group(&uniform, &shadow_array);
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut targets = vec![
@@ -706,12 +705,13 @@ impl Renderer {
         let light_view = if settings.light_view {
             // The maps side by side, as the light sees them.
             let mut views = Vec::new();
-            for ((map, _), (shadow_texture, _)) in maps.iter().zip(&shadow_textures) {
-                let depth = readback::read_texture(
+            for (layer, (map, _)) in maps.iter().enumerate() {
+                let depth = readback::read_texture_layer(
                     &self.gpu,
-                    shadow_texture,
+                    &shadow_texture,
                     wgpu::TextureAspect::DepthOnly,
                     4,
+                    layer as u32,
                 )?;
                 views.push((
                     map.resolution,
@@ -756,12 +756,36 @@ pub(crate) fn texture(
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
+    texture_2d(device, label, width, height, 1, format, usage)
+}
+
+/// A square 2D array texture of `layers` layers (one mip level).
+pub(crate) fn texture_layers(
+    device: &wgpu::Device,
+    label: &str,
+    size: u32,
+    layers: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    texture_2d(device, label, size, size, layers, format, usage)
+}
+
+fn texture_2d(
+    device: &wgpu::Device,
+    label: &str,
+    width: u32,
+    height: u32,
+    layers: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
             width,
             height,
-            depth_or_array_layers: 1,
+            depth_or_array_layers: layers,
         },
         mip_level_count: 1,
         sample_count: 1,

@@ -41,10 +41,10 @@ override TWO_MAPS: bool = false;
 override METRICS: bool = false;
 
 @group(0) @binding(0) var<uniform> g: Globals;
-@group(0) @binding(1) var shadow_map: texture_depth_2d;
+// The shadow maps, one layer each (two for SPPSM: layer 1 is the second map).
+@group(0) @binding(1) var shadow_maps: texture_depth_2d_array;
 @group(0) @binding(2) var shadow_linear: sampler_comparison;
 @group(0) @binding(3) var shadow_nearest: sampler_comparison;
-@group(0) @binding(4) var shadow_map_b: texture_depth_2d;
 
 struct DepthOut {
     @builtin(position) clip: vec4<f32>,
@@ -126,12 +126,9 @@ fn texel_world_size(world: vec3<f32>, second: bool) -> f32 {
     return (2.0 / resolution) / max(min(length(gx), length(gy)), 1e-30);
 }
 
-// One comparison tap of the first or the second map.
+// One comparison tap of the first or the second map (a layer, not a branch: one tap).
 fn tap(second: bool, s: sampler_comparison, uv: vec2<f32>, reference: f32) -> f32 {
-    if (second) {
-        return textureSampleCompareLevel(shadow_map_b, s, uv, reference);
-    }
-    return textureSampleCompareLevel(shadow_map, s, uv, reference);
+    return textureSampleCompareLevel(shadow_maps, s, uv, select(0, 1, second), reference);
 }
 
 // 1 where the point is lit according to the shadow map, 0 where it is shadowed.

@@ -451,12 +451,15 @@ impl Renderer {
         let (color_view, depth_view, dummy_view) = (
             color.create_view(&Default::default()),
             depth.create_view(&Default::default()),
-            dummy_map.create_view(&Default::default()),
+            dummy_map.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            }),
         );
         // The ambient term alone; the mask of the first light as if all were shadowed (the
         // light's pass then writes where it reaches).
         let ambient_uniform = uniform(&lights[0], ShadowOverride::Shadowed, Terms::AmbientOnly);
-        let ambient_group = self.main_bind_group(&ambient_uniform, &dummy_view, &dummy_view);
+        let ambient_group = self.main_bind_group(&ambient_uniform, &dummy_view);
         let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
             layout: &self.volumes.z_fail.get_bind_group_layout(0),
@@ -543,8 +546,8 @@ impl Renderer {
                 uniform(light, ShadowOverride::Shadowed, Terms::DirectOnly),
             );
             let (lit_group, shadowed_group) = (
-                self.main_bind_group(&lit_uniform, &dummy_view, &dummy_view),
-                self.main_bind_group(&shadowed_uniform, &dummy_view, &dummy_view),
+                self.main_bind_group(&lit_uniform, &dummy_view),
+                self.main_bind_group(&shadowed_uniform, &dummy_view),
             );
             let mut encoder = device.create_command_encoder(&Default::default());
             {
