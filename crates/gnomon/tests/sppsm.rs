@@ -390,3 +390,61 @@ fn iterations_refocus_each_map_on_its_side() {
         "the focused map got tighter in {tighter} of 40"
     );
 }
+
+/// Focused on all of I (one iteration), the two maps are the focused and the perspective
+/// technique's own, so each point of I reads a map exactly as fine, in area, as the better
+/// of the two techniques alone. (With refocusing the plane is kept from the iteration before
+/// the last, so near it a point can read the slightly worse map: see the issue note.)
+#[test]
+fn one_iteration_reads_the_better_technique_everywhere() {
+    use gnomon::techniques::ray_area_density;
+    let (mut checked, mut coarser) = (0, 0);
+    for seed in 0..40u64 {
+        let cfg = config(seed, seed % 3 == 0);
+        let setup = |t: &dyn gnomon::ShadowTechnique| {
+            compute_setup(
+                t,
+                &cfg.camera,
+                &cfg.light,
+                &cfg.scene,
+                MapSettings::with_resolution(1024),
+            )
+            .unwrap()
+        };
+        let one = Sppsm {
+            iterations: 1,
+            ..Sppsm::default()
+        };
+        let (both, focused, psm) = (setup(&one), setup(&gnomon::Focused), setup(&Psm::default()));
+        if both.maps.len() < 2 {
+            continue;
+        }
+        let mut rng = TestRng::from_seed(RngAlgorithm::ChaCha, &seed.to_le_bytes().repeat(4));
+        let (lo, hi) = (cfg.scene.scene_box().min(), cfg.scene.scene_box().max());
+        for _ in 0..300 {
+            let p = DVec3::new(
+                rng.random_range(lo.x..hi.x),
+                rng.random_range(lo.y..hi.y),
+                rng.random_range(lo.z..hi.z),
+            );
+            let Some(c) = screen(&cfg.camera, p) else {
+                continue;
+            };
+            if !(c.x.abs() < 1.0 && c.y.abs() < 1.0 && (0.0..1.0).contains(&c.z))
+                || !lit_region(&cfg.light, p)
+            {
+                continue;
+            }
+            let density = |m: &ShadowMap| ray_area_density(m, &cfg.light, p);
+            let chosen = density(&both.maps[both.selection.map_for(p)]);
+            let best_alone = density(&focused.maps[0]).max(density(&psm.maps[0]));
+            checked += 1;
+            if chosen < (1.0 - 1e-9) * best_alone {
+                coarser += 1;
+            }
+        }
+    }
+    println!("{coarser} of {checked} points coarser than the better technique alone");
+    assert!(checked > 2000, "{checked}");
+    assert_eq!(coarser, 0, "{coarser} of {checked}");
+}

@@ -26,7 +26,12 @@
 //! Iterative focusing (section 6): each map is refocused on the part of I (the scene seen by
 //! the camera and the light) on its side of the plane, and the plane recomputed; in the last
 //! iteration the plane is kept, so that I's part on the plane stays inside both focus regions
-//! and the sign of the plane alone picks the map. Refocusing hands the technique the scene
+//! and the sign of the plane alone picks the map. A refocused focused map only gets finer;
+//! a perspective map's warp depends on its focus region, so its refocused version is taken
+//! only when it is no coarser than the map on all of I anywhere on its side (checked at the
+//! vertices of P there and their midpoints), else the map on all of I stays (it covers every
+//! side). So every pixel reads a map at least as fine, in area, as the better of the two
+//! techniques alone. Refocusing hands the technique the scene
 //! with every box cut to the half-space (the box around each cut part): the plane contains
 //! the light's rays, so a caster's part on the other side cannot shadow a receiver on this
 //! side.
@@ -42,11 +47,13 @@ use glam::{DMat3, DVec3, DVec4};
 
 use crate::bounds::{Aabb, SceneBounds};
 use crate::error::SetupError;
+use crate::focus::VisibleScene;
+use crate::geometry::Plane;
 use crate::light::Light;
 use crate::setup::{
     CastersBySide, Fallback, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
-use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};
+use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm, fixed_projector, tolerance};
 
 /// The perspective map of an SPPSM setup.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -264,6 +271,37 @@ fn scene_on_side(scene: &SceneBounds, plane: DVec4, sign: f64) -> Option<SceneBo
     SceneBounds::new(cut(scene.casters()), receivers, Some(scene_box)).ok()
 }
 
+/// The vertices of P (the view frustum clipped by the scene box and, for a spot light, its
+/// frustum) on the positive side of `plane`.
+fn view_points_on_side(input: &SetupInput<'_>, plane: DVec4) -> Vec<DVec3> {
+    let tolerance = tolerance(input.scene, Some(input.camera), input.light);
+    let light_planes = match input.light {
+        Light::Directional(_) => None,
+        Light::Spot(spot) => Some(spot.frustum_planes(fixed_projector(input.light).frame().up)),
+    };
+    let visible = VisibleScene::new(input.camera, input.scene, light_planes.as_ref(), tolerance);
+    let n = plane.truncate();
+    let side = Plane::through_point(n * -plane.w, n);
+    visible.view_body.clip(&side, tolerance).vertices(tolerance)
+}
+
+/// Whether `map` samples at least as finely in area (|det J| on the light's rays) as
+/// `reference` at every point of the convex hull of `points`, checked at the points and the
+/// midpoints of every pair.
+fn no_coarser(map: &ShadowMap, reference: &ShadowMap, light: &Light, points: &[DVec3]) -> bool {
+    let finer = |p: DVec3| {
+        let (a, b) = (
+            ray_area_density(map, light, p),
+            ray_area_density(reference, light, p),
+        );
+        a >= b * (1.0 - 1e-9)
+    };
+    points
+        .iter()
+        .enumerate()
+        .all(|(i, p)| finer(*p) && points[i + 1..].iter().all(|q| finer(0.5 * (*p + *q))))
+}
+
 /// How many caster boxes lie wholly on each side of `plane`, or straddle it.
 fn casters_by_side(scene: &SceneBounds, plane: DVec4) -> CastersBySide {
     let mut counts = CastersBySide::default();
@@ -344,7 +382,18 @@ impl ShadowTechnique for Sppsm {
             if !f.diagnostics.fallbacks.is_empty() || !p.diagnostics.fallbacks.is_empty() {
                 break;
             }
-            (focused_map, perspective_map) = (f.maps[0], p.maps[0]);
+            focused_map = f.maps[0];
+            // A perspective map's warp depends on its focus region: refocused, it can come out
+            // coarser somewhere on its side. It is taken only when it is no coarser than the
+            // map on all of I anywhere on its side (at the vertices of P there and the points
+            // between them); else the map on all of I stays (it covers I whatever the plane).
+            let side_points = view_points_on_side(input, plane);
+            perspective_map =
+                if no_coarser(&p.maps[0], &perspective.maps[0], input.light, &side_points) {
+                    p.maps[0]
+                } else {
+                    perspective.maps[0]
+                };
             focus_plane = Some(plane);
             // In the last iteration the plane stays: I's part on it is inside both maps.
             if iteration == self.iterations {
