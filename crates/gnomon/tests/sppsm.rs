@@ -430,9 +430,8 @@ fn one_iteration_reads_the_better_technique_everywhere() {
             let Some(c) = screen(&cfg.camera, p) else {
                 continue;
             };
-            if !(c.x.abs() < 1.0 && c.y.abs() < 1.0 && (0.0..1.0).contains(&c.z))
-                || !lit_region(&cfg.light, p)
-            {
+            let visible = c.x.abs() < 1.0 && c.y.abs() < 1.0 && (0.0..1.0).contains(&c.z);
+            if !(visible && lit_region(&cfg.light, p)) {
                 continue;
             }
             let density = |m: &ShadowMap| ray_area_density(m, &cfg.light, p);
