@@ -17,7 +17,7 @@ use serde_json::{Value, json};
 
 use crate::args::{TechniqueParams, scene_layout, timed_setup};
 use crate::demo::view_camera_and_light;
-use crate::render::{parse_size, write_png};
+use crate::render::{parse_size, write_png, write_text};
 use crate::{CliError, heatmap};
 
 /// `gnomon compare`.
@@ -343,11 +343,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             mean(p99)
         );
     }
-    let write = |name: &str, text: &str| {
-        let path = args.out.join(name);
-        std::fs::write(&path, text)
-            .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))
-    };
+    let write = |name: &str, text: &str| write_text(&args.out.join(name), text);
     write("index.md", &markdown)?;
     write(
         "report.json",

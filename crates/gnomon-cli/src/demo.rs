@@ -13,7 +13,7 @@ use serde_json::json;
 
 use crate::CliError;
 use crate::args::{TechniqueParams, timed_setup};
-use crate::render::write_frame;
+use crate::render::{write_frame, write_text};
 use crate::report;
 
 /// `gnomon demo`.
@@ -194,11 +194,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         args.shadow_map,
         renderer.gpu().describe()
     );
-    let write = |name: &str, text: &str| {
-        let path = args.out.join(name);
-        std::fs::write(&path, text)
-            .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))
-    };
+    let write = |name: &str, text: &str| write_text(&args.out.join(name), text);
     write("index.html", &html)?;
     write(
         "setups.json",

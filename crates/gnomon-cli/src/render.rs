@@ -209,6 +209,12 @@ pub fn render_scene(name: &str, mesh: &MeshArgs) -> Result<RenderScene, CliError
     )?)
 }
 
+/// Writes a text file.
+pub fn write_text(path: &Path, text: &str) -> Result<(), CliError> {
+    std::fs::write(path, text)
+        .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))
+}
+
 /// Writes an image file.
 pub fn write_png(
     path: &Path,
@@ -400,8 +406,7 @@ pub struct ExportArgs {
 /// Runs `gnomon export`.
 pub fn export(args: &ExportArgs) -> Result<(), CliError> {
     let layout = scene_layout(&args.scene)?;
-    std::fs::write(&args.obj, layout.to_obj())
-        .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", args.obj.display())))?;
+    write_text(&args.obj, &layout.to_obj())?;
     eprintln!(
         "wrote {} ({} triangles)",
         args.obj.display(),

@@ -275,36 +275,30 @@ impl VolumePipelines {
         use wgpu::CompareFunction as C;
         use wgpu::StencilOperation as S;
         let no_stencil = wgpu::StencilState::default();
+        // The volumes: stencil only, two-sided, no depth writes; front and back faces count
+        // as `front` and `back` say.
+        let volumes = |label, front, back| {
+            pipeline(
+                label,
+                globals_layout,
+                "vs_volume",
+                &volume_vertices,
+                None,
+                false,
+                C::Less,
+                stencil(front, back, 0xff, 0xff),
+            )
+        };
         Self {
-            z_fail: pipeline(
+            z_fail: volumes(
                 "volumes: z-fail",
-                globals_layout,
-                "vs_volume",
-                &volume_vertices,
-                None,
-                false,
-                C::Less,
-                stencil(
-                    face(S::DecrementWrap, S::Keep),
-                    face(S::IncrementWrap, S::Keep),
-                    0xff,
-                    0xff,
-                ),
+                face(S::DecrementWrap, S::Keep),
+                face(S::IncrementWrap, S::Keep),
             ),
-            z_pass: pipeline(
+            z_pass: volumes(
                 "volumes: z-pass",
-                globals_layout,
-                "vs_volume",
-                &volume_vertices,
-                None,
-                false,
-                C::Less,
-                stencil(
-                    face(S::Keep, S::IncrementWrap),
-                    face(S::Keep, S::DecrementWrap),
-                    0xff,
-                    0xff,
-                ),
+                face(S::Keep, S::IncrementWrap),
+                face(S::Keep, S::DecrementWrap),
             ),
             depth_and_ambient: pipeline(
                 "volumes: depth and ambient",

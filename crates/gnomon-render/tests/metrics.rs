@@ -8,34 +8,20 @@
 
 mod common;
 
-use glam::{DMat4, DVec2, DVec3, DVec4};
+use glam::{DVec2, DVec3, DVec4};
 use gnomon::{Camera, DirectionalLight, Focused, Lens, Light, Lispsm, Psm, ShadowTechnique};
-use gnomon_render::{Instance, RenderScene, RenderSettings};
-use gnomon_scene::Shape;
+use gnomon_render::{RenderScene, RenderSettings};
 
 const SIZE: u32 = 192;
 
 /// A ground slab (top at y = 0) and one box standing on it.
 fn scene() -> RenderScene {
-    let cuboid = |half: DVec3| Shape::Cuboid { half_extents: half }.mesh();
-    let place = |name: &str, mesh, at: DVec3, casts| Instance {
-        name: name.into(),
-        mesh,
-        world_from_object: DMat4::from_translation(at),
-        casts,
-        receives: true,
-        color: [0.6, 0.6, 0.6],
-    };
-    RenderScene {
-        meshes: vec![
-            cuboid(DVec3::new(60.0, 0.5, 60.0)),
-            cuboid(DVec3::new(2.0, 3.0, 2.0)),
-        ],
-        instances: vec![
-            place("ground", 0, DVec3::new(0.0, -0.5, 0.0), false),
-            place("box", 1, DVec3::new(-8.0, 3.0, -20.0), true),
-        ],
-    }
+    common::box_on_ground(
+        60.0,
+        "box",
+        DVec3::new(2.0, 3.0, 2.0),
+        DVec3::new(-8.0, 0.0, -20.0),
+    )
 }
 
 /// (1 / sigma_min, 1 / |det|) of the Jacobian with columns `jx`, `jy`.

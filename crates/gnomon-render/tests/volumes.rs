@@ -9,10 +9,10 @@ mod common;
 
 use std::path::PathBuf;
 
-use glam::{DMat4, DVec3};
+use glam::DVec3;
 use gnomon::{Camera, DirectionalLight, Lens, Light, SpotLight};
-use gnomon_render::{Instance, RenderScene, RenderSettings, Renderer, StencilMode};
-use gnomon_scene::{Mesh, Shape};
+use gnomon_render::{RenderScene, RenderSettings, Renderer, StencilMode};
+use gnomon_scene::Mesh;
 
 const SIZE: u32 = 256;
 
@@ -28,25 +28,7 @@ fn camera(eye: DVec3, target: DVec3, near: f64, far: f64) -> Camera {
 
 /// A ground slab and a 40 m tower at the origin.
 fn tower_scene() -> RenderScene {
-    let cuboid = |half: DVec3| Shape::Cuboid { half_extents: half }.mesh();
-    let place = |name: &str, mesh, at: DVec3, casts| Instance {
-        name: name.into(),
-        mesh,
-        world_from_object: DMat4::from_translation(at),
-        casts,
-        receives: true,
-        color: [0.6, 0.6, 0.6],
-    };
-    RenderScene {
-        meshes: vec![
-            cuboid(DVec3::new(100.0, 0.5, 100.0)),
-            cuboid(DVec3::new(5.0, 20.0, 5.0)),
-        ],
-        instances: vec![
-            place("ground", 0, DVec3::new(0.0, -0.5, 0.0), false),
-            place("tower", 1, DVec3::new(0.0, 20.0, 0.0), true),
-        ],
-    }
+    common::box_on_ground(100.0, "tower", DVec3::new(5.0, 20.0, 5.0), DVec3::ZERO)
 }
 
 fn sun(x: f64, y: f64, z: f64) -> Light {
