@@ -224,8 +224,10 @@ impl GpuScene {
             let m = instance.world_from_object;
             let normal_matrix = DMat3::from_mat4(m).inverse().transpose();
             let base = vertices.len() as u32;
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
             for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
                 let w = m.transform_point3(*p);
+                (lo, hi) = (lo.min(w), hi.max(w));
                 let wn = (normal_matrix * *n).normalize_or_zero();
                 let [r, g, b] = instance.color;
                 vertices.push(Vertex {
@@ -236,11 +238,6 @@ impl GpuScene {
             }
             indices.extend(mesh.indices.iter().map(|i| base + i));
             if k < caster_count {
-                let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-                for p in &mesh.positions {
-                    let w = m.transform_point3(*p);
-                    (lo, hi) = (lo.min(w), hi.max(w));
-                }
                 casters.push((first_index..indices.len() as u32, lo, hi));
             }
             if k + 1 == caster_count {
