@@ -289,6 +289,20 @@ impl VolumePipelines {
                 stencil(front, back, 0xff, 0xff),
             )
         };
+        // One light's shading: the scene where the stencil count compares to 0 as `compare`
+        // says, colour added.
+        let light_pass = |label, compare| {
+            pipeline(
+                label,
+                main_layout,
+                "vs_main",
+                scene_vertices,
+                Some(("fs_main", &additive_targets)),
+                false,
+                C::LessEqual,
+                stencil(test(compare), test(compare), 0xff, 0),
+            )
+        };
         Self {
             z_fail: volumes(
                 "volumes: z-fail",
@@ -310,26 +324,8 @@ impl VolumePipelines {
                 C::Less,
                 no_stencil.clone(),
             ),
-            lit: pipeline(
-                "volumes: lit",
-                main_layout,
-                "vs_main",
-                scene_vertices,
-                Some(("fs_main", &additive_targets)),
-                false,
-                C::LessEqual,
-                stencil(test(C::Equal), test(C::Equal), 0xff, 0),
-            ),
-            shadowed: pipeline(
-                "volumes: shadowed",
-                main_layout,
-                "vs_main",
-                scene_vertices,
-                Some(("fs_main", &additive_targets)),
-                false,
-                C::LessEqual,
-                stencil(test(C::NotEqual), test(C::NotEqual), 0xff, 0),
-            ),
+            lit: light_pass("volumes: lit", C::Equal),
+            shadowed: light_pass("volumes: shadowed", C::NotEqual),
         }
     }
 }

@@ -48,7 +48,7 @@ use glam::{DMat3, DVec3, DVec4};
 use crate::bounds::{Aabb, SceneBounds};
 use crate::error::SetupError;
 use crate::focus::VisibleScene;
-use crate::geometry::Plane;
+use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
 use crate::setup::{
     CastersBySide, Fallback, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
@@ -271,18 +271,23 @@ fn scene_on_side(scene: &SceneBounds, plane: DVec4, sign: f64) -> Option<SceneBo
     SceneBounds::new(cut(scene.casters()), receivers, Some(scene_box)).ok()
 }
 
-/// The vertices of P (the view frustum clipped by the scene box and, for a spot light, its
-/// frustum) on the positive side of `plane`.
-fn view_points_on_side(input: &SetupInput<'_>, plane: DVec4) -> Vec<DVec3> {
+/// P: the view frustum clipped by the scene box and, for a spot light, its frustum; and the
+/// setup's tolerance.
+fn view_body(input: &SetupInput<'_>) -> (ConvexPolyhedron, f64) {
     let tolerance = tolerance(input.scene, Some(input.camera), input.light);
     let light_planes = match input.light {
         Light::Directional(_) => None,
         Light::Spot(spot) => Some(spot.frustum_planes(fixed_projector(input.light).frame().up)),
     };
     let visible = VisibleScene::new(input.camera, input.scene, light_planes.as_ref(), tolerance);
+    (visible.view_body, tolerance)
+}
+
+/// The vertices of `body` on the positive side of `plane`.
+fn points_on_side(body: &ConvexPolyhedron, tolerance: f64, plane: DVec4) -> Vec<DVec3> {
     let n = plane.truncate();
     let side = Plane::through_point(n * -plane.w, n);
-    visible.view_body.clip(&side, tolerance).vertices(tolerance)
+    body.clip(&side, tolerance).vertices(tolerance)
 }
 
 /// Whether `map` samples at least as finely in area (|det J| on the light's rays) as
@@ -366,6 +371,8 @@ impl ShadowTechnique for Sppsm {
         // The plane the current maps were focused around (None: both on all of I, where any
         // plane selects correctly).
         let mut focus_plane = None;
+        // P does not change between iterations; only its side of the plane does.
+        let (body, body_tolerance) = view_body(input);
         for iteration in 2..=self.iterations {
             // Each map on its side of the current plane; if a side has no receiver or a map
             // falls back, the maps of the previous iteration stay.
@@ -387,7 +394,7 @@ impl ShadowTechnique for Sppsm {
             // coarser somewhere on its side. It is taken only when it is no coarser than the
             // map on all of I anywhere on its side (at the vertices of P there and the points
             // between them); else the map on all of I stays (it covers I whatever the plane).
-            let side_points = view_points_on_side(input, plane);
+            let side_points = points_on_side(&body, body_tolerance, plane);
             perspective_map =
                 if no_coarser(&p.maps[0], &perspective.maps[0], input.light, &side_points) {
                     p.maps[0]
