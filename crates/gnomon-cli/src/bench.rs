@@ -1,6 +1,7 @@
 //! `gnomon bench`: frame times of shadow techniques on the same scene and views, measured in
 //! one run (frames interleaved round-robin, so that a noisy machine slows every technique
-//! alike), with each technique's ratio to the focused shadow map.
+//! alike), with each technique's ratio to a baseline (the focused shadow map unless
+//! `--baseline` names another), view by view and on average over the views.
 
 use std::time::Instant;
 
@@ -25,13 +26,17 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub mesh: MeshArgs,
     /// What to time, comma-separated: shadow-map techniques (uniform, focused, lispsm, tsm,
-    /// xpsm, psm) and shadow volumes (volumes = z-fail, volumes-z-pass, volumes-per-caster).
+    /// xpsm, psm, sppsm) and shadow volumes (volumes = z-fail, volumes-z-pass,
+    /// volumes-per-caster).
     #[arg(
         long,
         value_delimiter = ',',
         default_value = "focused,volumes,volumes-per-caster"
     )]
     pub techniques: Vec<String>,
+    /// The technique every frame time is divided by (one of --techniques).
+    #[arg(long, default_value = "focused")]
+    pub baseline: String,
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Timed frames per view and technique (after one untimed warm-up frame).
@@ -138,6 +143,20 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     if entries.is_empty() {
         return Err(CliError::usage("--techniques names nothing to time"));
     }
+    let baseline = entries
+        .iter()
+        .position(|e| e.name() == args.baseline.trim())
+        .ok_or_else(|| {
+            CliError::usage(format!(
+                "--baseline '{}' is not among --techniques ({})",
+                args.baseline,
+                entries
+                    .iter()
+                    .map(Entry::name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })?;
     if args.frames == 0 {
         return Err(CliError::usage("--frames must be at least 1"));
     }
@@ -192,10 +211,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 times[k].push(frame(entry, camera, light)?);
             }
         }
-        let focused = entries
-            .iter()
-            .position(|e| e.name() == "focused")
-            .map(|k| mean_sd(&times[k].iter().map(|t| t.0).collect::<Vec<_>>()).0);
+        let baseline_ms = mean_sd(&times[baseline].iter().map(|t| t.0).collect::<Vec<_>>()).0;
         for (entry, samples) in entries.iter().zip(&times) {
             let total: Vec<f64> = samples.iter().map(|t| t.0).collect();
             let shadow: Vec<f64> = samples.iter().map(|t| t.1.shadow_pass_ms).collect();
@@ -208,7 +224,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 "frame_ms_sd": sd,
                 "shadow_pass_ms": mean_sd(&shadow).0,
                 "main_pass_ms": mean_sd(&main).0,
-                "vs_focused": focused.map(|f| mean / f),
+                "vs_baseline": mean / baseline_ms,
             }));
         }
         eprintln!(
@@ -218,11 +234,31 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             started.elapsed().as_secs_f64()
         );
     }
+    // Each technique's ratio to the baseline over the views: mean, smallest, largest.
+    let summary: Vec<_> = entries
+        .iter()
+        .map(|entry| {
+            let ratios: Vec<f64> = results
+                .iter()
+                .filter(|r| r["technique"] == entry.name())
+                .filter_map(|r| r["vs_baseline"].as_f64())
+                .collect();
+            json!({
+                "technique": entry.name(),
+                "mean_vs_baseline": mean_sd(&ratios).0,
+                "min_vs_baseline": ratios.iter().copied().fold(f64::INFINITY, f64::min),
+                "max_vs_baseline": ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            })
+        })
+        .collect();
+    let baseline_name = entries[baseline].name();
     if args.json {
         println!(
             "{}",
             serde_json::to_string_pretty(&json!({
                 "device": renderer.gpu().describe(),
+                "baseline": baseline_name,
+                "summary": summary,
                 "size": [args.size.0, args.size.1],
                 "shadow_map": args.shadow_map,
                 "frames": args.frames,
@@ -234,7 +270,13 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     }
     println!(
         "{:<16} {:<20} {:>10} {:>8} {:>10} {:>10} {:>11}",
-        "view", "technique", "frame ms", "sd", "shadow ms", "main ms", "vs focused"
+        "view",
+        "technique",
+        "frame ms",
+        "sd",
+        "shadow ms",
+        "main ms",
+        format!("vs {baseline_name}")
     );
     for r in &results {
         println!(
@@ -245,9 +287,17 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             r["frame_ms_sd"].as_f64().unwrap_or_default(),
             r["shadow_pass_ms"].as_f64().unwrap_or_default(),
             r["main_pass_ms"].as_f64().unwrap_or_default(),
-            r["vs_focused"]
-                .as_f64()
-                .map_or("-".to_string(), |x| format!("{x:.2}x")),
+            format!("{:.2}x", r["vs_baseline"].as_f64().unwrap_or_default()),
+        );
+    }
+    println!("\nframe time / {baseline_name}'s over the views: mean (smallest, largest)");
+    for s in &summary {
+        println!(
+            "{:<20} {:>6.2}x ({:.2}x, {:.2}x)",
+            s["technique"].as_str().unwrap_or_default(),
+            s["mean_vs_baseline"].as_f64().unwrap_or_default(),
+            s["min_vs_baseline"].as_f64().unwrap_or_default(),
+            s["max_vs_baseline"].as_f64().unwrap_or_default(),
         );
     }
     Ok(())

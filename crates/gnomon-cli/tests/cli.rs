@@ -616,7 +616,7 @@ fn bench_times_techniques_side_by_side() {
     assert_eq!(results.len(), 2 * gnomon_scene::DEMO_VIEWS.len());
     for r in results {
         assert!(r["frame_ms"].as_f64().unwrap() > 0.0, "{r}");
-        let ratio = r["vs_focused"].as_f64().unwrap();
+        let ratio = r["vs_baseline"].as_f64().unwrap();
         if r["technique"] == "focused" {
             assert_eq!(ratio, 1.0);
         } else {
@@ -624,8 +624,26 @@ fn bench_times_techniques_side_by_side() {
             assert!(ratio > 0.0 && ratio.is_finite());
         }
     }
+    assert_eq!(json["baseline"], "focused");
+    let summary = json["summary"].as_array().unwrap();
+    assert_eq!(summary.len(), 2);
+    assert_eq!(summary[0]["mean_vs_baseline"], 1.0);
+    let s = &summary[1];
+    let (lo, mean, hi) = (
+        s["min_vs_baseline"].as_f64().unwrap(),
+        s["mean_vs_baseline"].as_f64().unwrap(),
+        s["max_vs_baseline"].as_f64().unwrap(),
+    );
+    assert!(0.0 < lo && lo <= mean && mean <= hi, "{s}");
     for bad in [
         vec!["bench", "--techniques", "focused,shadowy"],
+        vec![
+            "bench",
+            "--techniques",
+            "psm,sppsm",
+            "--baseline",
+            "focused",
+        ],
         vec!["bench", "--frames", "0"],
         vec!["bench", "--scene", "nowhere"],
     ] {
