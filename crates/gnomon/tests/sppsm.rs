@@ -398,13 +398,19 @@ fn iterations_refocus_each_map_on_its_side() {
 
 /// Focused on all of I (one iteration), the two maps are the focused and the perspective
 /// technique's own, so each point of I reads a map exactly as fine, in area, as the better
-/// of the two techniques alone. (With refocusing the plane is kept from the iteration before
-/// the last, so near it a point can read the slightly worse map: see the issue note.)
+/// of the two techniques alone; refocused (10 iterations), at least as fine. (Refocusing can
+/// overshoot and the plane oscillate, as in seed 34: such iterations are not kept.)
 #[test]
-fn one_iteration_reads_the_better_technique_everywhere() {
+fn every_point_reads_a_map_as_fine_as_the_better_technique_alone() {
+    for iterations in [1, 10] {
+        reads_the_better_technique_everywhere(iterations);
+    }
+}
+
+fn reads_the_better_technique_everywhere(iterations: u32) {
     use gnomon::techniques::ray_area_density;
     let (mut checked, mut coarser) = (0, 0);
-    for seed in 0..40u64 {
+    for seed in 0..60u64 {
         let cfg = config(seed, seed % 3 == 0);
         let setup = |t: &dyn gnomon::ShadowTechnique| {
             compute_setup(
@@ -417,7 +423,7 @@ fn one_iteration_reads_the_better_technique_everywhere() {
             .unwrap()
         };
         let one = Sppsm {
-            iterations: 1,
+            iterations,
             ..Sppsm::default()
         };
         let (both, focused, psm) = (setup(&one), setup(&gnomon::Focused), setup(&Psm::default()));
@@ -448,7 +454,10 @@ fn one_iteration_reads_the_better_technique_everywhere() {
             }
         }
     }
-    println!("{coarser} of {checked} points coarser than the better technique alone");
+    println!(
+        "{iterations} iterations: {coarser} of {checked} points coarser than the better \
+         technique alone"
+    );
     assert!(checked > 2000, "{checked}");
     assert_eq!(coarser, 0, "{coarser} of {checked}");
 }

@@ -40,8 +40,13 @@
 //!   named views, the re-evaluated PSM was coarser than PSM on all of I in 5 of 7), while a
 //!   crop is finer along every direction everywhere it is read.
 //!
-//! So every pixel reads a map at least as fine, in area, as the better of the two techniques
-//! alone (up to the band near the plane kept from the iteration before the last).
+//! Refocusing can overshoot (a map focused on less of I gets finer, the plane moves toward
+//! the other map, whose side grows...: the plane can oscillate with a growing swing), so an
+//! iteration's maps and plane are kept only when, at every vertex of P on each side, the map
+//! read there is at least as fine in area as both techniques' own maps on all of I (exact
+//! over P: see `no_coarser`); else the last iteration that passed stays, down to both maps on
+//! all of I with their exact plane. So every point of P reads a map at least as fine, in
+//! area, as the better of the two techniques alone.
 //!
 //! Selection: [`MapSelection::Plane`], positive side = the perspective map (`maps[1]`),
 //! negative side = the focused map (`maps[0]`). Degenerate cases: when the perspective
@@ -334,20 +339,17 @@ fn crop(map: &ShadowMap, points: &[DVec3]) -> Option<ShadowMap> {
 }
 
 /// Whether `map` samples at least as finely in area (|det J| on the light's rays) as
-/// `reference` at every point of the convex hull of `points`, checked at the points and the
-/// midpoints of every pair.
+/// `reference` at every point of the convex hull of `points`. Checking the points is exact:
+/// the ratio of the two densities is a constant times (w_reference / w_map)^3, and a ratio of
+/// affine functions positive on a convex polytope takes its extremes at its vertices.
 fn no_coarser(map: &ShadowMap, reference: &ShadowMap, light: &Light, points: &[DVec3]) -> bool {
-    let finer = |p: DVec3| {
+    points.iter().all(|p| {
         let (a, b) = (
-            ray_area_density(map, light, p),
-            ray_area_density(reference, light, p),
+            ray_area_density(map, light, *p),
+            ray_area_density(reference, light, *p),
         );
         a >= b * (1.0 - 1e-9)
-    };
-    points
-        .iter()
-        .enumerate()
-        .all(|(i, p)| finer(*p) && points[i + 1..].iter().all(|q| finer(0.5 * (*p + *q))))
+    })
 }
 
 /// How many caster boxes lie wholly on each side of `plane`, or straddle it.
@@ -410,15 +412,15 @@ impl ShadowTechnique for Sppsm {
         else {
             return single(focused, Some(Fallback::NoSeparatingPlane));
         };
+        // The result so far: maps and the plane that picks between them. Both maps on all of
+        // I with their exact plane (the theorem) is one, and the fallback.
         let (mut focused_map, mut perspective_map) = (focused.maps[0], perspective.maps[0]);
-        // The plane the current maps were focused around (None: both on all of I, where any
-        // plane selects correctly).
-        let mut focus_plane = None;
+        let mut kept = (focused_map, perspective_map, plane);
         // P does not change between iterations; only its side of the plane does.
         let (body, body_tolerance) = view_body(input);
         for iteration in 2..=self.iterations {
             // Each map on its side of the current plane; if a side has no receiver or a map
-            // falls back, the maps of the previous iteration stay.
+            // falls back, the result so far stays.
             let (Some(negative), Some(_)) = (
                 scene_on_side(input.scene, plane, -1.0),
                 scene_on_side(input.scene, plane, 1.0),
@@ -444,7 +446,17 @@ impl ShadowTechnique for Sppsm {
             let positive_points = points_on_side(&body, body_tolerance, plane);
             perspective_map =
                 crop(&perspective.maps[0], &positive_points).unwrap_or(perspective.maps[0]);
-            focus_plane = Some(plane);
+            // Refocusing can overshoot: a map focused on less of I gets finer, which moves the
+            // plane toward the other map, whose side then grows... (the plane can oscillate
+            // with a growing swing). These maps with this plane are kept only when every
+            // point of P reads a map at least as fine, in area, as both techniques alone.
+            let alone = [&focused.maps[0], &perspective.maps[0]];
+            if alone.iter().all(|reference| {
+                no_coarser(&focused_map, reference, input.light, &negative_points)
+                    && no_coarser(&perspective_map, reference, input.light, &positive_points)
+            }) {
+                kept = (focused_map, perspective_map, plane);
+            }
             // In the last iteration the plane stays: I's part on it is inside both maps.
             if iteration == self.iterations {
                 break;
@@ -454,9 +466,7 @@ impl ShadowTechnique for Sppsm {
                 None => break,
             }
         }
-        if let Some(kept) = focus_plane {
-            plane = kept;
-        }
+        let (focused_map, perspective_map, plane) = kept;
         let mut diagnostics = focused.diagnostics.clone();
         diagnostics.casters_by_side = Some(casters_by_side(input.scene, plane));
         for f in perspective.diagnostics.fallbacks {
