@@ -104,16 +104,36 @@ fn reads_second_map(world: vec3<f32>) -> bool {
     return TWO_MAPS && dot(g.plane.xyz, world) + g.plane.w > 0.0;
 }
 
+// The map a point reads (chosen once per fragment): its matrices, resolution and layer.
+struct MapView {
+    clip_from_world: mat4x4<f32>,
+    depth_from_world: vec4<f32>,
+    resolution: f32,
+    layer: i32,
+};
+
+fn map_view(second: bool) -> MapView {
+    // Selects, not a branch: the fragments of a quad may read different maps.
+    let a = g.light_clip_from_world;
+    let b = g.light_clip_from_world_b;
+    return MapView(
+        mat4x4<f32>(
+            select(a[0], b[0], second),
+            select(a[1], b[1], second),
+            select(a[2], b[2], second),
+            select(a[3], b[3], second),
+        ),
+        select(g.depth_from_world, g.depth_from_world_b, second),
+        select(g.map.x, g.selection.z, second),
+        select(0, 1, second),
+    );
+}
+
 // The world size of the largest texel side at a point: from the gradients of the map's
 // normalised coordinates, (row_i - ndc_i row_w) / w, exact for any projective map (warps
 // stretch texels differently along x and y).
-fn texel_world_size(world: vec3<f32>, second: bool) -> f32 {
-    var m = g.light_clip_from_world;
-    var resolution = g.map.x;
-    if (second) {
-        m = g.light_clip_from_world_b;
-        resolution = g.selection.z;
-    }
+fn texel_world_size(world: vec3<f32>, view: MapView) -> f32 {
+    let m = view.clip_from_world;
     let clip = m * vec4<f32>(world, 1.0);
     if (clip.w <= 0.0) {
         return 0.0;
@@ -123,46 +143,34 @@ fn texel_world_size(world: vec3<f32>, second: bool) -> f32 {
     let row_w = vec3<f32>(m[0][3], m[1][3], m[2][3]);
     let gx = (row_x - (clip.x / clip.w) * row_w) / clip.w;
     let gy = (row_y - (clip.y / clip.w) * row_w) / clip.w;
-    return (2.0 / resolution) / max(min(length(gx), length(gy)), 1e-30);
-}
-
-// One comparison tap of the first or the second map (a layer, not a branch: one tap).
-fn tap(second: bool, s: sampler_comparison, uv: vec2<f32>, reference: f32) -> f32 {
-    return textureSampleCompareLevel(shadow_maps, s, uv, select(0, 1, second), reference);
+    return (2.0 / view.resolution) / max(min(length(gx), length(gy)), 1e-30);
 }
 
 // 1 where the point is lit according to the shadow map, 0 where it is shadowed.
-fn shadow_lookup(world: vec3<f32>, mode: i32, second: bool) -> f32 {
-    var m = g.light_clip_from_world;
-    var depth_row = g.depth_from_world;
-    var resolution = g.map.x;
-    if (second) {
-        m = g.light_clip_from_world_b;
-        depth_row = g.depth_from_world_b;
-        resolution = g.selection.z;
-    }
-    let clip = m * vec4<f32>(world, 1.0);
+fn shadow_lookup(world: vec3<f32>, mode: i32, view: MapView) -> f32 {
+    let clip = view.clip_from_world * vec4<f32>(world, 1.0);
     if (clip.w <= 0.0) {
         return 1.0;
     }
     let ndc = clip.xyz / clip.w;
     let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
-    let reference = dot(depth_row, vec4<f32>(world, 1.0));
+    let reference = dot(view.depth_from_world, vec4<f32>(world, 1.0));
     if (mode == 1) {
-        return tap(second, shadow_linear, uv, reference);
+        return textureSampleCompareLevel(shadow_maps, shadow_linear, uv, view.layer, reference);
     }
     if (mode == 2) {
-        let texel = 1.0 / resolution;
+        let texel = 1.0 / view.resolution;
         var sum = 0.0;
         for (var y = -2; y <= 2; y++) {
             for (var x = -2; x <= 2; x++) {
                 let offset = vec2<f32>(f32(x), f32(y)) * texel;
-                sum += tap(second, shadow_nearest, uv + offset, reference);
+                sum += textureSampleCompareLevel(
+                    shadow_maps, shadow_nearest, uv + offset, view.layer, reference);
             }
         }
         return sum / 25.0;
     }
-    return tap(second, shadow_nearest, uv, reference);
+    return textureSampleCompareLevel(shadow_maps, shadow_nearest, uv, view.layer, reference);
 }
 
 // The Jacobian of the map's texel coordinates by screen pixels at a point, reduced to
@@ -228,7 +236,8 @@ fn fs_main(in: MainOut) -> Targets {
 
     // Normal offset: move the lookup along the geometric normal by a fraction of a texel,
     // more where the light grazes the surface.
-    let offset = g.bias.w * texel_world_size(in.world, second) * clamp(1.0 - n_dot_l_geo, 0.0, 1.0);
+    let view = map_view(second);
+    let offset = g.bias.w * texel_world_size(in.world, view) * clamp(1.0 - n_dot_l_geo, 0.0, 1.0);
     let lookup = in.world + n_geo * offset;
 
     var lit_one_tap = 1.0;
@@ -239,8 +248,8 @@ fn fs_main(in: MainOut) -> Targets {
             lit_one_tap = select(0.0, 1.0, g.map.y < 1.5);
             shadow = lit_one_tap;
         } else {
-            lit_one_tap = shadow_lookup(lookup, 0, second);
-            shadow = shadow_lookup(lookup, i32(g.map.z), second);
+            lit_one_tap = shadow_lookup(lookup, 0, view);
+            shadow = shadow_lookup(lookup, i32(g.map.z), view);
         }
     }
 
