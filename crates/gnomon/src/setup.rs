@@ -198,8 +198,9 @@ pub enum Fallback {
     /// The technique's paper defines its warp for directional lights only (TSM, XPSM); for a
     /// spot light the focused map is used.
     SpotLightNotWarped,
-    /// SPPSM: the separating plane is undefined (the perspective map fell back, or the two
-    /// maps sample alike everywhere); the focused map alone is used.
+    /// SPPSM: the separating plane is undefined: the perspective map fell back (the focused
+    /// map alone is used), or one map is finer by the same factor everywhere (it alone is
+    /// used).
     NoSeparatingPlane,
 }
 
@@ -243,7 +244,7 @@ impl Fallback {
                 "this technique's warp is defined for directional lights only; the focused map is used"
             }
             Fallback::NoSeparatingPlane => {
-                "the separating plane is undefined (the perspective map fell back or both maps sample alike); the focused map alone is used"
+                "the separating plane is undefined: the perspective map fell back (the focused map alone is used) or one map is finer by the same factor everywhere (it alone is used)"
             }
         }
     }

@@ -273,7 +273,7 @@ fn most_configurations_get_a_checked_plane() {
                 perspective.name()
             );
             // TSM's default 80% rule often asks for no warp at all (parallel sides: then both
-            // maps sample alike and there is no plane).
+            // maps are affine, one finer everywhere, and there is no plane).
             let least = if matches!(perspective, PerspectiveMap::Tsm(_)) {
                 10
             } else {
@@ -563,4 +563,54 @@ fn refocused_maps_are_no_coarser_than_the_techniques_alone() {
     println!("{refocused} perspective maps refocused; {checked} points checked");
     assert!(checked > 10_000, "{checked}");
     assert!(refocused > 50, "{refocused}");
+}
+
+/// Without a plane because both maps are affine on the light's rays (TSM with parallel sides),
+/// one map is finer by the same factor everywhere: SPPSM uses that one alone, whichever it is.
+#[test]
+fn affine_pairs_use_the_finer_map_alone() {
+    use gnomon::techniques::ray_area_density;
+    let (mut focused_chosen, mut tsm_chosen) = (0, 0);
+    for seed in 0..200u64 {
+        let cfg = config(seed, false);
+        let setup = |t: &dyn gnomon::ShadowTechnique| {
+            compute_setup(
+                t,
+                &cfg.camera,
+                &cfg.light,
+                &cfg.scene,
+                MapSettings::with_resolution(1024),
+            )
+            .unwrap()
+        };
+        let both = setup(&Sppsm {
+            perspective: PerspectiveMap::Tsm(Tsm::default()),
+            iterations: 10,
+        });
+        let (focused, tsm) = (setup(&gnomon::Focused), setup(&Tsm::default()));
+        if both.fallback() != Some(Fallback::NoSeparatingPlane)
+            || !tsm.diagnostics.fallbacks.is_empty()
+        {
+            continue;
+        }
+        assert_eq!(both.maps.len(), 1);
+        let p = cfg.camera.eye() + cfg.camera.forward() * 20.0;
+        let density = |m: &ShadowMap| ray_area_density(m, &cfg.light, p);
+        let (chosen, f, t) = (
+            density(&both.maps[0]),
+            density(&focused.maps[0]),
+            density(&tsm.maps[0]),
+        );
+        assert!(
+            chosen >= f.max(t) * (1.0 - 1e-9),
+            "seed {seed}: {chosen} < max({f}, {t})"
+        );
+        if both.maps[0] == tsm.maps[0] {
+            tsm_chosen += 1;
+        } else {
+            focused_chosen += 1;
+        }
+    }
+    println!("no plane: focused map {focused_chosen} times, TSM's {tsm_chosen} times");
+    assert!(focused_chosen > 0 && tsm_chosen > 0);
 }

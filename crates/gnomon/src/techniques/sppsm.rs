@@ -49,11 +49,12 @@
 //! area, as the better of the two techniques alone.
 //!
 //! Selection: [`MapSelection::Plane`], positive side = the perspective map (`maps[1]`),
-//! negative side = the focused map (`maps[0]`). Degenerate cases: when the perspective
-//! technique falls back (its warp is undefined: view along the light, spot lights for TSM
-//! and XPSM, a flat B) or the two maps sample alike everywhere, the plane is undefined and
-//! the focused map alone is used ([`Fallback::NoSeparatingPlane`]); nothing visible gives
-//! the uniform map as for every technique.
+//! negative side = the focused map (`maps[0]`). Degenerate cases, each reported as
+//! [`Fallback::NoSeparatingPlane`]: when the perspective technique falls back (its warp is
+//! undefined: view along the light, spot lights for TSM and XPSM, a flat B) the focused map
+//! alone is used; when the plane's normal vanishes (both maps affine on the light's rays, as
+//! TSM with parallel sides: one map is then finer by the same factor everywhere) the finer
+//! map alone. Nothing visible gives the uniform map as for every technique.
 
 use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 
@@ -196,8 +197,8 @@ fn ray_basis(light: &Light) -> ([DVec4; 3], impl Fn(DVec3) -> DVec4) {
 
 /// The separating plane of eq. 7 in world space, normalised (|n| = 1): positive where the
 /// perspective map covers a pixel with more texels (larger |det J|) than the focused map.
-/// `None` when the plane is undefined (the maps sample alike everywhere, or a map is
-/// singular on the light's rays).
+/// `None` when the plane is undefined: its normal vanishes (both maps affine on the light's
+/// rays, one then finer by the same factor everywhere) or a map is singular on the rays.
 pub fn separating_plane(
     focused: &ShadowMap,
     perspective: &ShadowMap,
@@ -408,16 +409,30 @@ impl ShadowTechnique for Sppsm {
             }
             return single(setup, Some(Fallback::NoSeparatingPlane));
         }
+        // P does not change between iterations; only its side of the plane does.
+        let (body, body_tolerance) = view_body(input);
         let Some(mut plane) = separating_plane(&focused.maps[0], &perspective.maps[0], input.light)
         else {
-            return single(focused, Some(Fallback::NoSeparatingPlane));
+            // No plane: eq. 7's plane has a vanishing normal (both maps affine on the light's
+            // rays, as TSM with parallel sides), so one map is finer by the same factor
+            // everywhere, or a map is singular. The finer map alone.
+            let density =
+                |setup: &ShadowSetup, p: DVec3| ray_area_density(&setup.maps[0], input.light, p);
+            let perspective_finer = body
+                .vertices(body_tolerance)
+                .first()
+                .is_some_and(|p| density(&perspective, *p) > density(&focused, *p) * (1.0 + 1e-9));
+            let finer = if perspective_finer {
+                perspective
+            } else {
+                focused
+            };
+            return single(finer, Some(Fallback::NoSeparatingPlane));
         };
         // The result so far: maps and the plane that picks between them. Both maps on all of
         // I with their exact plane (the theorem) is one, and the fallback.
         let (mut focused_map, mut perspective_map) = (focused.maps[0], perspective.maps[0]);
         let mut kept = (focused_map, perspective_map, plane);
-        // P does not change between iterations; only its side of the plane does.
-        let (body, body_tolerance) = view_body(input);
         for iteration in 2..=self.iterations {
             // Each map on its side of the current plane; if a side has no receiver or a map
             // falls back, the result so far stays.
