@@ -14,7 +14,6 @@ use serde_json::json;
 
 use crate::CliError;
 use crate::args::{TechniqueParams, timed_setup};
-use crate::demo::view_camera_and_light;
 use crate::render::{MeshArgs, parse_size, render_scene};
 
 /// `gnomon bench`.
@@ -119,7 +118,7 @@ fn views(args: &BenchArgs, aspect: f64) -> Result<Vec<View>, CliError> {
     DEMO_VIEWS
         .iter()
         .map(|v| {
-            let (camera, light) = view_camera_and_light(v, aspect)?;
+            let (camera, light) = v.camera_and_light(aspect)?;
             Ok((v.name.to_string(), camera, light))
         })
         .collect()

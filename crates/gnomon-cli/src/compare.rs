@@ -16,7 +16,6 @@ use gnomon_scene::DEMO_VIEWS;
 use serde_json::{Value, json};
 
 use crate::args::{TechniqueParams, scene_layout, timed_setup};
-use crate::demo::view_camera_and_light;
 use crate::render::{parse_size, write_png, write_text};
 use crate::{CliError, heatmap};
 
@@ -201,7 +200,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     );
     // One untimed frame first: the first draw compiles the pipelines.
     if let Some(view) = views.first() {
-        let (camera, light) = view_camera_and_light(view, width as f64 / height as f64)?;
+        let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
         let (setup, _) = timed_setup(
             &techniques[0].technique,
             &camera,
@@ -218,7 +217,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         .map(|t| (t.label.clone(), Vec::new(), Vec::new()))
         .collect();
     for view in &views {
-        let (camera, light) = view_camera_and_light(view, width as f64 / height as f64)?;
+        let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
         progress.set_message(format!("{}: volumes", view.name));
         let exact = renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
         let exact_ms = exact.frame.timings.shadow_pass_ms + exact.frame.timings.main_pass_ms;

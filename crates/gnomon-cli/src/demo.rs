@@ -5,10 +5,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use glam::DVec3;
-use gnomon::{Camera, DirectionalLight, Lens, Light, ShadowTechnique, Technique};
+use gnomon::{ShadowTechnique, Technique};
 use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer, StencilMode};
-use gnomon_scene::{DEMO_VIEWS, DemoView};
+use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
 use crate::CliError;
@@ -30,25 +29,6 @@ pub struct DemoArgs {
     pub width: u32,
     #[command(flatten)]
     pub params: TechniqueParams,
-}
-
-/// A named view's camera (at the image's aspect ratio) and sun.
-pub fn view_camera_and_light(view: &DemoView, aspect: f64) -> Result<(Camera, Light), CliError> {
-    let lens = Lens {
-        far: view.far,
-        aspect,
-        ..Lens::default()
-    };
-    let camera = Camera::look_at(
-        DVec3::from_array(view.eye),
-        DVec3::from_array(view.target),
-        DVec3::Y,
-        lens,
-    )?;
-    let light = Light::Directional(DirectionalLight::new(DVec3::from_array(
-        view.light_direction,
-    ))?);
-    Ok((camera, light))
 }
 
 /// Runs `gnomon demo`.
@@ -81,7 +61,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let mut sums = [0.0f64; 3];
     let mut volume_sums = [0.0f64; 2];
     for (v, view) in DEMO_VIEWS.iter().enumerate() {
-        let (camera, light) = view_camera_and_light(view, width as f64 / height as f64)?;
+        let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
         let mut cells = String::new();
         for (t, technique) in techniques.iter().enumerate() {
             let (setup, setup_us) =

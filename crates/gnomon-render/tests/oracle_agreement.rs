@@ -181,23 +181,7 @@ fn named_views_report() {
         ..RenderSettings::default()
     };
     for view in gnomon_scene::DEMO_VIEWS {
-        let lens = Lens {
-            far: view.far,
-            aspect: width as f64 / height as f64,
-            ..Lens::default()
-        };
-        let camera = Camera::look_at(
-            DVec3::from_array(view.eye),
-            DVec3::from_array(view.target),
-            DVec3::Y,
-            lens,
-        )
-        .unwrap();
-        let light = sun(
-            view.light_direction[0],
-            view.light_direction[1],
-            view.light_direction[2],
-        );
+        let (camera, light) = view.camera_and_light(width as f64 / height as f64).unwrap();
         let oracle = common::oracle(&scene, &camera, &light, width, height);
         for technique in gnomon::Technique::all() {
             let (_, frame) = common::render(

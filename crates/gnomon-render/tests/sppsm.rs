@@ -136,21 +136,7 @@ fn every_named_view_is_no_worse_than_the_better_map_alone() {
     };
     let mut totals = [0usize; 3];
     for view in gnomon_scene::DEMO_VIEWS {
-        let lens = Lens {
-            aspect: width as f64 / height as f64,
-            far: view.far,
-            ..Lens::default()
-        };
-        let camera = Camera::look_at(
-            DVec3::from_array(view.eye),
-            DVec3::from_array(view.target),
-            DVec3::Y,
-            lens,
-        )
-        .unwrap();
-        let light = Light::Directional(
-            DirectionalLight::new(DVec3::from_array(view.light_direction)).unwrap(),
-        );
+        let (camera, light) = view.camera_and_light(width as f64 / height as f64).unwrap();
         let exact = renderer
             .render_volumes(&camera, &light, &settings, StencilMode::ZFail)
             .unwrap()

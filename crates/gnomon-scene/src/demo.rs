@@ -3,6 +3,7 @@
 //! knots in a park. Everything casts and receives shadows.
 
 use glam::{DMat4, DQuat, DVec3};
+use gnomon::{Camera, DirectionalLight, Lens, Light, SetupError};
 
 use crate::{SceneLayout, SceneObject, Shape};
 
@@ -24,6 +25,28 @@ pub struct DemoView {
     pub far: f64,
     /// What the view shows.
     pub description: &'static str,
+}
+
+impl DemoView {
+    /// The view's camera, for an image of width / height `aspect`, and its sun. Errors only
+    /// for a bad `aspect` (the views themselves are valid).
+    pub fn camera_and_light(&self, aspect: f64) -> Result<(Camera, Light), SetupError> {
+        let lens = Lens {
+            far: self.far,
+            aspect,
+            ..Lens::default()
+        };
+        let camera = Camera::look_at(
+            DVec3::from_array(self.eye),
+            DVec3::from_array(self.target),
+            DVec3::Y,
+            lens,
+        )?;
+        let light = Light::Directional(DirectionalLight::new(DVec3::from_array(
+            self.light_direction,
+        ))?);
+        Ok((camera, light))
+    }
 }
 
 /// The demo's named views, from easy to hard for shadow maps.
@@ -230,6 +253,22 @@ mod tests {
             .map(|b| (b.max().y * 10.0) as i64)
             .collect();
         assert!(heights.len() > 10);
+    }
+
+    #[test]
+    fn every_view_has_a_camera_and_a_sun_and_bad_aspects_are_errors() {
+        for view in DEMO_VIEWS {
+            let (camera, light) = view.camera_and_light(16.0 / 9.0).unwrap();
+            assert!((camera.eye() - DVec3::from_array(view.eye)).length() < 1e-9);
+            let Light::Directional(sun) = light else {
+                panic!("{}: not a sun", view.name);
+            };
+            let d = DVec3::from_array(view.light_direction).normalize();
+            assert!((sun.direction() - d).length() < 1e-9, "{}", view.name);
+            for aspect in [0.0, -1.0, f64::NAN] {
+                assert!(view.camera_and_light(aspect).is_err(), "{aspect}");
+            }
+        }
     }
 
     #[test]

@@ -10,8 +10,8 @@
 use glam::{DVec2, DVec3, DVec4};
 use gnomon::{
     Aabb, Camera, DirectionalLight, Fallback, Lens, Light, Lispsm, MapSelection, MapSettings,
-    PerspectiveMap, Psm, SceneBounds, SetupError, ShadowMap, SpotLight, Sppsm, Tsm, Xpsm,
-    compute_setup,
+    PerspectiveMap, Psm, SceneBounds, SetupError, ShadowMap, ShadowSetup, ShadowTechnique,
+    SpotLight, Sppsm, Tsm, Xpsm, compute_setup,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{RngAlgorithm, TestRng};
@@ -129,6 +129,38 @@ fn lit_region(light: &Light, p: DVec3) -> bool {
 fn screen(camera: &Camera, p: DVec3) -> Option<DVec3> {
     let c = camera.clip_from_world() * p.extend(1.0);
     (c.w > 0.0).then(|| c.truncate() / c.w)
+}
+
+/// The configuration's setup for `technique`, with 1024x1024 maps.
+fn setup_with(cfg: &Config, technique: &dyn ShadowTechnique) -> ShadowSetup {
+    compute_setup(
+        technique,
+        &cfg.camera,
+        &cfg.light,
+        &cfg.scene,
+        MapSettings::with_resolution(1024),
+    )
+    .unwrap()
+}
+
+/// Of `tries` random points of the scene box, those the camera sees and the light's maps
+/// cover.
+fn visible_points(cfg: &Config, rng: &mut TestRng, tries: usize) -> Vec<DVec3> {
+    let (lo, hi) = (cfg.scene.scene_box().min(), cfg.scene.scene_box().max());
+    (0..tries)
+        .map(|_| {
+            DVec3::new(
+                rng.random_range(lo.x..hi.x),
+                rng.random_range(lo.y..hi.y),
+                rng.random_range(lo.z..hi.z),
+            )
+        })
+        .filter(|p| {
+            screen(&cfg.camera, *p)
+                .is_some_and(|c| c.x.abs() < 1.0 && c.y.abs() < 1.0 && (0.0..1.0).contains(&c.z))
+                && lit_region(&cfg.light, *p)
+        })
+        .collect()
 }
 
 fn check(seed: u64, spot: bool, perspective: PerspectiveMap) -> Result<bool, String> {
@@ -412,39 +444,20 @@ fn reads_the_better_technique_everywhere(iterations: u32) {
     let (mut checked, mut coarser) = (0, 0);
     for seed in 0..60u64 {
         let cfg = config(seed, seed % 3 == 0);
-        let setup = |t: &dyn gnomon::ShadowTechnique| {
-            compute_setup(
-                t,
-                &cfg.camera,
-                &cfg.light,
-                &cfg.scene,
-                MapSettings::with_resolution(1024),
-            )
-            .unwrap()
-        };
         let one = Sppsm {
             iterations,
             ..Sppsm::default()
         };
-        let (both, focused, psm) = (setup(&one), setup(&gnomon::Focused), setup(&Psm::default()));
+        let (both, focused, psm) = (
+            setup_with(&cfg, &one),
+            setup_with(&cfg, &gnomon::Focused),
+            setup_with(&cfg, &Psm::default()),
+        );
         if both.maps.len() < 2 {
             continue;
         }
         let mut rng = TestRng::from_seed(RngAlgorithm::ChaCha, &seed.to_le_bytes().repeat(4));
-        let (lo, hi) = (cfg.scene.scene_box().min(), cfg.scene.scene_box().max());
-        for _ in 0..300 {
-            let p = DVec3::new(
-                rng.random_range(lo.x..hi.x),
-                rng.random_range(lo.y..hi.y),
-                rng.random_range(lo.z..hi.z),
-            );
-            let Some(c) = screen(&cfg.camera, p) else {
-                continue;
-            };
-            let visible = c.x.abs() < 1.0 && c.y.abs() < 1.0 && (0.0..1.0).contains(&c.z);
-            if !(visible && lit_region(&cfg.light, p)) {
-                continue;
-            }
+        for p in visible_points(&cfg, &mut rng, 300) {
             let density = |m: &ShadowMap| ray_area_density(m, &cfg.light, p);
             let chosen = density(&both.maps[both.selection.map_for(p)]);
             let best_alone = density(&focused.maps[0]).max(density(&psm.maps[0]));
@@ -489,27 +502,20 @@ fn refocused_maps_are_no_coarser_than_the_techniques_alone() {
                 continue;
             }
             let cfg = config(seed, spot);
-            let setup = |t: &dyn gnomon::ShadowTechnique| {
-                compute_setup(
-                    t,
-                    &cfg.camera,
-                    &cfg.light,
-                    &cfg.scene,
-                    MapSettings::with_resolution(1024),
-                )
-                .unwrap()
-            };
-            let both = setup(&Sppsm {
-                perspective,
-                iterations: 10,
-            });
+            let both = setup_with(
+                &cfg,
+                &Sppsm {
+                    perspective,
+                    iterations: 10,
+                },
+            );
             let alone = match perspective {
-                PerspectiveMap::Psm(t) => setup(&t),
-                PerspectiveMap::Lispsm(t) => setup(&t),
-                PerspectiveMap::Tsm(t) => setup(&t),
-                PerspectiveMap::Xpsm(t) => setup(&t),
+                PerspectiveMap::Psm(t) => setup_with(&cfg, &t),
+                PerspectiveMap::Lispsm(t) => setup_with(&cfg, &t),
+                PerspectiveMap::Tsm(t) => setup_with(&cfg, &t),
+                PerspectiveMap::Xpsm(t) => setup_with(&cfg, &t),
             };
-            let focused = setup(&gnomon::Focused);
+            let focused = setup_with(&cfg, &gnomon::Focused);
             if both.maps.len() < 2 {
                 continue;
             }
@@ -517,20 +523,7 @@ fn refocused_maps_are_no_coarser_than_the_techniques_alone() {
                 refocused += 1;
             }
             let mut rng = TestRng::from_seed(RngAlgorithm::ChaCha, &seed.to_le_bytes().repeat(4));
-            let (lo, hi) = (cfg.scene.scene_box().min(), cfg.scene.scene_box().max());
-            for _ in 0..200 {
-                let p = DVec3::new(
-                    rng.random_range(lo.x..hi.x),
-                    rng.random_range(lo.y..hi.y),
-                    rng.random_range(lo.z..hi.z),
-                );
-                let Some(c) = screen(&cfg.camera, p) else {
-                    continue;
-                };
-                let visible = c.x.abs() < 1.0 && c.y.abs() < 1.0 && (0.0..1.0).contains(&c.z);
-                if !(visible && lit_region(&cfg.light, p)) {
-                    continue;
-                }
+            for p in visible_points(&cfg, &mut rng, 200) {
                 checked += 1;
                 if both.selection.map_for(p) == 1 {
                     let v = unit(&mut rng);
@@ -573,21 +566,17 @@ fn affine_pairs_use_the_finer_map_alone() {
     let (mut focused_chosen, mut tsm_chosen) = (0, 0);
     for seed in 0..200u64 {
         let cfg = config(seed, false);
-        let setup = |t: &dyn gnomon::ShadowTechnique| {
-            compute_setup(
-                t,
-                &cfg.camera,
-                &cfg.light,
-                &cfg.scene,
-                MapSettings::with_resolution(1024),
-            )
-            .unwrap()
-        };
-        let both = setup(&Sppsm {
-            perspective: PerspectiveMap::Tsm(Tsm::default()),
-            iterations: 10,
-        });
-        let (focused, tsm) = (setup(&gnomon::Focused), setup(&Tsm::default()));
+        let both = setup_with(
+            &cfg,
+            &Sppsm {
+                perspective: PerspectiveMap::Tsm(Tsm::default()),
+                iterations: 10,
+            },
+        );
+        let (focused, tsm) = (
+            setup_with(&cfg, &gnomon::Focused),
+            setup_with(&cfg, &Tsm::default()),
+        );
         if both.fallback() != Some(Fallback::NoSeparatingPlane)
             || !tsm.diagnostics.fallbacks.is_empty()
         {
