@@ -31,8 +31,8 @@
 //!   scene with every box cut to the half-space (the box around each cut part; the plane
 //!   contains the light's rays, so a caster's part on the other side cannot shadow a receiver
 //!   on this side). It is taken when it is no coarser in area than the focused map on all of
-//!   I anywhere on its side (checked at the vertices of P there and their midpoints; it can
-//!   pick another light frame), else that map is cropped (below).
+//!   I anywhere on its side (it can pick another light frame), else that map is cropped
+//!   (below).
 //! - The perspective map keeps its warp and is cropped: the smallest rectangle of its square
 //!   around P's part on its side is stretched to the square (a 2D scale >= 1 and offset after
 //!   the divide). Deviation from the paper, which re-evaluates the warp on the side: a warp
@@ -431,8 +431,7 @@ impl ShadowTechnique for Sppsm {
         };
         // The result so far: maps and the plane that picks between them. Both maps on all of
         // I with their exact plane (the theorem) is one, and the fallback.
-        let (mut focused_map, mut perspective_map) = (focused.maps[0], perspective.maps[0]);
-        let mut kept = (focused_map, perspective_map, plane);
+        let mut kept = (focused.maps[0], perspective.maps[0], plane);
         for iteration in 2..=self.iterations {
             // Each map on its side of the current plane; if a side has no receiver or a map
             // falls back, the result so far stays.
@@ -450,16 +449,16 @@ impl ShadowTechnique for Sppsm {
             // it is no coarser there than the focused map on all of I; else that map cropped
             // to P's part on the side.
             let negative_points = points_on_side(&body, body_tolerance, -plane);
-            focused_map = if no_coarser(&f.maps[0], &focused.maps[0], input.light, &negative_points)
-            {
-                f.maps[0]
-            } else {
-                crop(&focused.maps[0], &negative_points).unwrap_or(focused.maps[0])
-            };
+            let focused_map =
+                if no_coarser(&f.maps[0], &focused.maps[0], input.light, &negative_points) {
+                    f.maps[0]
+                } else {
+                    crop(&focused.maps[0], &negative_points).unwrap_or(focused.maps[0])
+                };
             // The perspective map keeps its warp and is cropped to P's part on its side: a
             // warp re-evaluated on the side can come out coarser somewhere there.
             let positive_points = points_on_side(&body, body_tolerance, plane);
-            perspective_map =
+            let perspective_map =
                 crop(&perspective.maps[0], &positive_points).unwrap_or(perspective.maps[0]);
             // Refocusing can overshoot: a map focused on less of I gets finer, which moves the
             // plane toward the other map, whose side then grows... (the plane can oscillate
