@@ -161,7 +161,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     }
     let scene: RenderScene = render_scene(&args.scene, &args.mesh)?;
     let bounds = scene.bounds()?;
-    let renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let mut renderer = Renderer::new(Gpu::new()?, &scene)?;
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,
@@ -178,7 +178,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         renderer.gpu().describe()
     );
     // One frame: its time in ms (setup + shadow pass + main pass) and its timings.
-    let frame =
+    let mut frame =
         |entry: &Entry, camera: &Camera, light: &Light| -> Result<(f64, Timings), CliError> {
             match entry {
                 Entry::Map(technique) => {

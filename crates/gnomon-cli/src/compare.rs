@@ -166,7 +166,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     let bounds = scene.bounds()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
-    let renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let mut renderer = Renderer::new(Gpu::new()?, &scene)?;
     let (width, height) = args.size;
     let settings = RenderSettings {
         width,

@@ -39,7 +39,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let bounds = scene.bounds()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
-    let renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let mut renderer = Renderer::new(Gpu::new()?, &scene)?;
     eprintln!("gnomon demo: rendering on {}", renderer.gpu().describe());
     let width = args.width.clamp(16, 8192);
     let height = (width * 9 / 16).max(9);

@@ -277,7 +277,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     let technique = args.params.apply(technique.technique());
     let (setup, setup_us) = timed_setup(&technique, &camera, &light, &bounds, args.shadow_map)?;
-    let renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let mut renderer = Renderer::new(Gpu::new()?, &scene)?;
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,
@@ -359,7 +359,7 @@ fn run_volumes(
             "--light-view, --error-map and --json describe a shadow map; shadow volumes have none",
         ));
     }
-    let renderer = Renderer::new(Gpu::new()?, scene)?;
+    let mut renderer = Renderer::new(Gpu::new()?, scene)?;
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,

@@ -1,6 +1,8 @@
 use crate::RenderError;
 
-/// A headless GPU device and its queue.
+/// A GPU device and its queue: opened by gnomon ([`Gpu::new`], headless) or handed over by
+/// the program that owns them ([`Gpu::from_device`]).
+#[derive(Debug, Clone)]
 pub struct Gpu {
     /// The device.
     pub device: wgpu::Device,
@@ -10,9 +12,16 @@ pub struct Gpu {
     pub adapter_info: wgpu::AdapterInfo,
 }
 
+/// The optional features gnomon uses where the adapter has them: a 32-bit float depth with
+/// stencil for the shadow volumes (else Depth24PlusStencil8) and GPU timestamps (else wall
+/// clock).
+pub const OPTIONAL_FEATURES: wgpu::Features =
+    wgpu::Features::DEPTH32FLOAT_STENCIL8.union(wgpu::Features::TIMESTAMP_QUERY);
+
 impl Gpu {
     /// Opens the first adapter wgpu finds (backends and adapter selectable with the usual
-    /// `WGPU_*` environment variables).
+    /// `WGPU_*` environment variables, e.g. `WGPU_BACKEND=gl`), with the adapter's largest
+    /// texture size and the [`OPTIONAL_FEATURES`] it has.
     pub fn new() -> Result<Self, RenderError> {
         pollster::block_on(Self::new_async())
     }
@@ -28,6 +37,7 @@ impl Gpu {
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("gnomon"),
+                required_features: adapter.features() & OPTIONAL_FEATURES,
                 required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
                 ..Default::default()
             })
@@ -40,10 +50,29 @@ impl Gpu {
         })
     }
 
+    /// A device and queue the caller opened (an engine, a window's program). Request
+    /// [`OPTIONAL_FEATURES`] where the adapter has them for the best depth and timing.
+    pub fn from_device(
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        adapter_info: wgpu::AdapterInfo,
+    ) -> Self {
+        Self {
+            device,
+            queue,
+            adapter_info,
+        }
+    }
+
     /// A one-line description of the adapter.
     pub fn describe(&self) -> String {
         let i = &self.adapter_info;
         format!("{} ({:?}, {:?})", i.name, i.backend, i.device_type)
+    }
+
+    /// The largest image or shadow map side this device takes.
+    pub fn max_texture_size(&self) -> u32 {
+        self.device.limits().max_texture_dimension_2d
     }
 
     /// Waits until the GPU has finished all submitted work.

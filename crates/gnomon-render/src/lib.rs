@@ -1,34 +1,48 @@
-//! gnomon's wgpu renderer: draws a scene with a shadow setup from the core crate.
+//! gnomon's wgpu renderer: draws a scene with shadow setups from the core crate, on any wgpu
+//! backend (Vulkan, GL/GLES, Metal, DX12, WebGPU).
 //!
-//! Headless: it renders into textures and reads them back. Any adapter works; on a machine
-//! without a GPU, Mesa's software Vulkan driver (lavapipe) does
-//! (`apt-get install -y mesa-vulkan-drivers`).
+//! A frame: [`Renderer::prepare`] writes the records the shaders read (per light and per map,
+//! relative to the camera, from f64) and picks each map's casters;
+//! [`Renderer::encode_shadow_maps`] records a depth pass per map (Depth32Float layers of one
+//! array texture; linear depth from `depth_from_world` plus constant and slope-scaled bias);
+//! [`Renderer::encode_scene`] records the main pass (ambient plus Lambert per light, each
+//! light's shadow factor from its maps: one tap, hardware 2x2 or 5x5 PCF, normal offset) into
+//! the caller's target, reversed-Z float depth. Engines that keep their own main pass import
+//! [`lookup_wgsl`] and bind [`Renderer::shadow_bind_group`]; [`CasterSet`] draws their own
+//! casters into the maps. [`Renderer::render`] and [`Renderer::render_lights`] are the
+//! headless wrapper (submit, read back: [`Frame`] with its direct-light mask, 255 lit, 0 not
+//! lit, 128 no geometry). [`Renderer::render_volumes`] and [`Renderer::render_volumes_lit_by`]
+//! draw exact shadows with stenciled shadow volumes (z-fail, z-pass, or chosen per caster).
 //!
-//! Passes, per frame: a depth pass into each shadow map (Depth32Float; the map's resolution and
-//! viewport inset from the setup; linear depth from `depth_from_world` plus constant and
-//! slope-scaled bias), then the main pass: ambient plus Lambert, the shadow factor from a
-//! comparison sampler (one tap, hardware 2x2 or 5x5 PCF, optional normal offset), and the
-//! direct-light mask (255 lit, 0 not lit, 128 no geometry). [`Renderer::render_volumes`]
-//! and [`Renderer::render_volumes_lit_by`] (several lights) draw exact shadows with
-//! stenciled shadow volumes instead (z-fail, z-pass, or chosen per caster).
+//! On a machine without a GPU, Mesa's software drivers do: lavapipe for Vulkan
+//! (`apt-get install -y mesa-vulkan-drivers`) or llvmpipe for GL (`WGPU_BACKEND=gl`).
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+mod atlas;
+mod casters;
 mod error;
 mod gpu;
+mod headless;
 mod light_view;
+mod pipelines;
 mod readback;
+mod records;
 mod renderer;
+mod resources;
 mod scene;
+mod timing;
 mod volumes;
 
+pub use casters::{CasterBuffers, CasterDraw, CasterSet};
 pub use error::RenderError;
-pub use gpu::Gpu;
-pub use renderer::{
-    DepthBias, Filter, Frame, LightView, PixelMetrics, RenderSettings, Renderer, Timings,
-};
+pub use gpu::{Gpu, OPTIONAL_FEATURES};
+pub use headless::{Frame, LightView, PixelMetrics, Timings};
+pub use records::{MAX_LIGHTS, MAX_MAPS, ShadowedLight};
+pub use renderer::{DepthBias, Filter, RenderSettings, Renderer, SceneTarget};
 pub use scene::{Instance, RenderScene};
+pub use timing::TimingSource;
 pub use volumes::{StencilMode, VolumeFrame, VolumeStats};
 
 /// Mask value of a pixel lit by the light.
@@ -37,3 +51,13 @@ pub const MASK_LIT: u8 = 255;
 pub const MASK_UNLIT: u8 = 0;
 /// Mask value of a pixel with no geometry.
 pub const MASK_EMPTY: u8 = 128;
+
+/// The WGSL of gnomon's shadow lookup with its bindings in bind group `group`: the records
+/// (`GnomonShadows`: lights, maps), the maps (a depth array bound for comparison and for raw
+/// reads) and two samplers, and the functions `gnomon_shadow(light, p, n_geo, n_dot_l)`,
+/// `gnomon_map_index`, `gnomon_lookup`, `gnomon_incidence`. Prepend it to your shader and bind
+/// [`Renderer::shadow_bind_group`] at `group`. Positions are view-space (the camera's
+/// `view_from_world`).
+pub fn lookup_wgsl(group: u32) -> String {
+    include_str!("wgsl/lookup.wgsl").replace("GNOMON_GROUP", &group.to_string())
+}

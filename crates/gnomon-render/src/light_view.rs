@@ -1,20 +1,13 @@
 use gnomon::{Camera, ShadowMap};
 
-/// The shadow map as the light sees it (near = dark, far = light) with the camera's view
-/// frustum drawn over it in red, as in the second row of the LiSPSM paper's Figure 9.
-pub(crate) fn draw(
-    depth_bytes: &[u8],
-    resolution: u32,
-    camera: &Camera,
-    map: &ShadowMap,
-) -> Vec<u8> {
-    let n = resolution as usize;
-    let mut rgba = vec![0u8; n * n * 4];
-    for (i, texel) in depth_bytes.chunks_exact(4).enumerate() {
-        let d = f32::from_le_bytes([texel[0], texel[1], texel[2], texel[3]]).clamp(0.0, 1.0);
-        let v = (40.0 + 215.0 * d) as u8;
-        rgba[i * 4..i * 4 + 4].copy_from_slice(&[v, v, v, 255]);
-    }
+/// The largest side of a light-view picture: larger maps are shown at this size.
+pub(crate) const MAX_LIGHT_VIEW: u32 = 2048;
+
+/// Draws the camera's view frustum in red over a map's light-view picture (`rgba`, `size`
+/// square, from the light-view pass: near dark, far light), as in the second row of the
+/// LiSPSM paper's Figure 9. The lines are three pixels wide so that they show in thumbnails.
+pub(crate) fn draw_frustum(rgba: &mut [u8], size: u32, camera: &Camera, map: &ShadowMap) {
+    let n = size as usize;
     let corners = camera.frustum_corners();
     let edges = [
         (0, 1),
@@ -30,6 +23,7 @@ pub(crate) fn draw(
         (2, 6),
         (3, 7),
     ];
+    let width = (size / 512).max(1) as i64;
     for (a, b) in edges {
         // Draw the edge in small steps so that it bends correctly under a perspective map.
         let steps = 256;
@@ -38,27 +32,31 @@ pub(crate) fn draw(
             let p = corners[a].lerp(corners[b], s as f64 / steps as f64);
             let texel = map.project(p).map(|ndc| {
                 (
-                    (0.5 + 0.5 * ndc.x) * resolution as f64,
-                    (0.5 - 0.5 * ndc.y) * resolution as f64,
+                    (0.5 + 0.5 * ndc.x) * size as f64,
+                    (0.5 - 0.5 * ndc.y) * size as f64,
                 )
             });
             if let (Some(p0), Some(p1)) = (previous, texel) {
-                line(&mut rgba, n, p0, p1);
+                line(rgba, n, p0, p1, width);
             }
             previous = texel;
         }
     }
-    rgba
 }
 
-fn line(rgba: &mut [u8], n: usize, (x0, y0): (f64, f64), (x1, y1): (f64, f64)) {
+fn line(rgba: &mut [u8], n: usize, (x0, y0): (f64, f64), (x1, y1): (f64, f64), width: i64) {
     let steps = ((x1 - x0).abs().max((y1 - y0).abs()).ceil() as usize).clamp(1, 4 * n);
     for s in 0..=steps {
         let t = s as f64 / steps as f64;
         let (x, y) = (x0 + (x1 - x0) * t, y0 + (y1 - y0) * t);
-        if x >= 0.0 && y >= 0.0 && (x as usize) < n && (y as usize) < n {
-            let i = (y as usize * n + x as usize) * 4;
-            rgba[i..i + 4].copy_from_slice(&[230, 40, 30, 255]);
+        for dy in -(width / 2)..=width / 2 {
+            for dx in -(width / 2)..=width / 2 {
+                let (px, py) = (x.floor() as i64 + dx, y.floor() as i64 + dy);
+                if px >= 0 && py >= 0 && (px as usize) < n && (py as usize) < n {
+                    let i = (py as usize * n + px as usize) * 4;
+                    rgba[i..i + 4].copy_from_slice(&[230, 40, 30, 255]);
+                }
+            }
         }
     }
 }

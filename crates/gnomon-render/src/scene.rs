@@ -1,8 +1,12 @@
-use glam::{DMat3, DMat4, DVec3};
+use std::ops::Range;
+
+use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
 use gnomon_scene::{Mesh, SceneLayout, Shape};
 
 use crate::RenderError;
+use crate::records::GpuInstance;
+use crate::resources::Resources;
 
 /// One placed mesh.
 #[derive(Debug, Clone, PartialEq)]
@@ -156,111 +160,193 @@ fn palette(name: &str) -> [f32; 3] {
     [c(0), c(8), c(16)]
 }
 
-/// The vertex the GPU reads: world position, normal, colour (alpha: receives shadows).
+/// The vertex the GPU reads: object-space position and normal.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
+}
+
+/// Where one mesh's triangles are in the scene's buffers.
+#[derive(Debug, Clone)]
+pub(crate) struct MeshRange {
+    pub indices: Range<u32>,
+    pub base_vertex: i32,
+}
+
+/// One instance as the renderer keeps it: its mesh, placement, world bounds and flags.
+#[derive(Debug, Clone)]
+pub(crate) struct SceneInstance {
+    pub mesh: usize,
+    pub world_from_object: DMat4,
+    /// World bounds (none for a mesh without vertices).
+    pub bounds: Option<Aabb>,
+    pub casts: bool,
     pub color: [f32; 4],
 }
 
-/// The scene baked into world space on the GPU: one vertex and one index buffer; casters
-/// first so that the depth pass draws one range.
+/// The scene on the GPU: every mesh once, in object space, in one vertex and one index
+/// buffer; the instances' transforms (view from object, written every frame in f64 and
+/// rounded last) in an instance buffer. Moving an instance rewrites its transform only.
 pub(crate) struct GpuScene {
     pub vertices: wgpu::Buffer,
     pub indices: wgpu::Buffer,
-    /// Indices of the casters (the depth pass draws these).
-    pub caster_indices: std::ops::Range<u32>,
-    /// Each caster's indices and world bounds (min, max), for setups with two maps: a caster
-    /// is drawn into the maps of the sides of the plane its bounds reach.
-    pub casters: Vec<(std::ops::Range<u32>, DVec3, DVec3)>,
-    /// All indices (the main pass draws these).
-    pub all_indices: std::ops::Range<u32>,
+    pub meshes: Vec<MeshRange>,
+    pub instances: Vec<SceneInstance>,
+    pub instance_buffer: wgpu::Buffer,
     /// Whether every instance receives shadows.
     pub all_receive: bool,
+    /// Each mesh's object-space bounds (for moved instances).
+    mesh_bounds: Vec<Option<Aabb>>,
+    /// The last transforms written (the CPU side of `instance_buffer`).
+    staged: Vec<GpuInstance>,
 }
 
+/// Instance buffer stride (`GpuInstance`).
+pub(crate) const INSTANCE_STRIDE: u64 = std::mem::size_of::<GpuInstance>() as u64;
+
 impl GpuScene {
-    /// Binds the buffers and draws the casters whose bounds reach the side `sign` (1 or -1)
-    /// of `plane` (world).
-    pub fn draw_casters_on_side(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        plane: glam::DVec4,
-        sign: f64,
-    ) {
-        pass.set_vertex_buffer(0, self.vertices.slice(..));
-        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-        let n = plane.truncate();
-        for (range, lo, hi) in &self.casters {
-            let (c, h) = (0.5 * (*lo + *hi), 0.5 * (*hi - *lo));
-            let reach = sign * (n.dot(c) + plane.w) + n.abs().dot(h);
-            if reach >= 0.0 {
-                pass.draw_indexed(range.clone(), 0, 0..1);
-            }
-        }
-    }
-
-    /// Binds the buffers and draws the triangles of `indices`.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, indices: std::ops::Range<u32>) {
-        pass.set_vertex_buffer(0, self.vertices.slice(..));
-        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(indices, 0, 0..1);
-    }
-
-    pub fn new(device: &wgpu::Device, scene: &RenderScene) -> Self {
-        use wgpu::util::DeviceExt;
+    pub fn new(resources: &Resources, scene: &RenderScene) -> Result<Self, RenderError> {
         let mut vertices: Vec<Vertex> = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
-        let mut order: Vec<&Instance> = scene.instances.iter().filter(|i| i.casts).collect();
-        let caster_count = order.len();
-        order.extend(scene.instances.iter().filter(|i| !i.casts));
-        let mut caster_index_count = 0;
-        let mut casters = Vec::new();
-        for (k, instance) in order.iter().enumerate() {
-            let mesh = &scene.meshes[instance.mesh];
-            let first_index = indices.len() as u32;
-            let m = instance.world_from_object;
-            let normal_matrix = DMat3::from_mat4(m).inverse().transpose();
-            let base = vertices.len() as u32;
-            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
-                let w = m.transform_point3(*p);
-                (lo, hi) = (lo.min(w), hi.max(w));
-                let wn = (normal_matrix * *n).normalize_or_zero();
-                let [r, g, b] = instance.color;
-                vertices.push(Vertex {
-                    position: w.as_vec3().to_array(),
-                    normal: wn.as_vec3().to_array(),
-                    color: [r, g, b, if instance.receives { 1.0 } else { 0.0 }],
-                });
-            }
-            indices.extend(mesh.indices.iter().map(|i| base + i));
-            if k < caster_count {
-                casters.push((first_index..indices.len() as u32, lo, hi));
-            }
-            if k + 1 == caster_count {
-                caster_index_count = indices.len() as u32;
-            }
+        let mut meshes = Vec::new();
+        for mesh in &scene.meshes {
+            let first = indices.len() as u32;
+            let base_vertex = i32::try_from(vertices.len()).map_err(|_| {
+                RenderError::Invalid("the scene has more than 2^31 vertices".into())
+            })?;
+            vertices.extend(
+                mesh.positions
+                    .iter()
+                    .zip(&mesh.normals)
+                    .map(|(p, n)| Vertex {
+                        position: p.as_vec3().to_array(),
+                        normal: n.as_vec3().to_array(),
+                    }),
+            );
+            indices.extend_from_slice(&mesh.indices);
+            meshes.push(MeshRange {
+                indices: first..indices.len() as u32,
+                base_vertex,
+            });
         }
-        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene vertices"),
-            contents: bytemuck::cast_slice(&vertices),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene indices"),
-            contents: bytemuck::cast_slice(&indices),
-            usage: wgpu::BufferUsages::INDEX,
-        });
-        Self {
+        let mut instances = Vec::new();
+        for instance in &scene.instances {
+            if instance.mesh >= scene.meshes.len() {
+                return Err(RenderError::Invalid(format!(
+                    "instance '{}' names mesh {} of {}",
+                    instance.name,
+                    instance.mesh,
+                    scene.meshes.len()
+                )));
+            }
+            let [r, g, b] = instance.color;
+            instances.push(SceneInstance {
+                mesh: instance.mesh,
+                world_from_object: instance.world_from_object,
+                bounds: scene.instance_bounds(instance).ok(),
+                casts: instance.casts,
+                color: [r, g, b, if instance.receives { 1.0 } else { 0.0 }],
+            });
+        }
+        // Buffers are never empty (a scene without geometry still binds them).
+        let pad = |mut bytes: Vec<u8>| {
+            bytes.resize(bytes.len().max(16).next_multiple_of(4), 0);
+            bytes
+        };
+        let vertex_buffer = resources.buffer_init(
+            "scene vertices",
+            &pad(bytemuck::cast_slice(&vertices).to_vec()),
+            wgpu::BufferUsages::VERTEX,
+        );
+        let index_buffer = resources.buffer_init(
+            "scene indices",
+            &pad(bytemuck::cast_slice(&indices).to_vec()),
+            wgpu::BufferUsages::INDEX,
+        );
+        let instance_buffer = resources.buffer(
+            "scene instances",
+            INSTANCE_STRIDE * instances.len().max(1) as u64,
+            wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        );
+        Ok(Self {
             vertices: vertex_buffer,
             indices: index_buffer,
-            caster_indices: 0..caster_index_count,
-            casters,
-            all_indices: 0..indices.len() as u32,
+            meshes,
             all_receive: scene.instances.iter().all(|i| i.receives),
+            mesh_bounds: scene
+                .meshes
+                .iter()
+                .map(|m| {
+                    let (lo, hi) = m.bounds();
+                    Aabb::new(lo, hi).ok()
+                })
+                .collect(),
+            staged: Vec::with_capacity(instances.len()),
+            instances,
+            instance_buffer,
+        })
+    }
+
+    /// Moves instance `index`: its transform and world bounds; the GPU copy follows with the
+    /// next frame's transforms.
+    pub fn set_transform(&mut self, index: usize, world_from_object: DMat4) {
+        let instance = &mut self.instances[index];
+        instance.world_from_object = world_from_object;
+        instance.bounds =
+            self.mesh_bounds[instance.mesh].and_then(|b| transformed_bounds(&b, world_from_object));
+    }
+
+    /// Writes every instance's view-from-object transform for the camera's view.
+    pub fn write_transforms(&mut self, queue: &wgpu::Queue, view_from_world: DMat4) {
+        self.staged.clear();
+        self.staged.extend(
+            self.instances
+                .iter()
+                .map(|i| GpuInstance::new(view_from_world, i.world_from_object, i.color)),
+        );
+        if !self.staged.is_empty() {
+            queue.write_buffer(&self.instance_buffer, 0, bytemuck::cast_slice(&self.staged));
         }
     }
+
+    /// Binds the buffers for the main pass (positions and normals, instances).
+    pub fn bind(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_vertex_buffer(1, self.instance_buffer.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+    }
+
+    /// Draws the instances that `keep` accepts (after [`GpuScene::bind`]).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, keep: impl Fn(usize) -> bool) {
+        for (k, instance) in self.instances.iter().enumerate() {
+            if keep(k) {
+                let mesh = &self.meshes[instance.mesh];
+                pass.draw_indexed(
+                    mesh.indices.clone(),
+                    mesh.base_vertex,
+                    k as u32..k as u32 + 1,
+                );
+            }
+        }
+    }
+}
+
+/// The world box of an object-space box under a transform (its eight corners).
+pub(crate) fn transformed_bounds(b: &Aabb, world_from_object: DMat4) -> Option<Aabb> {
+    let (lo, hi) = (b.min(), b.max());
+    let mut min = DVec3::INFINITY;
+    let mut max = DVec3::NEG_INFINITY;
+    for k in 0..8 {
+        let c = DVec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        );
+        let w = world_from_object.transform_point3(c);
+        min = min.min(w);
+        max = max.max(w);
+    }
+    Aabb::new(min, max).ok()
 }

@@ -1,8 +1,9 @@
 //! Stenciled shadow volumes: the exact shadows gnomon measures every map against (the
 //! shadows lecture, `shared/papers/shadows-lecture-volumes-and-maps.md`).
 //!
-//! Per frame: the scene's depth is laid down through the camera's projection with the far
-//! plane at infinity (so volume geometry at infinity, w = 0, is never clipped) and the
+//! Per frame: the scene's depth is laid down through the camera's reversed infinite projection
+//! (depth = near / distance: volume geometry at infinity, w = 0, lands at exactly 0 and is
+//! never clipped; Depth32FloatStencil8 where the device has it) and the
 //! ambient term drawn. Then per light: the casters' volumes are extruded on the CPU by the
 //! core crate ([`gnomon::volumes`]) and drawn into the cleared stencil buffer with two-sided
 //! stencil and wrapping increments in one pass - z-fail (Carmack's reverse: back faces
@@ -14,24 +15,17 @@
 //! elsewhere, as for shadow maps).
 
 use std::ops::Range;
-use std::time::Instant;
 
 use glam::{DMat4, DVec4};
 use gnomon::volumes::{
     MeshTopology, NearClipFallback, NearClipVolume, OpenMeshPolicy, VolumeParts, extrude_volume,
-    infinite_clip_from_view,
 };
-use gnomon::{Aabb, Camera, Light, MapProjection, ShadowMap};
+use gnomon::{Aabb, Camera, Light};
 
-use crate::renderer::{MASK_CLEAR, SKY, ShadowOverride, color_target, globals, texture};
-use crate::{Frame, RenderError, RenderScene, RenderSettings, Renderer, Timings};
-
-/// Depth and stencil of the volume passes.
-pub(crate) const DEPTH_STENCIL_FORMAT: wgpu::TextureFormat =
-    wgpu::TextureFormat::Depth24PlusStencil8;
-
-/// Epsilon of the infinite projection: points at infinity land at depth 1 - epsilon.
-const INFINITY_EPSILON: f64 = 1e-6;
+use crate::headless::{FrameClock, MASK_CLEAR, SKY, color_target};
+use crate::pipelines::{COLOR_FORMAT, MASK_FORMAT, PipelineSpec, Pipelines, build, scene_buffers};
+use crate::timing::Part;
+use crate::{Frame, Gpu, RenderError, RenderScene, RenderSettings, Renderer};
 
 /// How the stencil counts volume faces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -81,17 +75,18 @@ pub struct VolumeFrame {
 pub(crate) struct VolumeCasters {
     /// Per mesh of the scene, its topology (open meshes kept for per-triangle volumes).
     topologies: Vec<Option<MeshTopology>>,
-    /// The casting instances: mesh index, placement and world bounds (none for a flat or
-    /// empty mesh: it then always counts as reaching the near plane).
-    instances: Vec<(usize, DMat4, Option<Aabb>)>,
+    /// Every instance of the scene: mesh index, placement, world bounds (none for a flat or
+    /// empty mesh: it then always counts as reaching the near plane) and whether it casts.
+    instances: Vec<(usize, DMat4, Option<Aabb>, bool)>,
+    /// The last extrusion (kept so that frames reuse its memory).
+    out: Vec<DVec4>,
 }
 
-/// One light's volumes: homogeneous world vertices, three per triangle; the z-fail volumes
-/// (closed) first, then the z-pass ones (sides only).
+/// The volumes of every light of a frame: view-space homogeneous vertices, three per
+/// triangle; per light, its z-fail volumes (closed) and its z-pass ones (sides only).
 pub(crate) struct ExtrudedVolumes {
     vertices: Vec<[f32; 4]>,
-    z_fail: Range<u32>,
-    z_pass: Range<u32>,
+    ranges: Vec<(Range<u32>, Range<u32>)>,
     stats: VolumeStats,
 }
 
@@ -99,80 +94,116 @@ impl VolumeCasters {
     pub fn new(scene: &RenderScene) -> Self {
         let mut topologies: Vec<Option<MeshTopology>> = vec![None; scene.meshes.len()];
         let mut instances = Vec::new();
-        for instance in scene.instances.iter().filter(|i| i.casts) {
-            let slot = &mut topologies[instance.mesh];
-            if slot.is_none() {
-                let mesh = &scene.meshes[instance.mesh];
-                // Per-triangle volumes keep any mesh correct; bad indices were caught when
-                // the mesh was made, so an error here leaves the mesh without a volume.
-                *slot =
-                    MeshTopology::new(&mesh.positions, &mesh.indices, OpenMeshPolicy::PerTriangle)
-                        .ok();
+        for instance in &scene.instances {
+            if instance.casts && instance.mesh < scene.meshes.len() {
+                let slot = &mut topologies[instance.mesh];
+                if slot.is_none() {
+                    let mesh = &scene.meshes[instance.mesh];
+                    // Per-triangle volumes keep any mesh correct; bad indices were caught when
+                    // the mesh was made, so an error here leaves the mesh without a volume.
+                    *slot = MeshTopology::new(
+                        &mesh.positions,
+                        &mesh.indices,
+                        OpenMeshPolicy::PerTriangle,
+                    )
+                    .ok();
+                }
             }
             let bounds = scene.instance_bounds(instance).ok();
-            instances.push((instance.mesh, instance.world_from_object, bounds));
+            instances.push((
+                instance.mesh,
+                instance.world_from_object,
+                bounds,
+                instance.casts,
+            ));
         }
         Self {
             topologies,
             instances,
+            out: Vec::new(),
         }
     }
 
-    /// Every caster's volume for `light`, counted as `mode` says (`camera` decides which
-    /// casters can reach its near plane under [`StencilMode::PerCaster`]).
-    pub fn extrude(&self, camera: &Camera, light: &Light, mode: StencilMode) -> ExtrudedVolumes {
-        let near_clip =
-            (mode == StencilMode::PerCaster).then(|| NearClipVolume::new(camera, light));
-        let z_fail = |bounds: &Option<Aabb>| match mode {
-            StencilMode::ZFail => true,
-            StencilMode::ZPass => false,
-            StencilMode::PerCaster => match (&near_clip, bounds) {
-                (Some(volume), Some(b)) => volume.may_reach(b),
-                _ => true,
-            },
-        };
-        let mut out: Vec<DVec4> = Vec::new();
-        let mut stats = VolumeStats {
-            near_clip_fallback: near_clip.as_ref().and_then(NearClipVolume::fallback),
-            ..VolumeStats::default()
-        };
-        let mut z_fail_end = 0;
-        for counted_z_fail in [true, false] {
-            let parts = if counted_z_fail {
-                VolumeParts::Closed
-            } else {
-                VolumeParts::SidesOnly
+    pub fn set_transform(&mut self, index: usize, world_from_object: DMat4, bounds: Option<Aabb>) {
+        let instance = &mut self.instances[index];
+        instance.1 = world_from_object;
+        instance.2 = bounds;
+    }
+
+    /// Every caster's volume for each light, counted as `mode` says (`camera` decides which
+    /// casters can reach its near plane under [`StencilMode::PerCaster`]), in view space.
+    pub fn extrude(
+        &mut self,
+        camera: &Camera,
+        lights: &[Light],
+        mode: StencilMode,
+        into: &mut ExtrudedVolumes,
+    ) {
+        into.vertices.clear();
+        into.ranges.clear();
+        into.stats = VolumeStats::default();
+        let view_from_world = camera.view_from_world();
+        for light in lights {
+            let near_clip =
+                (mode == StencilMode::PerCaster).then(|| NearClipVolume::new(camera, light));
+            let z_fail = |bounds: &Option<Aabb>| match mode {
+                StencilMode::ZFail => true,
+                StencilMode::ZPass => false,
+                StencilMode::PerCaster => match (&near_clip, bounds) {
+                    (Some(volume), Some(b)) => volume.may_reach(b),
+                    _ => true,
+                },
             };
-            for (mesh, world_from_object, bounds) in &self.instances {
-                let Some(topology) = &self.topologies[*mesh] else {
-                    continue;
-                };
-                if z_fail(bounds) != counted_z_fail {
-                    continue;
-                }
-                let counts = extrude_volume(topology, *world_from_object, light, parts, &mut out);
-                stats.triangles += counts.total();
-                if counted_z_fail {
-                    stats.z_fail_casters += 1;
+            into.stats.near_clip_fallback = into
+                .stats
+                .near_clip_fallback
+                .or(near_clip.as_ref().and_then(NearClipVolume::fallback));
+            let start = into.vertices.len() as u32;
+            let mut z_fail_end = start;
+            for counted_z_fail in [true, false] {
+                let parts = if counted_z_fail {
+                    VolumeParts::Closed
                 } else {
-                    stats.z_pass_casters += 1;
+                    VolumeParts::SidesOnly
+                };
+                for (mesh, world_from_object, bounds, casts) in &self.instances {
+                    let Some(topology) = self.topologies[*mesh].as_ref().filter(|_| *casts) else {
+                        continue;
+                    };
+                    if z_fail(bounds) != counted_z_fail {
+                        continue;
+                    }
+                    self.out.clear();
+                    let counts =
+                        extrude_volume(topology, *world_from_object, light, parts, &mut self.out);
+                    into.stats.triangles += counts.total();
+                    if counted_z_fail {
+                        into.stats.z_fail_casters += 1;
+                    } else {
+                        into.stats.z_pass_casters += 1;
+                    }
+                    // To view space in f64 (directions at infinity stay directions).
+                    into.vertices.extend(
+                        self.out
+                            .iter()
+                            .map(|v| (view_from_world * *v).as_vec4().to_array()),
+                    );
+                }
+                if counted_z_fail {
+                    z_fail_end = into.vertices.len() as u32;
                 }
             }
-            if counted_z_fail {
-                z_fail_end = out.len() as u32;
-            }
-        }
-        ExtrudedVolumes {
-            vertices: out.iter().map(|v| v.as_vec4().to_array()).collect(),
-            z_fail: 0..z_fail_end,
-            z_pass: z_fail_end..out.len() as u32,
-            stats,
+            into.ranges
+                .push((start..z_fail_end, z_fail_end..into.vertices.len() as u32));
         }
     }
 }
 
 /// The pipelines of the volume passes.
 pub(crate) struct VolumePipelines {
+    /// Whether the depth is Depth32FloatStencil8 (else Depth24PlusStencil8).
+    pub float_depth: bool,
+    format: wgpu::TextureFormat,
     /// The scene's depth, the ambient term and the first light's mask as if shadowed.
     depth_and_ambient: wgpu::RenderPipeline,
     z_fail: wgpu::RenderPipeline,
@@ -186,35 +217,63 @@ pub(crate) struct VolumePipelines {
 }
 
 impl VolumePipelines {
-    pub fn new(
-        device: &wgpu::Device,
-        shader: &wgpu::ShaderModule,
-        main_layout: &wgpu::PipelineLayout,
-        globals_layout: &wgpu::PipelineLayout,
-        scene_vertices: &wgpu::VertexBufferLayout<'_>,
-        targets: &[Option<wgpu::ColorTargetState>],
-    ) -> Self {
+    pub fn new(gpu: &Gpu, pipelines: &Pipelines) -> Self {
+        let device = &gpu.device;
+        let float_depth = device
+            .features()
+            .contains(wgpu::Features::DEPTH32FLOAT_STENCIL8);
+        let format = if float_depth {
+            wgpu::TextureFormat::Depth32FloatStencil8
+        } else {
+            wgpu::TextureFormat::Depth24PlusStencil8
+        };
         let volume_attributes = wgpu::vertex_attr_array![0 => Float32x4];
-        let volume_vertices = wgpu::VertexBufferLayout {
+        let volume_vertices = [wgpu::VertexBufferLayout {
             array_stride: 16,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &volume_attributes,
-        };
+        }];
         let face = |depth_fail_op, pass_op| wgpu::StencilFaceState {
             compare: wgpu::CompareFunction::Always,
             fail_op: wgpu::StencilOperation::Keep,
             depth_fail_op,
             pass_op,
         };
-        let stencil = |front, back, read_mask, write_mask| wgpu::StencilState {
-            front,
-            back,
-            read_mask,
-            write_mask,
+        let test = |compare| wgpu::StencilFaceState {
+            compare,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Keep,
+            pass_op: wgpu::StencilOperation::Keep,
         };
+        let depth_stencil = |write, compare, front, back, read_mask, write_mask, bias| {
+            Some(wgpu::DepthStencilState {
+                format,
+                depth_write_enabled: Some(write),
+                depth_compare: Some(compare),
+                stencil: wgpu::StencilState {
+                    front,
+                    back,
+                    read_mask,
+                    write_mask,
+                },
+                bias,
+            })
+        };
+        // The volumes' vertices are formed in f64 on the CPU, the scene's on the GPU from
+        // object space: a light cap, which lies on its caster's lit faces, would z-fight with
+        // them. Pushed a few depth units behind (reversed Z: smaller), a cap always counts as
+        // behind the face it lies on, as z-fail needs; the push is far below a pixel.
+        let behind = wgpu::DepthBiasState {
+            constant: -16,
+            slope_scale: -0.05,
+            clamp: 0.0,
+        };
+        let no_bias = wgpu::DepthBiasState::default();
+        let plain = [Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())];
         // Lights: colour added (linear, before sRGB encoding), mask written.
-        let additive_targets = [
-            targets[0].clone().map(|t| wgpu::ColorTargetState {
+        let additive = [
+            Some(wgpu::ColorTargetState {
+                format: COLOR_FORMAT,
                 blend: Some(wgpu::BlendState {
                     color: wgpu::BlendComponent {
                         src_factor: wgpu::BlendFactor::One,
@@ -223,87 +282,55 @@ impl VolumePipelines {
                     },
                     alpha: wgpu::BlendComponent::REPLACE,
                 }),
-                ..t
+                write_mask: wgpu::ColorWrites::ALL,
             }),
-            targets[1].clone(),
+            Some(MASK_FORMAT.into()),
         ];
-        let test = |compare| wgpu::StencilFaceState {
-            compare,
-            fail_op: wgpu::StencilOperation::Keep,
-            depth_fail_op: wgpu::StencilOperation::Keep,
-            pass_op: wgpu::StencilOperation::Keep,
-        };
-        let pipeline = |label,
-                        layout,
-                        vertex_entry,
-                        buffer: &wgpu::VertexBufferLayout<'_>,
-                        fragment: Option<(&str, &[Option<wgpu::ColorTargetState>])>,
-                        depth_write,
-                        depth_compare,
-                        stencil: wgpu::StencilState| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module: shader,
-                    entry_point: Some(vertex_entry),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(buffer.clone())],
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_STENCIL_FORMAT,
-                    depth_write_enabled: Some(depth_write),
-                    depth_compare: Some(depth_compare),
-                    stencil,
-                    bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: fragment.map(|(entry, targets)| wgpu::FragmentState {
-                    module: shader,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
+        let make =
+            |spec: PipelineSpec<'_>| build(device, &pipelines.shader, &pipelines.layout, &spec);
         use wgpu::CompareFunction as C;
         use wgpu::StencilOperation as S;
-        let no_stencil = wgpu::StencilState::default();
+        let scene = scene_buffers();
         // The volumes: stencil only, two-sided, no depth writes; front and back faces count
-        // as `front` and `back` say.
+        // as `front` and `back` say. Reversed Z: a face in front of the surface passes
+        // (Greater), one behind it fails the depth test.
         let volumes = |label, front, back| {
-            pipeline(
+            make(PipelineSpec {
                 label,
-                globals_layout,
-                "vs_volume",
-                &volume_vertices,
-                None,
-                false,
-                C::Less,
-                stencil(front, back, 0xff, 0xff),
-            )
+                vertex: "vs_volume",
+                buffers: &volume_vertices,
+                fragment: None,
+                targets: &[],
+                constants: &[],
+                depth: depth_stencil(false, C::Greater, front, back, 0xff, 0xff, behind),
+                samples: 1,
+            })
         };
         // One light's shading: the scene where the stencil count compares to 0 as `compare`
         // says, colour added.
-        let light_pass = |label, compare| {
-            pipeline(
+        let light_pass = |label, fragment, compare| {
+            make(PipelineSpec {
                 label,
-                main_layout,
-                "vs_main",
-                scene_vertices,
-                Some(("fs_main", &additive_targets)),
-                false,
-                C::LessEqual,
-                stencil(test(compare), test(compare), 0xff, 0),
-            )
+                vertex: "vs_main_infinite",
+                buffers: &scene,
+                fragment: Some(fragment),
+                targets: &additive,
+                constants: &[],
+                depth: depth_stencil(
+                    false,
+                    C::GreaterEqual,
+                    test(compare),
+                    test(compare),
+                    0xff,
+                    0,
+                    no_bias,
+                ),
+                samples: 1,
+            })
         };
         Self {
+            float_depth,
+            format,
             z_fail: volumes(
                 "volumes: z-fail",
                 face(S::DecrementWrap, S::Keep),
@@ -314,31 +341,41 @@ impl VolumePipelines {
                 face(S::Keep, S::IncrementWrap),
                 face(S::Keep, S::DecrementWrap),
             ),
-            depth_and_ambient: pipeline(
-                "volumes: depth and ambient",
-                main_layout,
-                "vs_main",
-                scene_vertices,
-                Some(("fs_main", targets)),
-                true,
-                C::Less,
-                no_stencil.clone(),
-            ),
-            lit: light_pass("volumes: lit", C::Equal),
-            shadowed: light_pass("volumes: shadowed", C::NotEqual),
+            depth_and_ambient: make(PipelineSpec {
+                label: "volumes: depth and ambient",
+                vertex: "vs_main_infinite",
+                buffers: &scene,
+                fragment: Some("fs_ambient"),
+                targets: &plain,
+                constants: &[],
+                depth: depth_stencil(
+                    true,
+                    C::Greater,
+                    wgpu::StencilFaceState::IGNORE,
+                    wgpu::StencilFaceState::IGNORE,
+                    0,
+                    0,
+                    no_bias,
+                ),
+                samples: 1,
+            }),
+            lit: light_pass("volumes: lit", "fs_volume_lit", C::Equal),
+            shadowed: light_pass("volumes: shadowed", "fs_volume_shadowed", C::NotEqual),
         }
     }
 }
 
-/// Which lighting terms a draw adds.
-#[derive(Clone, Copy)]
-enum Terms {
-    AmbientOnly,
-    DirectOnly,
+/// The volume passes' kept targets and buffers.
+pub(crate) struct VolumeTargets {
+    size: (u32, u32),
+    depth_view: wgpu::TextureView,
+    masks: Vec<(wgpu::Texture, wgpu::TextureView)>,
+    vertices: Option<wgpu::Buffer>,
+    extruded: ExtrudedVolumes,
 }
 
-/// The depth-stencil attachment of the volume passes: depth cleared to 1 or loaded, stencil
-/// cleared to 0 or loaded; both kept.
+/// The depth-stencil attachment of the volume passes: depth cleared to 0 (reversed Z: the
+/// far plane) or loaded, stencil cleared to 0 or loaded; both kept.
 fn depth_stencil(
     view: &wgpu::TextureView,
     clear_depth: bool,
@@ -352,7 +389,7 @@ fn depth_stencil(
     }
     wgpu::RenderPassDepthStencilAttachment {
         view,
-        depth_ops: Some(ops(clear_depth.then_some(1.0))),
+        depth_ops: Some(ops(clear_depth.then_some(0.0))),
         stencil_ops: Some(ops(clear_stencil.then_some(0))),
     }
 }
@@ -361,7 +398,7 @@ impl Renderer {
     /// Renders one frame of `camera` lit by `light` with exact shadows from stenciled shadow
     /// volumes; see [`Renderer::render_volumes_lit_by`].
     pub fn render_volumes(
-        &self,
+        &mut self,
         camera: &Camera,
         light: &Light,
         settings: &RenderSettings,
@@ -374,10 +411,10 @@ impl Renderer {
     /// shadow volumes (see the module documentation): the scene's depth and the ambient term
     /// once, then per light its volumes into a cleared stencil and its direct light added
     /// where the count is 0. `settings`' filter and bias do not apply. Timings: the shadow
-    /// pass is extrusion plus stencil passes, the main pass the depth, ambient and lighting
+    /// part is extrusion plus stencil passes, the main part the depth, ambient and lighting
     /// passes, summed over the lights.
     pub fn render_volumes_lit_by(
-        &self,
+        &mut self,
         camera: &Camera,
         lights: &[Light],
         settings: &RenderSettings,
@@ -389,197 +426,98 @@ impl Renderer {
             ));
         }
         let (width, height) = self.image_size(settings)?;
-        let device = &self.gpu.device;
-        let error_scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let clip_from_world =
-            infinite_clip_from_view(&camera.lens(), INFINITY_EPSILON) * camera.view_from_world();
-        // No map: the stencil decides (the map's fields are unused).
-        let no_map = ShadowMap {
-            clip_from_world: DMat4::IDENTITY,
-            depth_from_world: DVec4::ZERO,
-            resolution: 1,
-            viewport_inset: 0,
-            projection: MapProjection::Orthographic,
-        };
-        use wgpu::util::DeviceExt;
-        let uniform = |light: &Light, shadow_override, terms: Terms| {
-            let g = globals(
-                camera,
-                clip_from_world,
-                light,
-                &no_map,
-                settings,
-                shadow_override,
-            );
-            let g = match terms {
-                Terms::AmbientOnly => g.ambient_only(),
-                Terms::DirectOnly => g.direct_light_only(),
-            };
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("globals"),
-                contents: bytemuck::bytes_of(&g),
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
-        };
-        let color = self.color_image(width, height);
-        let depth = texture(
-            device,
-            "depth and stencil",
-            width,
-            height,
-            DEPTH_STENCIL_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
-        let dummy_map = texture(
-            device,
-            "no shadow map",
-            1,
-            1,
-            crate::renderer::DEPTH_FORMAT,
-            wgpu::TextureUsages::TEXTURE_BINDING,
-        );
-        let (color_view, depth_view, dummy_view) = (
-            color.create_view(&Default::default()),
-            depth.create_view(&Default::default()),
-            dummy_map.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                ..Default::default()
-            }),
-        );
-        // The ambient term alone; the mask of the first light as if all were shadowed (the
-        // light's pass then writes where it reaches).
-        let ambient_uniform = uniform(&lights[0], ShadowOverride::Shadowed, Terms::AmbientOnly);
-        let ambient_group = self.main_bind_group(&ambient_uniform, &dummy_view);
-        let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("globals"),
-            layout: &self.volumes.z_fail.get_bind_group_layout(0),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: ambient_uniform.as_entire_binding(),
-            }],
-        });
-        let masks: Vec<wgpu::Texture> = lights
-            .iter()
-            .map(|_| self.mask_image(width, height))
-            .collect();
-        let mask_views: Vec<wgpu::TextureView> = masks
-            .iter()
-            .map(|m| m.create_view(&Default::default()))
-            .collect();
-        let mut timings = Timings::default();
-        let start = Instant::now();
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("volumes: depth and ambient"),
-                color_attachments: &[
-                    color_target(&color_view, Some(SKY)),
-                    color_target(&mask_views[0], Some(MASK_CLEAR)),
-                ],
-                depth_stencil_attachment: Some(depth_stencil(&depth_view, true, true)),
-                ..Default::default()
-            });
-            pass.set_bind_group(0, &ambient_group, &[]);
-            pass.set_pipeline(&self.volumes.depth_and_ambient);
-            self.scene.draw(&mut pass, self.scene.all_indices.clone());
-        }
-        self.gpu.queue.submit([encoder.finish()]);
-        self.gpu.wait()?;
-        timings.main_pass_ms += start.elapsed().as_secs_f64() * 1e3;
-
-        let mut stats = VolumeStats::default();
-        for (k, light) in lights.iter().enumerate() {
-            let start = Instant::now();
-            let volumes = self.volume_casters.extrude(camera, light, mode);
-            stats.triangles += volumes.stats.triangles;
-            stats.z_fail_casters += volumes.stats.z_fail_casters;
-            stats.z_pass_casters += volumes.stats.z_pass_casters;
-            stats.near_clip_fallback = stats
-                .near_clip_fallback
-                .or(volumes.stats.near_clip_fallback);
-            let volume_buffer = (!volumes.vertices.is_empty()).then(|| {
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("shadow volumes"),
-                    contents: bytemuck::cast_slice(&volumes.vertices),
-                    usage: wgpu::BufferUsages::VERTEX,
-                })
-            });
-            let mut encoder = device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("volumes: stencil"),
-                    color_attachments: &[],
-                    depth_stencil_attachment: Some(depth_stencil(&depth_view, false, true)),
-                    ..Default::default()
-                });
-                pass.set_bind_group(0, &globals_group, &[]);
-                if let Some(buffer) = &volume_buffer {
-                    pass.set_vertex_buffer(0, buffer.slice(..));
-                    for (pipeline, range) in [
-                        (&self.volumes.z_fail, volumes.z_fail.clone()),
-                        (&self.volumes.z_pass, volumes.z_pass.clone()),
-                    ] {
-                        if !range.is_empty() {
-                            pass.set_pipeline(pipeline);
-                            pass.draw(range, 0..1);
-                        }
-                    }
+        let scopes = crate::headless::ErrorScopes::push(&self.gpu);
+        self.prepare_lights(camera, lights, settings)?;
+        self.ensure_headless(width, height, false);
+        let mut targets = match self.volume_targets.take() {
+            Some(t) if t.size == (width, height) && t.masks.len() >= lights.len() => t,
+            old => {
+                let depth = self.resources.texture(
+                    "volumes depth and stencil",
+                    width,
+                    height,
+                    1,
+                    1,
+                    self.volumes.format,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT,
+                );
+                let masks = (0..lights.len())
+                    .map(|_| {
+                        let t = self.resources.texture(
+                            "light mask",
+                            width,
+                            height,
+                            1,
+                            1,
+                            MASK_FORMAT,
+                            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                        );
+                        let v = t.create_view(&Default::default());
+                        (t, v)
+                    })
+                    .collect();
+                let (vertices, extruded) = match old {
+                    Some(o) => (o.vertices, o.extruded),
+                    None => (
+                        None,
+                        ExtrudedVolumes {
+                            vertices: Vec::new(),
+                            ranges: Vec::new(),
+                            stats: VolumeStats::default(),
+                        },
+                    ),
+                };
+                VolumeTargets {
+                    size: (width, height),
+                    depth_view: depth.create_view(&Default::default()),
+                    masks,
+                    vertices,
+                    extruded,
                 }
             }
-            self.gpu.queue.submit([encoder.finish()]);
-            self.gpu.wait()?;
-            timings.shadow_pass_ms += start.elapsed().as_secs_f64() * 1e3;
-
-            let start = Instant::now();
-            let (lit_uniform, shadowed_uniform) = (
-                uniform(light, ShadowOverride::Lit, Terms::DirectOnly),
-                uniform(light, ShadowOverride::Shadowed, Terms::DirectOnly),
-            );
-            let (lit_group, shadowed_group) = (
-                self.main_bind_group(&lit_uniform, &dummy_view),
-                self.main_bind_group(&shadowed_uniform, &dummy_view),
-            );
-            let mut encoder = device.create_command_encoder(&Default::default());
-            {
-                // The first light's mask was started by the ambient pass; the others' start
-                // empty and get their shadowed pixels here. (Instances that receive no
-                // shadows get their direct light in the shadowed draw too, so the first light
-                // skips it only when every instance receives.)
-                let first = k == 0;
-                let skip_shadowed = first && self.scene.all_receive;
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("volumes: one light"),
-                    color_attachments: &[
-                        color_target(&color_view, None),
-                        color_target(&mask_views[k], (!first).then_some(MASK_CLEAR)),
-                    ],
-                    depth_stencil_attachment: Some(depth_stencil(&depth_view, false, false)),
-                    ..Default::default()
-                });
-                pass.set_stencil_reference(0);
-                let draws = [
-                    (&self.volumes.lit, &lit_group),
-                    (&self.volumes.shadowed, &shadowed_group),
-                ];
-                for (pipeline, group) in draws.iter().take(if skip_shadowed { 1 } else { 2 }) {
-                    pass.set_pipeline(pipeline);
-                    pass.set_bind_group(0, *group, &[]);
-                    self.scene.draw(&mut pass, self.scene.all_indices.clone());
-                }
-            }
-            self.gpu.queue.submit([encoder.finish()]);
-            self.gpu.wait()?;
-            timings.main_pass_ms += start.elapsed().as_secs_f64() * 1e3;
+        };
+        let mut clock = FrameClock::start(self);
+        // Extrusion on the CPU counts as the shadow part.
+        self.volume_casters
+            .extrude(camera, lights, mode, &mut targets.extruded);
+        let bytes = (targets.extruded.vertices.len() * 16) as u64;
+        if bytes > 0 && targets.vertices.as_ref().is_none_or(|b| b.size() < bytes) {
+            let size = bytes.next_power_of_two().max(1 << 16);
+            targets.vertices = Some(self.resources.buffer(
+                "shadow volumes",
+                size,
+                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            ));
         }
-        if let Some(error) = pollster::block_on(error_scope.pop()) {
-            return Err(RenderError::Gpu(error.to_string()));
+        if bytes > 0 {
+            let buffer = targets.vertices.as_ref().expect("made above");
+            self.gpu.queue.write_buffer(
+                buffer,
+                0,
+                bytemuck::cast_slice(&targets.extruded.vertices),
+            );
         }
-        let start = Instant::now();
-        let color_bytes = self.read_color(&color)?;
-        let light_masks = masks
-            .iter()
-            .map(|m| self.read_mask(m))
-            .collect::<Result<Vec<_>, _>>()?;
+        clock.cpu_part(Part::Shadow);
+        let result = self.encode_volumes(&mut clock, &targets, lights.len());
+        let stats = targets.extruded.stats;
+        self.volume_targets = Some(targets);
+        result?;
+        let timings = clock.finish(self)?;
+        scopes.pop()?;
+        let start = std::time::Instant::now();
+        let headless = self.headless.as_ref().expect("made above");
+        let color = self
+            .readback
+            .read(&self.gpu, &self.resources, &headless.color.0, 4, 0)?;
+        let targets = self.volume_targets.as_ref().expect("kept above");
+        let mut light_masks = Vec::with_capacity(lights.len());
+        for (texture, _) in targets.masks.iter().take(lights.len()) {
+            light_masks.push(
+                self.readback
+                    .read(&self.gpu, &self.resources, texture, 1, 0)?,
+            );
+        }
+        let mut timings = timings;
         timings.readback_ms = start.elapsed().as_secs_f64() * 1e3;
         // Lit by any light: 255 beats 0; empty pixels are empty for every light.
         let mut mask = light_masks[0].clone();
@@ -592,8 +530,9 @@ impl Renderer {
             frame: Frame {
                 width,
                 height,
-                color: color_bytes,
+                color,
                 mask,
+                light_masks: light_masks.clone(),
                 light_view: None,
                 metrics: None,
                 timings,
@@ -601,5 +540,106 @@ impl Renderer {
             light_masks,
             stats,
         })
+    }
+
+    fn encode_volumes(
+        &mut self,
+        clock: &mut FrameClock,
+        targets: &VolumeTargets,
+        light_count: usize,
+    ) -> Result<(), RenderError> {
+        let headless = self.headless.as_ref().expect("made by the caller");
+        let color_view = &headless.color.1;
+        {
+            let timestamps = clock.timestamps(&mut self.timer, Part::Main);
+            let mut pass = clock
+                .encoder()
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("volumes: depth and ambient"),
+                    color_attachments: &[
+                        color_target(color_view, Some(SKY)),
+                        color_target(&targets.masks[0].1, Some(MASK_CLEAR)),
+                    ],
+                    depth_stencil_attachment: Some(depth_stencil(&targets.depth_view, true, true)),
+                    timestamp_writes: timestamps,
+                    ..Default::default()
+                });
+            pass.set_pipeline(&self.volumes.depth_and_ambient);
+            self.bind_frame(&mut pass);
+            self.scene.bind(&mut pass);
+            self.scene.draw(&mut pass, |_| true);
+        }
+        clock.end_part(&self.gpu, Part::Main)?;
+        for k in 0..light_count {
+            let slot = self.slot(k as u32);
+            let (z_fail, z_pass) = targets.extruded.ranges[k].clone();
+            {
+                let timestamps = clock.timestamps(&mut self.timer, Part::Shadow);
+                let mut pass = clock
+                    .encoder()
+                    .begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("volumes: stencil"),
+                        color_attachments: &[],
+                        depth_stencil_attachment: Some(depth_stencil(
+                            &targets.depth_view,
+                            false,
+                            true,
+                        )),
+                        timestamp_writes: timestamps,
+                        ..Default::default()
+                    });
+                pass.set_bind_group(0, &self.frame_group, &[slot]);
+                pass.set_bind_group(1, &self.atlas.bind_group, &[]);
+                if let Some(buffer) = &targets.vertices {
+                    pass.set_vertex_buffer(0, buffer.slice(..));
+                    for (pipeline, range) in [
+                        (&self.volumes.z_fail, z_fail),
+                        (&self.volumes.z_pass, z_pass),
+                    ] {
+                        if !range.is_empty() {
+                            pass.set_pipeline(pipeline);
+                            pass.draw(range, 0..1);
+                        }
+                    }
+                }
+            }
+            clock.end_part(&self.gpu, Part::Shadow)?;
+            {
+                // The first light's mask was started by the ambient pass; the others' start
+                // empty and get their shadowed pixels here. (Instances that receive no
+                // shadows get their direct light in the shadowed draw too, so the first light
+                // skips it only when every instance receives.)
+                let first = k == 0;
+                let skip_shadowed = first && self.scene.all_receive;
+                let timestamps = clock.timestamps(&mut self.timer, Part::Main);
+                let mut pass = clock
+                    .encoder()
+                    .begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("volumes: one light"),
+                        color_attachments: &[
+                            color_target(color_view, None),
+                            color_target(&targets.masks[k].1, (!first).then_some(MASK_CLEAR)),
+                        ],
+                        depth_stencil_attachment: Some(depth_stencil(
+                            &targets.depth_view,
+                            false,
+                            false,
+                        )),
+                        timestamp_writes: timestamps,
+                        ..Default::default()
+                    });
+                pass.set_stencil_reference(0);
+                pass.set_bind_group(0, &self.frame_group, &[slot]);
+                pass.set_bind_group(1, &self.atlas.bind_group, &[]);
+                self.scene.bind(&mut pass);
+                let draws = [&self.volumes.lit, &self.volumes.shadowed];
+                for pipeline in draws.iter().take(if skip_shadowed { 1 } else { 2 }) {
+                    pass.set_pipeline(pipeline);
+                    self.scene.draw(&mut pass, |_| true);
+                }
+            }
+            clock.end_part(&self.gpu, Part::Main)?;
+        }
+        Ok(())
     }
 }

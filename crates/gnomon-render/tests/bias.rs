@@ -63,7 +63,7 @@ fn camera(eye: DVec3, target: DVec3) -> Camera {
 #[test]
 fn grazing_light_on_a_plane_gives_no_acne() {
     let scene = scene(false);
-    let renderer = common::renderer(&scene);
+    let mut renderer = common::renderer(&scene);
     let settings = RenderSettings {
         width: SIZE,
         height: SIZE,
@@ -96,8 +96,15 @@ fn grazing_light_on_a_plane_gives_no_acne() {
     ));
     for technique in [Technique::Focused(Focused), Technique::Uniform(Uniform)] {
         for (name, light) in &lights {
-            let (_, frame) =
-                common::render(&renderer, &scene, &technique, &cam, light, 1024, &settings);
+            let (_, frame) = common::render(
+                &mut renderer,
+                &scene,
+                &technique,
+                &cam,
+                light,
+                1024,
+                &settings,
+            );
             let oracle = common::oracle(&scene, &cam, light, SIZE, SIZE);
             // Plane pixels the light reaches (the oracle: N.L > 0, nothing casts on the plane).
             let lit: Vec<usize> = (0..frame.mask.len())
@@ -126,7 +133,7 @@ fn grazing_light_on_a_plane_gives_no_acne() {
 #[test]
 fn shadow_of_a_box_touches_its_base() {
     let scene = scene(true);
-    let renderer = common::renderer(&scene);
+    let mut renderer = common::renderer(&scene);
     let settings = RenderSettings {
         width: SIZE,
         height: SIZE,
@@ -138,7 +145,15 @@ fn shadow_of_a_box_touches_its_base() {
         let e = elevation.to_radians();
         let light =
             Light::Directional(DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), 0.0)).unwrap());
-        let (_, frame) = common::render(&renderer, &scene, &Focused, &cam, &light, 1024, &settings);
+        let (_, frame) = common::render(
+            &mut renderer,
+            &scene,
+            &Focused,
+            &cam,
+            &light,
+            1024,
+            &settings,
+        );
         // Ground points a few centimetres beside the base, on the shadow side: in shadow.
         let clip_from_world = cam.clip_from_world();
         let mut checked = 0;

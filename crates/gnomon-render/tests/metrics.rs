@@ -35,7 +35,7 @@ fn reduce(jx: DVec2, jy: DVec2) -> (f64, f64) {
 #[test]
 fn per_pixel_metrics_match_finite_differences_of_the_matrices() {
     let scene = scene();
-    let renderer = common::renderer(&scene);
+    let mut renderer = common::renderer(&scene);
     let settings = RenderSettings {
         width: SIZE,
         height: SIZE,
@@ -76,7 +76,13 @@ fn per_pixel_metrics_match_finite_differences_of_the_matrices() {
     };
     for (name, technique) in techniques {
         let (setup, frame) = common::render(
-            &renderer, &scene, technique, &camera, &light, 1024, &settings,
+            &mut renderer,
+            &scene,
+            technique,
+            &camera,
+            &light,
+            1024,
+            &settings,
         );
         let map = setup.maps[0];
         let metrics = frame.metrics.as_ref().expect("metrics asked for");

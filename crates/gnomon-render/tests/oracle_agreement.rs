@@ -84,7 +84,7 @@ fn views() -> Vec<View> {
 #[test]
 fn custom_views_agree_with_exact_shadows() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
-    let renderer = common::renderer(&scene);
+    let mut renderer = common::renderer(&scene);
     let settings = RenderSettings {
         width: SIZE,
         height: SIZE,
@@ -117,7 +117,7 @@ fn custom_views_agree_with_exact_shadows() {
         };
         for technique in techniques {
             let (setup, frame) = common::render(
-                &renderer,
+                &mut renderer,
                 &scene,
                 &technique,
                 &camera,
@@ -173,7 +173,7 @@ fn custom_views_agree_with_exact_shadows() {
 #[test]
 fn named_views_report() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
-    let renderer = common::renderer(&scene);
+    let mut renderer = common::renderer(&scene);
     let (width, height) = (320, 180);
     let settings = RenderSettings {
         width,
@@ -185,7 +185,13 @@ fn named_views_report() {
         let oracle = common::oracle(&scene, &camera, &light, width, height);
         for technique in gnomon::Technique::all() {
             let (_, frame) = common::render(
-                &renderer, &scene, &technique, &camera, &light, 2048, &settings,
+                &mut renderer,
+                &scene,
+                &technique,
+                &camera,
+                &light,
+                2048,
+                &settings,
             );
             let a = common::agreement(&frame, &oracle, 0.1);
             println!(

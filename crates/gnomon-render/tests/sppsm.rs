@@ -15,7 +15,7 @@ use gnomon_render::{Frame, MASK_EMPTY, PixelMetrics, RenderScene, RenderSettings
 #[test]
 fn each_pixel_reads_the_map_with_the_better_area_sampling() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
-    let renderer = common::renderer(&scene);
+    let mut renderer = common::renderer(&scene);
     let (width, height) = (256, 144);
     let settings = RenderSettings {
         width,
@@ -41,8 +41,9 @@ fn each_pixel_reads_the_map_with_the_better_area_sampling() {
         perspective: PerspectiveMap::Psm(Psm::default()),
         iterations: 1,
     });
-    let render =
-        |t: &Technique| common::render(&renderer, &scene, t, &camera, &light, 1024, &settings).1;
+    let mut render = |t: &Technique| {
+        common::render(&mut renderer, &scene, t, &camera, &light, 1024, &settings).1
+    };
     let (focused, psm, both) = (
         render(&Technique::Focused(Focused)),
         render(&Technique::Psm(Psm::default())),
@@ -83,7 +84,7 @@ fn each_pixel_reads_the_map_with_the_better_area_sampling() {
 
     // The tint shows it: red where the perspective map is read, blue elsewhere.
     let tinted = common::render(
-        &renderer,
+        &mut renderer,
         &scene,
         &sppsm,
         &camera,
@@ -126,7 +127,7 @@ fn p99(metrics: &PixelMetrics, values: &[f32]) -> f32 {
 #[test]
 fn every_named_view_is_no_worse_than_the_better_map_alone() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
-    let renderer = common::renderer(&scene);
+    let mut renderer = common::renderer(&scene);
     let (width, height) = (640, 360);
     let settings = RenderSettings {
         width,
@@ -141,8 +142,8 @@ fn every_named_view_is_no_worse_than_the_better_map_alone() {
             .render_volumes(&camera, &light, &settings, StencilMode::ZFail)
             .unwrap()
             .frame;
-        let render = |t: &Technique| {
-            common::render(&renderer, &scene, t, &camera, &light, 1024, &settings).1
+        let mut render = |t: &Technique| {
+            common::render(&mut renderer, &scene, t, &camera, &light, 1024, &settings).1
         };
         let frames = [
             render(&Technique::Sppsm(Sppsm::default())),

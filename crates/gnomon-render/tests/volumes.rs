@@ -38,7 +38,7 @@ fn sun(x: f64, y: f64, z: f64) -> Light {
 #[test]
 fn volumes_agree_with_exact_shadows() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
-    let renderer = common::renderer(&scene);
+    let mut renderer = common::renderer(&scene);
     // A camera standing in a tower's shadow, low on the ground (its own scene, so that the
     // view is known): the near plane cuts the tower's volume.
     let low_sun = DVec3::new(1.0, -0.5, 0.3).normalize();
@@ -81,13 +81,13 @@ fn volumes_agree_with_exact_shadows() {
         ),
     ];
     let tower = tower_scene();
-    let tower_renderer = common::renderer(&tower);
+    let mut tower_renderer = common::renderer(&tower);
     let mut failures = Vec::new();
     for (name, camera, light) in &views {
         let (scene, renderer) = if name.contains("inside") {
-            (&tower, &tower_renderer)
+            (&tower, &mut tower_renderer)
         } else {
-            (&scene, &renderer)
+            (&scene, &mut renderer)
         };
         let inside = name.contains("inside");
         failures.extend(compare_modes(renderer, scene, name, camera, light, inside));
@@ -99,7 +99,7 @@ fn volumes_agree_with_exact_shadows() {
 /// Returns the failures: z-fail or per caster below 99.9%; z-pass below 99.9% where
 /// `z_pass_wrong` is false, or above 99% where it is true (a volume reaches the near plane).
 fn compare_modes(
-    renderer: &Renderer,
+    renderer: &mut Renderer,
     scene: &RenderScene,
     name: &str,
     camera: &Camera,
@@ -181,7 +181,7 @@ fn real_meshes_agree_with_exact_shadows() {
         let mesh = real_mesh(file);
         // 10 m tall, standing at the origin; about 10 m across.
         let scene = RenderScene::mesh_on_ground(file, mesh, 10.0).unwrap();
-        let renderer = common::renderer(&scene);
+        let mut renderer = common::renderer(&scene);
         let views = [
             (
                 "oblique, sun",
@@ -241,7 +241,7 @@ fn real_meshes_agree_with_exact_shadows() {
         for (view, camera, light, z_pass_wrong) in &views {
             let name = format!("{file}, {view}");
             failures.extend(compare_modes(
-                &renderer,
+                &mut renderer,
                 &scene,
                 &name,
                 camera,
@@ -266,7 +266,7 @@ fn linear(v: u8) -> f64 {
 #[test]
 fn several_lights_add_up_each_with_exact_shadows() {
     let scene = RenderScene::mesh_on_ground("knot", real_mesh("knot1.off"), 10.0).unwrap();
-    let renderer = common::renderer(&scene);
+    let mut renderer = common::renderer(&scene);
     let settings = RenderSettings {
         width: SIZE,
         height: SIZE,
@@ -291,7 +291,7 @@ fn several_lights_add_up_each_with_exact_shadows() {
     // A spot light pointing at the sky lights nothing: the ambient term alone.
     let none =
         Light::Spot(SpotLight::new(DVec3::new(0.0, 50.0, 0.0), DVec3::Y, 10.0, 100.0).unwrap());
-    let render = |lights: &[Light]| {
+    let mut render = |lights: &[Light]| {
         renderer
             .render_volumes_lit_by(&camera, lights, &settings, StencilMode::PerCaster)
             .unwrap()
@@ -352,7 +352,7 @@ fn volumes_shade_like_the_maps() {
     for receives in [true, false] {
         let mut scene = RenderScene::mesh_on_ground("knot", real_mesh("knot1.off"), 10.0).unwrap();
         scene.instances[1].receives = receives;
-        let renderer = common::renderer(&scene);
+        let mut renderer = common::renderer(&scene);
         let settings = RenderSettings {
             width: SIZE,
             height: SIZE,
@@ -367,7 +367,7 @@ fn volumes_shade_like_the_maps() {
         );
         let light = sun(0.5, -1.0, -0.3);
         let (_, map) = common::render(
-            &renderer,
+            &mut renderer,
             &scene,
             &gnomon::Focused,
             &camera,

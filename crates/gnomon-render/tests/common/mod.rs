@@ -179,7 +179,7 @@ pub fn mask_agreement(mask: &[u8], oracle: &OracleMask, min_n_dot_l: f64) -> Agr
 
 /// Computes the setup and renders the frame.
 pub fn render(
-    renderer: &Renderer,
+    renderer: &mut Renderer,
     scene: &RenderScene,
     technique: &dyn ShadowTechnique,
     camera: &Camera,

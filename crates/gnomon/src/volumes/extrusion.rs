@@ -165,11 +165,54 @@ pub fn infinite_clip_from_view(lens: &Lens, epsilon: f64) -> DMat4 {
     )
 }
 
+/// View to clip space with the far plane at infinity and reversed depth: z_clip = near w,
+/// w_clip = -z_view, so depth = near / distance: 1 at the near plane and exactly 0 for points
+/// at infinity (w = 0), with no epsilon. Compare with `Greater` and clear depth to 0; a float
+/// depth buffer then keeps its relative precision at every distance. The rest as
+/// [`crate::Camera::clip_from_view`].
+pub fn reversed_infinite_clip_from_view(lens: &Lens) -> DMat4 {
+    let cot = 1.0 / (0.5 * lens.fov_y_degrees.to_radians()).tan();
+    DMat4::from_cols(
+        DVec4::new(cot / lens.aspect, 0.0, 0.0, 0.0),
+        DVec4::new(0.0, cot, 0.0, 0.0),
+        DVec4::new(0.0, 0.0, 0.0, -1.0),
+        DVec4::new(0.0, 0.0, lens.near, 0.0),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::light::{DirectionalLight, SpotLight};
     use crate::volumes::OpenMeshPolicy;
+
+    #[test]
+    fn reversed_infinite_projection_puts_infinity_at_zero_and_the_near_plane_at_one() {
+        let lens = Lens {
+            fov_y_degrees: 60.0,
+            aspect: 1.5,
+            near: 0.25,
+            far: 100.0,
+        };
+        let p = reversed_infinite_clip_from_view(&lens);
+        let depth = |v: DVec4| {
+            let c = p * v;
+            c.z / c.w
+        };
+        assert_eq!(depth(DVec4::new(0.0, 0.0, -0.25, 1.0)), 1.0);
+        assert!((depth(DVec4::new(0.3, -0.2, -2.5, 1.0)) - 0.1).abs() < 1e-15);
+        // A direction (w = 0): exactly 0, whatever its length.
+        let c = p * DVec4::new(0.1, 0.2, -1.0, 0.0);
+        assert_eq!(c.z, 0.0);
+        assert!(c.w > 0.0);
+        // x and y as the finite projection.
+        let finite = infinite_clip_from_view(&lens, 0.0);
+        let v = DVec4::new(1.0, -2.0, -7.0, 1.0);
+        assert_eq!(
+            (p * v).truncate().truncate(),
+            (finite * v).truncate().truncate()
+        );
+    }
 
     /// A tetrahedron, counter-clockwise from outside.
     fn tetrahedron() -> MeshTopology {

@@ -15,6 +15,9 @@ mod extrusion;
 mod near_clip;
 mod topology;
 
-pub use extrusion::{VolumeCounts, VolumeParts, extrude_volume, infinite_clip_from_view};
+pub use extrusion::{
+    VolumeCounts, VolumeParts, extrude_volume, infinite_clip_from_view,
+    reversed_infinite_clip_from_view,
+};
 pub use near_clip::{NearClipFallback, NearClipVolume};
 pub use topology::{MeshError, MeshTopology, OpenMeshPolicy};

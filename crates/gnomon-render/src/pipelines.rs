@@ -1,0 +1,310 @@
+//! Every pipeline, made once (or once per target format and sample count, on first use) and
+//! kept. One pipeline layout: group 0 the frame and a per-pass slot (dynamic offset), group 1
+//! the lookup module's shadows.
+
+use std::collections::HashMap;
+
+use crate::atlas::{MAP_FORMAT, lookup_layout};
+use crate::scene::{INSTANCE_STRIDE, Vertex};
+
+/// The camera's depth in the main pass: reversed Z, 32-bit float.
+pub(crate) const CAMERA_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The measured main pass's targets.
+pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+pub(crate) const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+/// Four f32 as their bits (Rgba32Float is not renderable on GL).
+pub(crate) const METRICS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// A volume pass's per-light mask.
+pub(crate) const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+/// The light view's picture.
+pub(crate) const LIGHT_VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// The shader: the lookup module (group 1) and gnomon's passes.
+pub(crate) fn shader_source() -> String {
+    crate::lookup_wgsl(1) + include_str!("wgsl/passes.wgsl")
+}
+
+pub(crate) struct Pipelines {
+    pub shader: wgpu::ShaderModule,
+    pub frame_layout: wgpu::BindGroupLayout,
+    pub lookup_layout: wgpu::BindGroupLayout,
+    pub layout: wgpu::PipelineLayout,
+    /// The depth passes' group 1: the records alone (the maps are their targets).
+    pub records_layout: wgpu::BindGroupLayout,
+    depth_layout: wgpu::PipelineLayout,
+    /// Depth passes by the caster vertex stride.
+    depth: HashMap<u64, wgpu::RenderPipeline>,
+    /// The measured main pass: [metrics].
+    pub measured: [wgpu::RenderPipeline; 2],
+    /// The main pass into a caller's target, by format and sample count.
+    color: HashMap<(wgpu::TextureFormat, u32), wgpu::RenderPipeline>,
+    pub light_view: wgpu::RenderPipeline,
+}
+
+/// The scene's vertex streams: positions and normals, instances.
+const SCENE_ATTRIBUTES: [wgpu::VertexAttribute; 2] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+const INSTANCE_ATTRIBUTES: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
+    3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4,
+    7 => Float32x4, 8 => Float32x4, 9 => Float32x4, 10 => Float32x4
+];
+
+pub(crate) fn scene_buffers() -> [wgpu::VertexBufferLayout<'static>; 2] {
+    [
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &SCENE_ATTRIBUTES,
+        },
+        wgpu::VertexBufferLayout {
+            array_stride: INSTANCE_STRIDE,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &INSTANCE_ATTRIBUTES,
+        },
+    ]
+}
+
+/// A pipeline's parts that vary.
+pub(crate) struct PipelineSpec<'a> {
+    pub label: &'a str,
+    pub vertex: &'a str,
+    pub buffers: &'a [wgpu::VertexBufferLayout<'a>],
+    pub fragment: Option<&'a str>,
+    pub targets: &'a [Option<wgpu::ColorTargetState>],
+    pub constants: &'a [(&'a str, f64)],
+    pub depth: Option<wgpu::DepthStencilState>,
+    pub samples: u32,
+}
+
+impl Pipelines {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("gnomon passes"),
+            source: wgpu::ShaderSource::Wgsl(shader_source().into()),
+        });
+        let uniform = |binding, dynamic| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: dynamic,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("gnomon frame"),
+            entries: &[uniform(0, false), uniform(1, true)],
+        });
+        let lookup_layout = lookup_layout(device);
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gnomon"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&lookup_layout)],
+            immediate_size: 0,
+        });
+        let records_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("gnomon records"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let depth_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gnomon depth"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&records_layout)],
+            immediate_size: 0,
+        });
+        let mut pipelines = Self {
+            measured: [false, true].map(|metrics| {
+                let mut targets = vec![Some(COLOR_FORMAT.into()), Some(LIT_FORMAT.into())];
+                if metrics {
+                    targets.push(Some(METRICS_FORMAT.into()));
+                }
+                build(
+                    device,
+                    &shader,
+                    &layout,
+                    &PipelineSpec {
+                        label: "main (measured)",
+                        vertex: "vs_main",
+                        buffers: &scene_buffers(),
+                        fragment: Some("fs_measured"),
+                        targets: &targets,
+                        constants: &[("METRICS", if metrics { 1.0 } else { 0.0 })],
+                        depth: Some(camera_depth()),
+                        samples: 1,
+                    },
+                )
+            }),
+            light_view: build(
+                device,
+                &shader,
+                &layout,
+                &PipelineSpec {
+                    label: "light view",
+                    vertex: "vs_fullscreen",
+                    buffers: &[],
+                    fragment: Some("fs_light_view"),
+                    targets: &[Some(LIGHT_VIEW_FORMAT.into())],
+                    constants: &[],
+                    depth: None,
+                    samples: 1,
+                },
+            ),
+            shader,
+            frame_layout,
+            lookup_layout,
+            layout,
+            records_layout,
+            depth_layout,
+            depth: HashMap::new(),
+            color: HashMap::new(),
+        };
+        pipelines.depth(device, std::mem::size_of::<Vertex>() as u64);
+        pipelines
+    }
+
+    /// The depth pass for casters whose positions (three f32) repeat every `stride` bytes.
+    pub fn depth(&mut self, device: &wgpu::Device, stride: u64) -> &wgpu::RenderPipeline {
+        let (shader, layout) = (&self.shader, &self.depth_layout);
+        self.depth.entry(stride).or_insert_with(|| {
+            let position = [wgpu::VertexAttribute {
+                format: wgpu::VertexFormat::Float32x3,
+                offset: 0,
+                shader_location: 0,
+            }];
+            let transform = &INSTANCE_ATTRIBUTES[..4];
+            build(
+                device,
+                shader,
+                layout,
+                &PipelineSpec {
+                    label: "shadow depth",
+                    vertex: "vs_depth",
+                    buffers: &[
+                        wgpu::VertexBufferLayout {
+                            array_stride: stride,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &position,
+                        },
+                        wgpu::VertexBufferLayout {
+                            array_stride: INSTANCE_STRIDE,
+                            step_mode: wgpu::VertexStepMode::Instance,
+                            attributes: transform,
+                        },
+                    ],
+                    fragment: Some("fs_depth"),
+                    targets: &[],
+                    constants: &[],
+                    depth: Some(wgpu::DepthStencilState {
+                        format: MAP_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                        stencil: wgpu::StencilState::default(),
+                        bias: wgpu::DepthBiasState::default(),
+                    }),
+                    samples: 1,
+                },
+            )
+        })
+    }
+
+    /// The depth pass already made for `stride`.
+    pub fn depth_for(&self, stride: u64) -> Option<&wgpu::RenderPipeline> {
+        self.depth.get(&stride)
+    }
+
+    /// The main pass into a target of `format` with `samples` samples.
+    pub fn color(
+        &mut self,
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        samples: u32,
+    ) -> &wgpu::RenderPipeline {
+        let (shader, layout) = (&self.shader, &self.layout);
+        self.color.entry((format, samples)).or_insert_with(|| {
+            build(
+                device,
+                shader,
+                layout,
+                &PipelineSpec {
+                    label: "main",
+                    vertex: "vs_main",
+                    buffers: &scene_buffers(),
+                    fragment: Some("fs_color"),
+                    targets: &[Some(format.into())],
+                    constants: &[],
+                    depth: Some(camera_depth()),
+                    samples,
+                },
+            )
+        })
+    }
+
+    pub fn color_for(
+        &self,
+        format: wgpu::TextureFormat,
+        samples: u32,
+    ) -> Option<&wgpu::RenderPipeline> {
+        self.color.get(&(format, samples))
+    }
+}
+
+/// The camera's depth test: reversed Z, nearer is greater.
+fn camera_depth() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: CAMERA_DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Greater),
+        stencil: wgpu::StencilState::default(),
+        bias: wgpu::DepthBiasState::default(),
+    }
+}
+
+/// A render pipeline of gnomon's shader. Both faces are drawn: thin and open geometry casts
+/// too, the depth is biased anyway, and the shading normal is turned toward the camera.
+pub(crate) fn build(
+    device: &wgpu::Device,
+    shader: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    spec: &PipelineSpec<'_>,
+) -> wgpu::RenderPipeline {
+    let buffers: Vec<Option<wgpu::VertexBufferLayout<'_>>> =
+        spec.buffers.iter().cloned().map(Some).collect();
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(spec.label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module: shader,
+            entry_point: Some(spec.vertex),
+            compilation_options: Default::default(),
+            buffers: &buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: spec.depth.clone(),
+        multisample: wgpu::MultisampleState {
+            count: spec.samples,
+            ..Default::default()
+        },
+        fragment: spec.fragment.map(|entry| wgpu::FragmentState {
+            module: shader,
+            entry_point: Some(entry),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: spec.constants,
+                ..Default::default()
+            },
+            targets: spec.targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}

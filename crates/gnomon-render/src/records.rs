@@ -1,0 +1,240 @@
+//! The records the shaders read, built in f64 on the CPU relative to the camera and rounded to
+//! f32 last, so that a scene far from the origin keeps its precision: per map (`GpuMap`), per
+//! light (`GpuLight`), the frame's (`GpuFrame`) and the per-pass slots (`GpuSlot`). Their
+//! layouts match `wgsl/lookup.wgsl` and `wgsl/passes.wgsl`.
+
+use glam::{DMat3, DMat4, DVec3, DVec4};
+use gnomon::{Camera, Light, MapProjection, MapSelection, ShadowMap, ShadowSetup};
+
+use crate::{DepthBias, Filter, RenderError};
+
+/// The most lights with shadow maps in one frame (`GNOMON_MAX_LIGHTS` in the WGSL).
+pub const MAX_LIGHTS: usize = 4;
+/// The most shadow maps in one frame, over all lights (`GNOMON_MAX_MAPS` in the WGSL): room
+/// for 8 cascades plus 6 cube faces for each of three lights.
+pub const MAX_MAPS: usize = 48;
+
+/// `GnomonLight.info.x`.
+pub(crate) const LIGHT_DIRECTIONAL: u32 = 0;
+pub(crate) const LIGHT_SPOT: u32 = 1;
+/// `GnomonLight.info.y`.
+pub(crate) const SELECT_SINGLE: u32 = 0;
+pub(crate) const SELECT_PLANE: u32 = 1;
+/// `GnomonMap.info.y`.
+pub(crate) const MAP_PERSPECTIVE: u32 = 1;
+
+/// `GnomonMap`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuMap {
+    pub clip_from_camera: [[f32; 4]; 4],
+    pub depth_from_camera: [f32; 4],
+    pub rect: [f32; 4],
+    pub bias: [f32; 4],
+    pub info: [u32; 4],
+}
+
+/// `GnomonLight`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuLight {
+    pub vector: [f32; 4],
+    pub spot: [f32; 4],
+    pub range: [f32; 4],
+    pub info: [u32; 4],
+    pub params: [[f32; 4]; 3],
+}
+
+/// `GnomonShadows`: every light and map of a frame.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuShadows {
+    pub lights: [GpuLight; MAX_LIGHTS],
+    pub maps: [GpuMap; MAX_MAPS],
+    pub info: [u32; 4],
+}
+
+/// `Frame` of passes.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuFrame {
+    pub clip_from_camera: [[f32; 4]; 4],
+    pub infinite_clip_from_camera: [[f32; 4]; 4],
+    pub shading: [f32; 4],
+}
+
+/// `Slot` of passes.wgsl (one per dynamic offset).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuSlot {
+    pub map: u32,
+    pub light: u32,
+    pub unused: [u32; 2],
+}
+
+/// One instance of the vertex stream `Instance` of passes.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuInstance {
+    pub camera_from_object: [[f32; 4]; 4],
+    pub normal: [[f32; 4]; 3],
+    pub color: [f32; 4],
+}
+
+impl GpuInstance {
+    /// `camera_from_object` = view_from_world world_from_object, multiplied in f64.
+    pub fn new(view_from_world: DMat4, world_from_object: DMat4, color: [f32; 4]) -> Self {
+        let camera_from_object = view_from_world * world_from_object;
+        let n = DMat3::from_mat4(camera_from_object).inverse().transpose();
+        let col = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+        Self {
+            camera_from_object: mat(camera_from_object),
+            normal: [col(n.x_axis), col(n.y_axis), col(n.z_axis)],
+            color,
+        }
+    }
+}
+
+/// A light and the shadow maps the core computed for it.
+#[derive(Debug, Clone, Copy)]
+pub struct ShadowedLight<'a> {
+    /// The light.
+    pub light: &'a Light,
+    /// Its shadow setup (from [`gnomon::compute_setup`] for the same camera and light).
+    pub setup: &'a ShadowSetup,
+}
+
+/// Where a map lives in the shadow-map array: its layer and its size in texels (maps smaller
+/// than the layers take the layer's top-left corner).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct MapSlot {
+    pub layer: u32,
+    pub layer_size: u32,
+}
+
+/// f64 to f32 columns.
+pub(crate) fn mat(m: DMat4) -> [[f32; 4]; 4] {
+    m.as_mat4().to_cols_array_2d()
+}
+
+fn vec4(v: DVec3, w: f64) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w as f32]
+}
+
+/// A row vector r (r . (x, 1) on world points) as the row on view-space points.
+pub(crate) fn row_in_camera(row_world: DVec4, world_from_camera: DMat4) -> DVec4 {
+    world_from_camera.transpose() * row_world
+}
+
+/// The record of one map.
+pub(crate) fn map_record(
+    map: &ShadowMap,
+    world_from_camera: DMat4,
+    slot: MapSlot,
+    bias: &DepthBias,
+) -> GpuMap {
+    let depth_per_world = map.depth_from_world.truncate().length();
+    let scale = map.resolution as f64 / slot.layer_size as f64;
+    GpuMap {
+        clip_from_camera: mat(map.clip_from_world * world_from_camera),
+        depth_from_camera: row_in_camera(map.depth_from_world, world_from_camera)
+            .as_vec4()
+            .to_array(),
+        rect: [0.0, 0.0, scale as f32, scale as f32],
+        bias: [
+            (bias.constant_world * depth_per_world) as f32,
+            bias.slope_texels as f32,
+            (bias.max_slope_world * depth_per_world) as f32,
+            bias.normal_offset_texels as f32,
+        ],
+        info: [
+            slot.layer,
+            match map.projection {
+                MapProjection::Orthographic => 0,
+                MapProjection::Perspective => MAP_PERSPECTIVE,
+            },
+            map.resolution,
+            map.viewport_inset,
+        ],
+    }
+}
+
+/// The record of one light whose maps (none without a setup: shadow volumes) start at
+/// `first_map`.
+pub(crate) fn light_record(
+    light: &Light,
+    setup: Option<&ShadowSetup>,
+    view_from_world: DMat4,
+    first_map: usize,
+) -> Result<GpuLight, RenderError> {
+    let world_from_camera = view_from_world.inverse();
+    let (vector, spot, range, kind) = match light {
+        Light::Directional(d) => (
+            vec4(view_from_world.transform_vector3(d.direction()), 0.0),
+            [0.0; 4],
+            [0.0; 4],
+            LIGHT_DIRECTIONAL,
+        ),
+        Light::Spot(s) => (
+            vec4(view_from_world.transform_point3(s.position()), 1.0),
+            vec4(
+                view_from_world.transform_vector3(s.direction()),
+                s.half_angle().cos(),
+            ),
+            [s.range() as f32, s.near() as f32, 0.0, 0.0],
+            LIGHT_SPOT,
+        ),
+    };
+    let mut params = [[0.0f32; 4]; 3];
+    let Some(setup) = setup else {
+        return Ok(GpuLight {
+            vector,
+            spot,
+            range,
+            info: [kind, SELECT_SINGLE, first_map as u32, 0],
+            params,
+        });
+    };
+    let selection = match (setup.selection, setup.maps.len()) {
+        (MapSelection::Single, 1) => SELECT_SINGLE,
+        (MapSelection::Plane { plane_world }, 2) => {
+            params[0] = row_in_camera(plane_world, world_from_camera)
+                .as_vec4()
+                .to_array();
+            SELECT_PLANE
+        }
+        (selection, n) => {
+            return Err(RenderError::Invalid(format!(
+                "setup '{}' has {n} maps for a {} selection",
+                setup.technique,
+                selection.kind()
+            )));
+        }
+    };
+    Ok(GpuLight {
+        vector,
+        spot,
+        range,
+        info: [kind, selection, first_map as u32, setup.maps.len() as u32],
+        params,
+    })
+}
+
+/// The filter's code (`GnomonShadows.info.y`).
+pub(crate) fn filter_code(filter: Filter) -> u32 {
+    match filter {
+        Filter::None => 0,
+        Filter::Hardware2x2 => 1,
+        Filter::Pcf5x5 => 2,
+    }
+}
+
+/// Reversed Z: view to clip space with depth 1 at the near plane and 0 at the far plane
+/// (`1 - d` of [`Camera::clip_from_view`], formed in f64 so that far depths keep the float
+/// format's precision near 0).
+pub(crate) fn reversed_clip_from_view(camera: &Camera) -> DMat4 {
+    // z' = w - z: the row of z becomes row_w - row_z.
+    let mut rows = camera.clip_from_view().transpose();
+    rows.z_axis = rows.w_axis - rows.z_axis;
+    rows.transpose()
+}

@@ -1,0 +1,140 @@
+//! Pass timing: GPU timestamps around each pass where the adapter has TIMESTAMP_QUERY, the wall
+//! clock (the GPU waited for after each part) elsewhere.
+
+use crate::resources::Resources;
+use crate::{Gpu, RenderError};
+
+/// Where a frame's times come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TimingSource {
+    /// GPU timestamps written at the start and end of each pass.
+    #[default]
+    GpuTimestamps,
+    /// The wall clock around each part, the GPU waited for after it.
+    WallClock,
+}
+
+impl TimingSource {
+    /// A short name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            TimingSource::GpuTimestamps => "GPU timestamps",
+            TimingSource::WallClock => "wall clock",
+        }
+    }
+}
+
+/// Which part of the frame a pass belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Part {
+    Shadow,
+    Main,
+}
+
+const MAX_QUERIES: u32 = 256;
+
+/// Timestamp queries: a pair per pass, resolved at the end of the frame.
+pub(crate) struct Timer {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    period_ns: f64,
+    parts: Vec<Part>,
+}
+
+impl Timer {
+    /// A timer where the device has timestamps.
+    pub fn new(gpu: &Gpu, resources: &Resources) -> Option<Self> {
+        if !gpu
+            .device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+        {
+            return None;
+        }
+        let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("pass timestamps"),
+            ty: wgpu::QueryType::Timestamp,
+            count: MAX_QUERIES,
+        });
+        let size = 8 * MAX_QUERIES as u64;
+        Some(Self {
+            queries,
+            resolve: resources.buffer(
+                "timestamps",
+                size,
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            readback: resources.buffer(
+                "timestamps readback",
+                size,
+                wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            ),
+            period_ns: gpu.queue.get_timestamp_period() as f64,
+            parts: Vec::with_capacity(MAX_QUERIES as usize / 2),
+        })
+    }
+
+    pub fn begin_frame(&mut self) {
+        self.parts.clear();
+    }
+
+    /// The timestamp writes of the next pass of `part` (none once the queries run out).
+    pub fn pass(&mut self, part: Part) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let k = self.parts.len() as u32;
+        if 2 * k + 2 > MAX_QUERIES {
+            return None;
+        }
+        self.parts.push(part);
+        Some(wgpu::RenderPassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(2 * k),
+            end_of_pass_write_index: Some(2 * k + 1),
+        })
+    }
+
+    /// Resolves this frame's queries (at the end of its last encoder).
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        let n = 2 * self.parts.len() as u32;
+        if n == 0 {
+            return;
+        }
+        encoder.resolve_query_set(&self.queries, 0..n, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, 8 * n as u64);
+    }
+
+    /// Milliseconds per part, after the frame's submission has finished.
+    pub fn read(&self, gpu: &Gpu) -> Result<(f64, f64), RenderError> {
+        let n = 2 * self.parts.len() as u64;
+        if n == 0 {
+            return Ok((0.0, 0.0));
+        }
+        let slice = self.readback.slice(..8 * n);
+        let (sender, receiver) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = sender.send(r);
+        });
+        gpu.wait()?;
+        receiver
+            .recv()
+            .map_err(|e| RenderError::Gpu(e.to_string()))?
+            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        let mut sums = (0.0, 0.0);
+        {
+            let data = slice
+                .get_mapped_range()
+                .map_err(|e| RenderError::Gpu(e.to_string()))?;
+            let stamps: &[u64] = bytemuck::cast_slice(&data);
+            for (k, part) in self.parts.iter().enumerate() {
+                let ticks = stamps[2 * k + 1].saturating_sub(stamps[2 * k]);
+                let ms = ticks as f64 * self.period_ns * 1e-6;
+                match part {
+                    Part::Shadow => sums.0 += ms,
+                    Part::Main => sums.1 += ms,
+                }
+            }
+        }
+        self.readback.unmap();
+        Ok(sums)
+    }
+}

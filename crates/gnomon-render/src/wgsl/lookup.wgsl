@@ -1,0 +1,191 @@
+// gnomon's shadow lookup: the per-map and per-light records and the functions that read them.
+//
+// Shipped for engines that keep their own main pass: `gnomon_render::lookup_wgsl(group)` gives
+// this module with its bindings in bind group `group`; bind `Renderer::shadow_bind_group()`
+// there. Positions and directions are in the camera's view space (gnomon's
+// `Camera::view_from_world`: right-handed, +Y up, looking down -Z), so that the matrices stay
+// small wherever the scene is; compute view-space positions from your own `view_from_object`
+// in f64 on the CPU.
+//
+// A map's clip space: x, y in [-1, 1] over the whole map, +y up (texture v = 0.5 - 0.5 y);
+// depth compared is linear along the light (`depth_from_camera`), 0 near and 1 far, stored
+// with the bias already added by gnomon's depth pass; a point behind a perspective map
+// (w <= 0) or outside it reads as lit.
+
+const GNOMON_MAX_LIGHTS: u32 = 4u;
+const GNOMON_MAX_MAPS: u32 = 48u;
+
+// GnomonLight.info.x: the light's kind.
+const GNOMON_LIGHT_DIRECTIONAL: u32 = 0u;
+const GNOMON_LIGHT_SPOT: u32 = 1u;
+// GnomonLight.info.y: how a point picks one of the light's maps.
+const GNOMON_SELECT_SINGLE: u32 = 0u;
+// params[0] is a plane (view space): points on its positive side read the second map (SPPSM).
+const GNOMON_SELECT_PLANE: u32 = 1u;
+// GnomonShadows.info.y: the filter.
+const GNOMON_FILTER_ONE_TAP: u32 = 0u;
+const GNOMON_FILTER_HARDWARE_2X2: u32 = 1u;
+const GNOMON_FILTER_PCF_5X5: u32 = 2u;
+// GnomonMap.info.y: flags.
+const GNOMON_MAP_PERSPECTIVE: u32 = 1u;
+
+struct GnomonMap {
+    // View space to the map's clip space.
+    clip_from_camera: mat4x4<f32>,
+    // View space to the compared depth (linear along the light).
+    depth_from_camera: vec4<f32>,
+    // xy: the map's corner in its layer (texture coordinates), zw: its size there.
+    rect: vec4<f32>,
+    // x: constant bias (depth units), y: slope scale (texels), z: largest slope bias (depth
+    // units), w: normal offset (texels).
+    bias: vec4<f32>,
+    // x: array layer, y: flags, z: resolution (texels), w: inset (texels).
+    info: vec4<u32>,
+};
+
+struct GnomonLight {
+    // xyz: the direction the light travels (directional) or its position (spot), view space.
+    vector: vec4<f32>,
+    // xyz: the spot's axis, w: cos of its half-angle.
+    spot: vec4<f32>,
+    // x: the spot's range, y: its near distance.
+    range: vec4<f32>,
+    // x: kind, y: selection, z: first map, w: number of maps.
+    info: vec4<u32>,
+    // The selection's parameters (see GNOMON_SELECT_*).
+    params: array<vec4<f32>, 3>,
+};
+
+struct GnomonShadows {
+    lights: array<GnomonLight, GNOMON_MAX_LIGHTS>,
+    maps: array<GnomonMap, GNOMON_MAX_MAPS>,
+    // x: number of lights, y: filter.
+    info: vec4<u32>,
+};
+
+@group(GNOMON_GROUP) @binding(0) var<uniform> gnomon_shadows: GnomonShadows;
+// The maps, one array layer each, bound twice: for comparison sampling and for raw reads
+// (one sampler per texture, as GLSL needs).
+@group(GNOMON_GROUP) @binding(1) var gnomon_depth: texture_depth_2d_array;
+@group(GNOMON_GROUP) @binding(2) var gnomon_compare: sampler_comparison;
+@group(GNOMON_GROUP) @binding(3) var gnomon_raw: texture_2d_array<f32>;
+@group(GNOMON_GROUP) @binding(4) var gnomon_nearest: sampler;
+
+// The map of `light` that point `p` reads.
+fn gnomon_map_index(light: u32, p: vec3<f32>) -> u32 {
+    let info = gnomon_shadows.lights[light].info;
+    var k = 0u;
+    if (info.y == GNOMON_SELECT_PLANE) {
+        let plane = gnomon_shadows.lights[light].params[0];
+        k = select(0u, 1u, dot(plane.xyz, p) + plane.w > 0.0);
+    }
+    return info.z + min(k, max(info.w, 1u) - 1u);
+}
+
+struct GnomonIncidence {
+    // Unit vector from the point toward the light.
+    to_light: vec3<f32>,
+    // Inside the spot's cone and range (always for a directional light).
+    in_light: bool,
+    // The cone's soft edge, 0 to 1.
+    cone: f32,
+};
+
+fn gnomon_incidence(light: u32, p: vec3<f32>) -> GnomonIncidence {
+    let l = gnomon_shadows.lights[light];
+    var out: GnomonIncidence;
+    if (l.info.x == GNOMON_LIGHT_DIRECTIONAL) {
+        out.to_light = -l.vector.xyz;
+        out.in_light = true;
+        out.cone = 1.0;
+        return out;
+    }
+    let d = l.vector.xyz - p;
+    out.to_light = normalize(d);
+    let along = dot(-d, l.spot.xyz);
+    let cos_angle = dot(-out.to_light, l.spot.xyz);
+    out.in_light = cos_angle >= l.spot.w && along <= l.range.x && along >= l.range.y;
+    out.cone = smoothstep(l.spot.w, min(l.spot.w + 0.03, 1.0), cos_angle);
+    return out;
+}
+
+// The gradients of the map's normalised x and y at p (per view-space unit):
+// (row_i - ndc_i row_w) / w, exact for any projective map. Zero behind the map.
+fn gnomon_ndc_gradients(map: u32, p: vec3<f32>) -> mat2x3<f32> {
+    let m = gnomon_shadows.maps[map].clip_from_camera;
+    let clip = m * vec4<f32>(p, 1.0);
+    if (clip.w <= 0.0) {
+        return mat2x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0));
+    }
+    let row_x = vec3<f32>(m[0][0], m[1][0], m[2][0]);
+    let row_y = vec3<f32>(m[0][1], m[1][1], m[2][1]);
+    let row_w = vec3<f32>(m[0][3], m[1][3], m[2][3]);
+    return mat2x3<f32>(
+        (row_x - (clip.x / clip.w) * row_w) / clip.w,
+        (row_y - (clip.y / clip.w) * row_w) / clip.w,
+    );
+}
+
+// The world size of the map's largest texel side at p (warps stretch texels differently
+// along x and y).
+fn gnomon_texel_world_size(map: u32, p: vec3<f32>) -> f32 {
+    let g = gnomon_ndc_gradients(map, p);
+    let resolution = f32(gnomon_shadows.maps[map].info.z);
+    return (2.0 / resolution) / max(min(length(g[0]), length(g[1])), 1e-30);
+}
+
+// One raw tap at the map's texture coordinate `uv`: 1 where `reference` is not farther than
+// the stored depth.
+fn gnomon_tap(map: u32, uv: vec2<f32>, reference: f32) -> f32 {
+    let m = gnomon_shadows.maps[map];
+    let half_texel = 0.5 / f32(m.info.z);
+    let inside = clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel));
+    let stored = textureSampleLevel(
+        gnomon_raw, gnomon_nearest, m.rect.xy + inside * m.rect.zw, i32(m.info.x), 0.0).r;
+    return select(0.0, 1.0, reference <= stored);
+}
+
+// 1 where p is lit according to the map, 0 where shadowed, between for filtered lookups.
+fn gnomon_lookup(map: u32, p: vec3<f32>, filter_mode: u32) -> f32 {
+    let m = gnomon_shadows.maps[map];
+    let clip = m.clip_from_camera * vec4<f32>(p, 1.0);
+    if (clip.w <= 0.0) {
+        return 1.0;
+    }
+    let ndc = clip.xy / clip.w;
+    let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+    let reference = dot(m.depth_from_camera, vec4<f32>(p, 1.0));
+    if (filter_mode == GNOMON_FILTER_HARDWARE_2X2) {
+        let half_texel = 0.5 / f32(m.info.z);
+        let inside = clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel));
+        return textureSampleCompareLevel(
+            gnomon_depth, gnomon_compare, m.rect.xy + inside * m.rect.zw, i32(m.info.x),
+            reference);
+    }
+    if (filter_mode == GNOMON_FILTER_PCF_5X5) {
+        let texel = 1.0 / f32(m.info.z);
+        var sum = 0.0;
+        for (var y = -2; y <= 2; y++) {
+            for (var x = -2; x <= 2; x++) {
+                sum += gnomon_tap(map, uv + vec2<f32>(f32(x), f32(y)) * texel, reference);
+            }
+        }
+        return sum / 25.0;
+    }
+    return gnomon_tap(map, uv, reference);
+}
+
+// The point where `map` is read for a surface point p with geometric normal n_geo (unit,
+// toward the viewer) and n_dot_l = dot(n_geo, to_light): moved along the normal by the
+// map's normal offset in texels, more where the light grazes the surface.
+fn gnomon_offset_point(map: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32) -> vec3<f32> {
+    let texels = gnomon_shadows.maps[map].bias.w;
+    return p + n_geo * texels * gnomon_texel_world_size(map, p) * clamp(1.0 - n_dot_l, 0.0, 1.0);
+}
+
+// The shadow factor of `light` at the surface point p (1 lit, 0 shadowed), with the frame's
+// filter.
+fn gnomon_shadow(light: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32) -> f32 {
+    let map = gnomon_map_index(light, p);
+    return gnomon_lookup(map, gnomon_offset_point(map, p, n_geo, n_dot_l), gnomon_shadows.info.y);
+}

@@ -1,0 +1,312 @@
+// gnomon's own passes, appended to the lookup module (lookup.wgsl, bind group 1).
+//
+// Depth pass (vs_depth / fs_depth): per map, the casters' linear light depth plus constant and
+// slope-scaled bias, so that the bias is in world units whatever the map's warp.
+// Main pass (vs_main with fs_measured or fs_color): ambient plus Lambert per light, each
+// light's shadow factor from its maps; fs_measured also writes the lit-light bits and the
+// sampling metrics. Volume passes (vs_main_infinite with fs_ambient, fs_volume_lit,
+// fs_volume_shadowed; vs_volume): exact shadows from stenciled shadow volumes.
+// Light view (vs_fullscreen / fs_light_view): one map's depth as grey.
+
+struct Frame {
+    // View space to the camera's clip space: reversed Z (1 at the near plane, 0 at the far).
+    clip_from_camera: mat4x4<f32>,
+    // The same with the far plane at infinity (depth = near / distance; 0 at infinity).
+    infinite_clip_from_camera: mat4x4<f32>,
+    // x: ambient (0 to 1), y: 1 to tint pixels by the map they read (light 0's first map
+    // blue, its second red).
+    shading: vec4<f32>,
+};
+
+// One pass's slot (a dynamic offset): the map a depth pass draws, the light a volume pass lights.
+struct Slot {
+    map: u32,
+    light: u32,
+    unused_a: u32,
+    unused_b: u32,
+};
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<uniform> slot: Slot;
+
+// Per instance: view from object (columns), its normal matrix (columns; w unused) and its
+// colour (w: 1 where it receives shadows).
+struct Instance {
+    @location(3) c0: vec4<f32>,
+    @location(4) c1: vec4<f32>,
+    @location(5) c2: vec4<f32>,
+    @location(6) c3: vec4<f32>,
+    @location(7) n0: vec4<f32>,
+    @location(8) n1: vec4<f32>,
+    @location(9) n2: vec4<f32>,
+    @location(10) color: vec4<f32>,
+};
+
+// Only the transform, for casters (an engine's casters have no gnomon colour or normals).
+struct CasterInstance {
+    @location(3) c0: vec4<f32>,
+    @location(4) c1: vec4<f32>,
+    @location(5) c2: vec4<f32>,
+    @location(6) c3: vec4<f32>,
+};
+
+struct DepthOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) depth: f32,
+};
+
+@vertex
+fn vs_depth(@location(0) position: vec3<f32>, instance: CasterInstance) -> DepthOut {
+    let camera_from_object = mat4x4<f32>(instance.c0, instance.c1, instance.c2, instance.c3);
+    let p = camera_from_object * vec4<f32>(position, 1.0);
+    let map = gnomon_shadows.maps[slot.map];
+    var out: DepthOut;
+    out.clip = map.clip_from_camera * p;
+    out.depth = dot(map.depth_from_camera, p);
+    return out;
+}
+
+@fragment
+fn fs_depth(in: DepthOut) -> @builtin(frag_depth) f32 {
+    // Slope-scaled bias: the depth change across one texel (the pass renders texels).
+    let bias = gnomon_shadows.maps[slot.map].bias;
+    let slope = max(abs(dpdx(in.depth)), abs(dpdy(in.depth)));
+    return clamp(in.depth + bias.x + min(bias.y * slope, bias.z), 0.0, 1.0);
+}
+
+struct MainOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) camera: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec4<f32>,
+};
+
+fn main_out(position: vec3<f32>, normal: vec3<f32>, instance: Instance, clip_from_camera: mat4x4<f32>) -> MainOut {
+    let camera_from_object = mat4x4<f32>(instance.c0, instance.c1, instance.c2, instance.c3);
+    let normal_matrix = mat3x3<f32>(instance.n0.xyz, instance.n1.xyz, instance.n2.xyz);
+    var out: MainOut;
+    let p = camera_from_object * vec4<f32>(position, 1.0);
+    out.clip = clip_from_camera * p;
+    out.camera = p.xyz;
+    out.normal = normal_matrix * normal;
+    out.color = instance.color;
+    return out;
+}
+
+@vertex
+fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, instance: Instance) -> MainOut {
+    return main_out(position, normal, instance, frame.clip_from_camera);
+}
+
+@vertex
+fn vs_main_infinite(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, instance: Instance) -> MainOut {
+    return main_out(position, normal, instance, frame.infinite_clip_from_camera);
+}
+
+// Pipeline specialisation of fs_measured: the sampling metrics.
+override METRICS: bool = false;
+
+// A fragment's surface: geometric normal (the triangle's plane) and shading normal, both
+// turned toward the camera (at the origin of view space).
+struct Surface {
+    p: vec3<f32>,
+    n_geo: vec3<f32>,
+    n: vec3<f32>,
+    receives: bool,
+};
+
+fn surface(in: MainOut, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> Surface {
+    var s: Surface;
+    s.p = in.camera;
+    s.n_geo = normalize(cross(dp_dx, dp_dy));
+    let to_eye = -in.camera;
+    if (dot(s.n_geo, to_eye) < 0.0) {
+        s.n_geo = -s.n_geo;
+    }
+    s.n = normalize(in.normal);
+    if (dot(s.n, to_eye) < 0.0) {
+        s.n = -s.n;
+    }
+    s.receives = in.color.w > 0.5;
+    return s;
+}
+
+struct Shaded {
+    color: vec3<f32>,
+    // Bit k: light k reaches the point (one tap).
+    lit_bits: u32,
+    // N.L of light 0 (geometric normal).
+    n_dot_l: f32,
+};
+
+fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
+    var out: Shaded;
+    let ambient = frame.shading.x;
+    var direct = 0.0;
+    out.lit_bits = 0u;
+    out.n_dot_l = 0.0;
+    for (var light = 0u; light < gnomon_shadows.info.x; light++) {
+        let incidence = gnomon_incidence(light, s.p);
+        let n_dot_l_geo = dot(s.n_geo, incidence.to_light);
+        if (light == 0u) {
+            out.n_dot_l = n_dot_l_geo;
+        }
+        var one_tap = 1.0;
+        var shadow = 1.0;
+        if (s.receives) {
+            let map = gnomon_map_index(light, s.p);
+            let lookup = gnomon_offset_point(map, s.p, s.n_geo, n_dot_l_geo);
+            one_tap = gnomon_lookup(map, lookup, GNOMON_FILTER_ONE_TAP);
+            shadow = gnomon_lookup(map, lookup, gnomon_shadows.info.y);
+        }
+        if (incidence.in_light) {
+            direct += max(dot(s.n, incidence.to_light), 0.0) * incidence.cone * shadow;
+        }
+        if (incidence.in_light && n_dot_l_geo > 0.0 && one_tap > 0.5) {
+            out.lit_bits |= 1u << light;
+        }
+    }
+    var tint = vec3<f32>(1.0);
+    if (frame.shading.y > 0.5 && gnomon_shadows.info.x > 0u && gnomon_shadows.lights[0].info.w == 2u) {
+        let second = gnomon_map_index(0u, s.p) != gnomon_shadows.lights[0].info.z;
+        tint = select(vec3<f32>(0.55, 0.7, 1.0), vec3<f32>(1.0, 0.55, 0.5), second);
+    }
+    out.color = albedo * (ambient + (1.0 - ambient) * direct) * tint;
+    return out;
+}
+
+// The Jacobian J of light 0's map's texel coordinates by screen pixels at a point, reduced to
+// (1 / sigma_min, 1 / |det J|): the map's analytic gradient times the fragment's position
+// derivatives (so no derivative crosses from one map to another).
+fn sampling_metrics(p: vec3<f32>, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> vec2<f32> {
+    if (gnomon_shadows.info.x == 0u) {
+        return vec2<f32>(-1.0, -1.0);
+    }
+    let map = gnomon_map_index(0u, p);
+    let m = gnomon_shadows.maps[map];
+    if ((m.clip_from_camera * vec4<f32>(p, 1.0)).w <= 0.0) {
+        return vec2<f32>(-1.0, -1.0);
+    }
+    let g = gnomon_ndc_gradients(map, p);
+    let scale = 0.5 * f32(m.info.z);
+    let jx = scale * vec2<f32>(dot(g[0], dp_dx), dot(g[1], dp_dx));
+    let jy = scale * vec2<f32>(dot(g[0], dp_dy), dot(g[1], dp_dy));
+    // J^T J = [[a, b], [b, c]]: its eigenvalues are the squared singular values.
+    let a = dot(jx, jx);
+    let b = dot(jx, jy);
+    let c = dot(jy, jy);
+    let root = sqrt(max(0.25 * (a - c) * (a - c) + b * b, 0.0));
+    let sigma_min = sqrt(max(0.5 * (a + c) - root, 0.0));
+    let det = abs(jx.x * jy.y - jx.y * jy.x);
+    // At most a million pixels per texel: a surface edge-on to the light is not resolved.
+    return vec2<f32>(1.0 / max(sigma_min, 1e-6), 1.0 / max(det, 1e-6));
+}
+
+struct Measured {
+    @location(0) color: vec4<f32>,
+    // Bits 0..30: the lights that reach the point; bit 31: geometry here.
+    @location(1) lit: vec4<u32>,
+    // The bits of four floats (integer targets render on every backend): x: pixels per
+    // texel along the worst direction, y: in area (-1 where the map does not see the point),
+    // z: N.L of light 0 (geometric normal toward the camera), w: 1.
+    @location(2) metrics: vec4<u32>,
+};
+
+@fragment
+fn fs_measured(in: MainOut) -> Measured {
+    let dp_dx = dpdxFine(in.camera);
+    let dp_dy = dpdyFine(in.camera);
+    let s = surface(in, dp_dx, dp_dy);
+    let shaded = shade(s, in.color.rgb);
+    var out: Measured;
+    out.color = vec4<f32>(shaded.color, 1.0);
+    out.lit = vec4<u32>(shaded.lit_bits | 0x80000000u, 0u, 0u, 0u);
+    var sampling = vec2<f32>(0.0);
+    if (METRICS) {
+        sampling = sampling_metrics(s.p, dp_dx, dp_dy);
+    }
+    out.metrics = bitcast<vec4<u32>>(vec4<f32>(sampling, shaded.n_dot_l, 1.0));
+    return out;
+}
+
+@fragment
+fn fs_color(in: MainOut) -> @location(0) vec4<f32> {
+    let s = surface(in, dpdx(in.camera), dpdy(in.camera));
+    return vec4<f32>(shade(s, in.color.rgb).color, 1.0);
+}
+
+// Shadow volumes. The colour target blends additively; the mask target is the light's own
+// (R8: 1 lit, 0 not lit).
+struct VolumeOut {
+    @location(0) color: vec4<f32>,
+    @location(1) mask: vec4<f32>,
+};
+
+// The ambient term; the mask as if no light reached (the lights' passes write where they do).
+@fragment
+fn fs_ambient(in: MainOut) -> VolumeOut {
+    var out: VolumeOut;
+    out.color = vec4<f32>(in.color.rgb * frame.shading.x, 1.0);
+    out.mask = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    return out;
+}
+
+fn volume_direct(in: MainOut, shadowed: bool) -> VolumeOut {
+    let s = surface(in, dpdx(in.camera), dpdy(in.camera));
+    let incidence = gnomon_incidence(slot.light, s.p);
+    let n_dot_l_geo = dot(s.n_geo, incidence.to_light);
+    // Instances that receive no shadows are lit wherever the stencil says.
+    let blocked = shadowed && s.receives;
+    var direct = 0.0;
+    if (incidence.in_light && !blocked) {
+        direct = max(dot(s.n, incidence.to_light), 0.0) * incidence.cone;
+    }
+    let lit = incidence.in_light && n_dot_l_geo > 0.0 && !blocked;
+    var out: VolumeOut;
+    out.color = vec4<f32>(in.color.rgb * (1.0 - frame.shading.x) * direct, 1.0);
+    out.mask = vec4<f32>(select(0.0, 1.0, lit), 0.0, 0.0, 1.0);
+    return out;
+}
+
+// Where the light's stencil count is 0.
+@fragment
+fn fs_volume_lit(in: MainOut) -> VolumeOut {
+    return volume_direct(in, false);
+}
+
+// Where the count is not 0.
+@fragment
+fn fs_volume_shadowed(in: MainOut) -> VolumeOut {
+    return volume_direct(in, true);
+}
+
+// Volume geometry: homogeneous view-space positions (w = 0 at infinity) through the
+// infinite projection; stencil only.
+@vertex
+fn vs_volume(@location(0) position: vec4<f32>) -> @builtin(position) vec4<f32> {
+    return frame.infinite_clip_from_camera * position;
+}
+
+struct FullscreenOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+};
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> FullscreenOut {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    var out: FullscreenOut;
+    out.clip = vec4<f32>(uv * vec2<f32>(2.0, -2.0) + vec2<f32>(-1.0, 1.0), 0.0, 1.0);
+    out.uv = uv;
+    return out;
+}
+
+// Map `slot.map` as the light sees it: near dark, far light.
+@fragment
+fn fs_light_view(in: FullscreenOut) -> @location(0) vec4<f32> {
+    let m = gnomon_shadows.maps[slot.map];
+    let d = textureSampleLevel(
+        gnomon_raw, gnomon_nearest, m.rect.xy + in.uv * m.rect.zw, i32(m.info.x), 0.0).r;
+    let v = (40.0 + 215.0 * clamp(d, 0.0, 1.0)) / 255.0;
+    return vec4<f32>(v, v, v, 1.0);
+}
