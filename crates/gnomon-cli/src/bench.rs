@@ -8,13 +8,13 @@ use std::time::Instant;
 use clap::Args;
 use glam::DVec3;
 use gnomon::{Camera, DirectionalLight, Lens, Light, ShadowTechnique, Technique};
-use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer, StencilMode, Timings};
+use gnomon_render::{RenderScene, RenderSettings, StencilMode, Timings};
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
 use crate::CliError;
 use crate::args::{TechniqueParams, timed_setup};
-use crate::render::{MeshArgs, parse_size, render_scene};
+use crate::render::{MeshArgs, open_renderer, parse_size, render_scene};
 
 /// `gnomon bench`.
 #[derive(Debug, Clone, Args)]
@@ -161,7 +161,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     }
     let scene: RenderScene = render_scene(&args.scene, &args.mesh)?;
     let bounds = scene.bounds()?;
-    let mut renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,
@@ -169,13 +169,14 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     };
     let views = views(args, args.size.0 as f64 / args.size.1 as f64)?;
     eprintln!(
-        "gnomon bench: {} views x {} techniques x {} frames at {}x{} on {}",
+        "gnomon bench: {} views x {} techniques x {} frames at {}x{} on {}; pass times from {}",
         views.len(),
         entries.len(),
         args.frames,
         args.size.0,
         args.size.1,
-        renderer.gpu().describe()
+        renderer.gpu().describe(),
+        renderer.timing_source().name()
     );
     // One frame: its time in ms (setup + shadow pass + main pass) and its timings.
     let mut frame =
@@ -256,6 +257,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             "{}",
             serde_json::to_string_pretty(&json!({
                 "device": renderer.gpu().describe(),
+            "timing": renderer.timing_source().name(),
                 "baseline": baseline_name,
                 "summary": summary,
                 "size": [args.size.0, args.size.1],

@@ -9,14 +9,13 @@ use std::time::Instant;
 use clap::Args;
 use gnomon::{ShadowTechnique, Technique};
 use gnomon_render::{
-    Filter, Frame, Gpu, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderScene, RenderSettings, Renderer,
-    StencilMode,
+    Filter, Frame, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderScene, RenderSettings, StencilMode,
 };
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::{Value, json};
 
 use crate::args::{TechniqueParams, scene_layout, timed_setup};
-use crate::render::{parse_size, write_png, write_text};
+use crate::render::{open_renderer, parse_size, write_png, write_text};
 use crate::{CliError, heatmap};
 
 /// `gnomon compare`.
@@ -166,7 +165,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     let bounds = scene.bounds()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
-    let mut renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
     let (width, height) = args.size;
     let settings = RenderSettings {
         width,
@@ -187,7 +186,8 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
          shadow: the reverse). SPPSM comes twice: its two maps at the size above each, and \
          (sppsm-same-texels) two maps of half the area, the texels of one map. Undersampling: pixels per texel along the worst direction \
          (1 = one texel per pixel), over the same pixels; area p99: pixels per texel in area \
-         (1 / |det J|, the measure SPPSM's plane compares). Frame: setup + shadow pass + main pass, GPU waited.\n\n\
+         (1 / |det J|, the measure SPPSM's plane compares). Frame: setup + shadow pass + main pass \
+         (pass times from {}).\n\n\
          Each grid has one row per technique in the table's order, then the exact shadow \
          volumes; columns: the frame, the mask errors (red: false shadow, blue: missed \
          shadow), the sampling error map.\n",
@@ -196,7 +196,8 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         height,
         args.shadow_map,
         args.shadow_map,
-        renderer.gpu().describe()
+        renderer.gpu().describe(),
+        renderer.timing_source().name()
     );
     // One untimed frame first: the first draw compiles the pipelines.
     if let Some(view) = views.first() {
@@ -351,6 +352,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             "size": [width, height],
             "shadow_map": args.shadow_map,
             "device": renderer.gpu().describe(),
+            "timing": renderer.timing_source().name(),
             "views": report,
         }))
         .expect("JSON of plain values"),

@@ -185,13 +185,14 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     eprintln!(
         "mean over {maps} shadow-map frames: setup {:.1} us, shadow pass {:.1} ms, main pass {:.1} ms; \
          over {views} shadow-volume frames: extrusion and stencil {:.1} ms, shading {:.1} ms; \
-         {:.1} s in all",
+         {:.1} s in all (pass times from {})",
         sums[0] / maps,
         sums[1] / maps,
         sums[2] / maps,
         volume_sums[0] / views,
         volume_sums[1] / views,
-        started.elapsed().as_secs_f64()
+        started.elapsed().as_secs_f64(),
+        renderer.timing_source().name()
     );
     println!("wrote {}", args.out.join("index.html").display());
     Ok(())

@@ -266,6 +266,32 @@ pub fn write_frame(
     Ok(())
 }
 
+/// Opens the GPU and refuses, before any rendering, an image or shadow map larger than its
+/// largest texture (exit code 2); then builds the renderer.
+pub fn open_renderer(
+    scene: &RenderScene,
+    image: (u32, u32),
+    shadow_map: Option<u32>,
+) -> Result<Renderer, CliError> {
+    let gpu = Gpu::new()?;
+    let max = gpu.max_texture_size();
+    if image.0 > max || image.1 > max {
+        return Err(CliError::usage(format!(
+            "image size {}x{} exceeds this GPU's largest texture, {max} on a side ({})",
+            image.0,
+            image.1,
+            gpu.describe()
+        )));
+    }
+    if let Some(size) = shadow_map.filter(|s| *s > max) {
+        return Err(CliError::usage(format!(
+            "--shadow-map {size} exceeds this GPU's largest texture, {max} on a side ({})",
+            gpu.describe()
+        )));
+    }
+    Ok(Renderer::new(gpu, scene)?)
+}
+
 /// Runs `gnomon render`.
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let scene = render_scene(&args.scene, &args.mesh)?;
@@ -277,7 +303,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     let technique = args.params.apply(technique.technique());
     let (setup, setup_us) = timed_setup(&technique, &camera, &light, &bounds, args.shadow_map)?;
-    let mut renderer = Renderer::new(Gpu::new()?, &scene)?;
+    let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,
@@ -312,6 +338,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         let summary = serde_json::json!({
             "technique": technique.name(),
             "device": renderer.gpu().describe(),
+            "timing": renderer.timing_source().name(),
             "fallback": setup.fallback().map(|f| f.name()),
             "setup_us": setup_us,
             "shadow_pass_ms": t.shadow_pass_ms,
@@ -332,12 +359,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     )?;
     let t = frame.timings;
     eprintln!(
-        "{} on {}: setup {:.1} us, shadow pass {:.2} ms, main pass {:.2} ms{}; wrote {}",
+        "{} on {}: setup {:.1} us, shadow pass {:.2} ms, main pass {:.2} ms ({}){}; wrote {}",
         technique.name(),
         renderer.gpu().describe(),
         setup_us,
         t.shadow_pass_ms,
         t.main_pass_ms,
+        t.source.name(),
         setup
             .fallback()
             .map(|f| format!(", fallback {}", f.name()))
@@ -359,7 +387,7 @@ fn run_volumes(
             "--light-view, --error-map and --json describe a shadow map; shadow volumes have none",
         ));
     }
-    let mut renderer = Renderer::new(Gpu::new()?, scene)?;
+    let mut renderer = open_renderer(scene, args.size, None)?;
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,

@@ -26,6 +26,9 @@ pub(crate) fn shader_source() -> String {
 
 pub(crate) struct Pipelines {
     pub shader: wgpu::ShaderModule,
+    /// Camera passes write their depth from the fragment shader: on GL, where wgpu maps clip
+    /// z to [-1, 1] by z * 2 - w, which would cancel reversed Z's precision far away.
+    pub fragment_depth: bool,
     pub frame_layout: wgpu::BindGroupLayout,
     pub lookup_layout: wgpu::BindGroupLayout,
     pub layout: wgpu::PipelineLayout,
@@ -39,6 +42,7 @@ pub(crate) struct Pipelines {
     /// The main pass into a caller's target, by format and sample count.
     color: HashMap<(wgpu::TextureFormat, u32), wgpu::RenderPipeline>,
     pub light_view: wgpu::RenderPipeline,
+    fs_color: String,
 }
 
 /// The scene's vertex streams: positions and normals, instances.
@@ -77,7 +81,26 @@ pub(crate) struct PipelineSpec<'a> {
 }
 
 impl Pipelines {
-    pub fn new(device: &wgpu::Device) -> Self {
+    /// The fragment entry point `name`, or its `_frag_depth` twin where camera passes write
+    /// their depth.
+    pub fn fragment(&self, name: &str) -> String {
+        if self.fragment_depth {
+            format!("{name}_frag_depth")
+        } else {
+            name.to_string()
+        }
+    }
+
+    pub fn new(device: &wgpu::Device, backend: wgpu::Backend) -> Self {
+        let fragment_depth = backend == wgpu::Backend::Gl;
+        let entry = |name: &str| {
+            if fragment_depth {
+                format!("{name}_frag_depth")
+            } else {
+                name.to_string()
+            }
+        };
+        let (fs_measured, fs_color) = (entry("fs_measured"), entry("fs_color"));
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("gnomon passes"),
             source: wgpu::ShaderSource::Wgsl(shader_source().into()),
@@ -134,7 +157,7 @@ impl Pipelines {
                         label: "main (measured)",
                         vertex: "vs_main",
                         buffers: &scene_buffers(),
-                        fragment: Some("fs_measured"),
+                        fragment: Some(&fs_measured),
                         targets: &targets,
                         constants: &[("METRICS", if metrics { 1.0 } else { 0.0 })],
                         depth: Some(camera_depth()),
@@ -158,6 +181,8 @@ impl Pipelines {
                 },
             ),
             shader,
+            fragment_depth,
+            fs_color,
             frame_layout,
             lookup_layout,
             layout,
@@ -227,7 +252,7 @@ impl Pipelines {
         format: wgpu::TextureFormat,
         samples: u32,
     ) -> &wgpu::RenderPipeline {
-        let (shader, layout) = (&self.shader, &self.layout);
+        let (shader, layout, fragment) = (&self.shader, &self.layout, &self.fs_color);
         self.color.entry((format, samples)).or_insert_with(|| {
             build(
                 device,
@@ -237,7 +262,7 @@ impl Pipelines {
                     label: "main",
                     vertex: "vs_main",
                     buffers: &scene_buffers(),
-                    fragment: Some("fs_color"),
+                    fragment: Some(fragment),
                     targets: &[Some(format.into())],
                     constants: &[],
                     depth: Some(camera_depth()),

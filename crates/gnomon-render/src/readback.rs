@@ -6,15 +6,19 @@ use crate::resources::Resources;
 use crate::{Gpu, RenderError};
 
 /// The largest band copied at once.
-const BAND_BYTES: u64 = 16 << 20;
+pub(crate) const BAND_BYTES: u64 = 16 << 20;
 
 pub(crate) struct Readback {
     staging: Option<wgpu::Buffer>,
+    pub band_bytes: u64,
 }
 
 impl Readback {
     pub fn new() -> Self {
-        Self { staging: None }
+        Self {
+            staging: None,
+            band_bytes: BAND_BYTES,
+        }
     }
 
     /// Copies layer `layer` of a 2D texture to the CPU: `bytes_per_texel` bytes per texel,
@@ -31,7 +35,7 @@ impl Readback {
         let unpadded = width as u64 * bytes_per_texel as u64;
         let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64;
         let padded = unpadded.div_ceil(align) * align;
-        let rows_per_band = (BAND_BYTES / padded).clamp(1, height as u64) as u32;
+        let rows_per_band = (self.band_bytes / padded).clamp(1, height as u64) as u32;
         let needed = padded * rows_per_band as u64;
         if self.staging.as_ref().is_none_or(|b| b.size() < needed) {
             let size = needed.max(self.staging.as_ref().map_or(0, |b| b.size()));

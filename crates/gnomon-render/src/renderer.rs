@@ -167,7 +167,7 @@ impl Renderer {
         let error_scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let internal_scope = device.push_error_scope(wgpu::ErrorFilter::Internal);
         let resources = Resources::new(device.clone());
-        let pipelines = Pipelines::new(&device);
+        let pipelines = Pipelines::new(&device, gpu.adapter_info.backend);
         let sampler = |label, filter, compare| {
             device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some(label),
@@ -282,6 +282,23 @@ impl Renderer {
     /// The GPU this renderer draws on.
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
+    }
+
+    /// Where headless frames' pass times come from: GPU timestamps where the device has
+    /// TIMESTAMP_QUERY, else the wall clock.
+    pub fn timing_source(&self) -> crate::TimingSource {
+        if self.timer.is_some() {
+            crate::TimingSource::GpuTimestamps
+        } else {
+            crate::TimingSource::WallClock
+        }
+    }
+
+    /// Reads images back in bands of at most `bytes` (default 16 MiB; at least one row):
+    /// for tests of the banding.
+    #[doc(hidden)]
+    pub fn set_readback_band_bytes(&mut self, bytes: u64) {
+        self.readback.band_bytes = bytes.max(1);
     }
 
     /// Buffers and textures this renderer has made since it was created: steady-state frames

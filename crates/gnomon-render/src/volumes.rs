@@ -286,6 +286,12 @@ impl VolumePipelines {
             }),
             Some(MASK_FORMAT.into()),
         ];
+        let (fs_ambient, fs_lit, fs_shadowed, fs_volume) = (
+            pipelines.fragment("fs_ambient"),
+            pipelines.fragment("fs_volume_lit"),
+            pipelines.fragment("fs_volume_shadowed"),
+            pipelines.fragment_depth.then_some("fs_volume_frag_depth"),
+        );
         let make =
             |spec: PipelineSpec<'_>| build(device, &pipelines.shader, &pipelines.layout, &spec);
         use wgpu::CompareFunction as C;
@@ -299,7 +305,7 @@ impl VolumePipelines {
                 label,
                 vertex: "vs_volume",
                 buffers: &volume_vertices,
-                fragment: None,
+                fragment: fs_volume,
                 targets: &[],
                 constants: &[],
                 depth: depth_stencil(false, C::Greater, front, back, 0xff, 0xff, behind),
@@ -308,7 +314,7 @@ impl VolumePipelines {
         };
         // One light's shading: the scene where the stencil count compares to 0 as `compare`
         // says, colour added.
-        let light_pass = |label, fragment, compare| {
+        let light_pass = |label, fragment: &str, compare| {
             make(PipelineSpec {
                 label,
                 vertex: "vs_main_infinite",
@@ -345,7 +351,7 @@ impl VolumePipelines {
                 label: "volumes: depth and ambient",
                 vertex: "vs_main_infinite",
                 buffers: &scene,
-                fragment: Some("fs_ambient"),
+                fragment: Some(&fs_ambient),
                 targets: &plain,
                 constants: &[],
                 depth: depth_stencil(
@@ -359,8 +365,8 @@ impl VolumePipelines {
                 ),
                 samples: 1,
             }),
-            lit: light_pass("volumes: lit", "fs_volume_lit", C::Equal),
-            shadowed: light_pass("volumes: shadowed", "fs_volume_shadowed", C::NotEqual),
+            lit: light_pass("volumes: lit", &fs_lit, C::Equal),
+            shadowed: light_pass("volumes: shadowed", &fs_shadowed, C::NotEqual),
         }
     }
 }

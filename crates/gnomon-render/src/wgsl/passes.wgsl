@@ -79,6 +79,10 @@ struct MainOut {
     @location(0) camera: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) color: vec4<f32>,
+    // Clip z and w: their ratio is the depth, for the `_frag_depth` entry points (GL, where
+    // wgpu maps clip z to [-1, 1] with z * 2 - w, which cancels reversed Z's precision far
+    // away; the ratio of the interpolated pair is exact).
+    @location(3) depth: vec2<f32>,
 };
 
 fn main_out(position: vec3<f32>, normal: vec3<f32>, instance: Instance, clip_from_camera: mat4x4<f32>) -> MainOut {
@@ -87,6 +91,7 @@ fn main_out(position: vec3<f32>, normal: vec3<f32>, instance: Instance, clip_fro
     var out: MainOut;
     let p = camera_from_object * vec4<f32>(position, 1.0);
     out.clip = clip_from_camera * p;
+    out.depth = out.clip.zw;
     out.camera = p.xyz;
     out.normal = normal_matrix * normal;
     out.color = instance.color;
@@ -214,6 +219,23 @@ struct Measured {
 
 @fragment
 fn fs_measured(in: MainOut) -> Measured {
+    return measured(in);
+}
+
+struct MeasuredDepth {
+    @location(0) color: vec4<f32>,
+    @location(1) lit: vec4<u32>,
+    @location(2) metrics: vec4<u32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+@fragment
+fn fs_measured_frag_depth(in: MainOut) -> MeasuredDepth {
+    let m = measured(in);
+    return MeasuredDepth(m.color, m.lit, m.metrics, in.depth.x / in.depth.y);
+}
+
+fn measured(in: MainOut) -> Measured {
     let dp_dx = dpdxFine(in.camera);
     let dp_dy = dpdyFine(in.camera);
     let s = surface(in, dp_dx, dp_dy);
@@ -229,10 +251,24 @@ fn fs_measured(in: MainOut) -> Measured {
     return out;
 }
 
-@fragment
-fn fs_color(in: MainOut) -> @location(0) vec4<f32> {
+fn color(in: MainOut) -> vec4<f32> {
     let s = surface(in, dpdx(in.camera), dpdy(in.camera));
     return vec4<f32>(shade(s, in.color.rgb).color, 1.0);
+}
+
+@fragment
+fn fs_color(in: MainOut) -> @location(0) vec4<f32> {
+    return color(in);
+}
+
+struct ColorDepth {
+    @location(0) color: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+@fragment
+fn fs_color_frag_depth(in: MainOut) -> ColorDepth {
+    return ColorDepth(color(in), in.depth.x / in.depth.y);
 }
 
 // Shadow volumes. The colour target blends additively; the mask target is the light's own
@@ -242,13 +278,32 @@ struct VolumeOut {
     @location(1) mask: vec4<f32>,
 };
 
+struct VolumeDepthOut {
+    @location(0) color: vec4<f32>,
+    @location(1) mask: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+fn with_depth(out: VolumeOut, in: MainOut) -> VolumeDepthOut {
+    return VolumeDepthOut(out.color, out.mask, in.depth.x / in.depth.y);
+}
+
 // The ambient term; the mask as if no light reached (the lights' passes write where they do).
-@fragment
-fn fs_ambient(in: MainOut) -> VolumeOut {
+fn ambient(in: MainOut) -> VolumeOut {
     var out: VolumeOut;
     out.color = vec4<f32>(in.color.rgb * frame.shading.x, 1.0);
     out.mask = vec4<f32>(0.0, 0.0, 0.0, 1.0);
     return out;
+}
+
+@fragment
+fn fs_ambient(in: MainOut) -> VolumeOut {
+    return ambient(in);
+}
+
+@fragment
+fn fs_ambient_frag_depth(in: MainOut) -> VolumeDepthOut {
+    return with_depth(ambient(in), in);
 }
 
 fn volume_direct(in: MainOut, shadowed: bool) -> VolumeOut {
@@ -280,11 +335,39 @@ fn fs_volume_shadowed(in: MainOut) -> VolumeOut {
     return volume_direct(in, true);
 }
 
+@fragment
+fn fs_volume_lit_frag_depth(in: MainOut) -> VolumeDepthOut {
+    return with_depth(volume_direct(in, false), in);
+}
+
+@fragment
+fn fs_volume_shadowed_frag_depth(in: MainOut) -> VolumeDepthOut {
+    return with_depth(volume_direct(in, true), in);
+}
+
+struct VolumeVertex {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) depth: vec2<f32>,
+};
+
 // Volume geometry: homogeneous view-space positions (w = 0 at infinity) through the
 // infinite projection; stencil only.
 @vertex
-fn vs_volume(@location(0) position: vec4<f32>) -> @builtin(position) vec4<f32> {
-    return frame.infinite_clip_from_camera * position;
+fn vs_volume(@location(0) position: vec4<f32>) -> VolumeVertex {
+    var out: VolumeVertex;
+    out.clip = frame.infinite_clip_from_camera * position;
+    out.depth = out.clip.zw;
+    return out;
+}
+
+// The volumes' depth from the fragment shader (GL; see MainOut.depth), pushed behind as the
+// volume pipelines' depth bias does elsewhere (which does not apply to a written depth):
+// 16 units of the float's last place and 0.05 of the slope.
+@fragment
+fn fs_volume_frag_depth(in: VolumeVertex) -> @builtin(frag_depth) f32 {
+    let d = in.depth.x / in.depth.y;
+    let slope = max(abs(dpdx(d)), abs(dpdy(d)));
+    return max(d * (1.0 - 16.0 * 1.1920929e-7) - 0.05 * slope, 0.0);
 }
 
 struct FullscreenOut {
