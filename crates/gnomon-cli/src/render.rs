@@ -297,6 +297,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let scene = render_scene(&args.scene, &args.mesh)?;
     let bounds = scene.bounds()?;
     let camera = args.view.camera()?;
+    if camera.lens().far > gnomon_render::MAX_VIEW_DISTANCE {
+        return Err(CliError::usage(format!(
+            "--far {} is beyond what the renderer draws precisely (at most {})",
+            camera.lens().far,
+            gnomon_render::MAX_VIEW_DISTANCE
+        )));
+    }
     let light = args.light.light()?;
     let Some(technique) = args.technique.map_technique() else {
         return run_volumes(args, &scene, &camera, &light);

@@ -423,6 +423,25 @@ fn render_without_an_adapter_says_what_to_install() {
 }
 
 #[test]
+fn render_refuses_a_far_plane_beyond_the_precise_range_before_any_work() {
+    let dir = temp_dir("far");
+    let out_path = dir.join("far.png");
+    // RENDER's far plane (800) moved to 2000 km.
+    let mut args: Vec<&str> = RENDER
+        .iter()
+        .map(|a| if *a == "800" { "2000000" } else { *a })
+        .collect();
+    args.extend(["--out", out_path.to_str().unwrap()]);
+    let out = gnomon(&args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("draws precisely"), "{stderr}");
+    assert!(!out_path.exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
 fn render_rejects_bad_sizes_with_exit_code_2() {
     for size in ["0x10", "10", "axb", "99999x10"] {
         let mut args = RENDER.to_vec();

@@ -19,7 +19,8 @@ impl fmt::Display for RenderError {
             RenderError::NoAdapter(detail) => write!(
                 f,
                 "no graphics adapter found ({detail}); on a machine without a GPU driver install \
-                 Mesa's software Vulkan driver: apt-get install -y mesa-vulkan-drivers"
+                 Mesa's software Vulkan driver (apt-get install -y mesa-vulkan-drivers) or its \
+                 GL driver (apt-get install -y libegl-mesa0 libgl1-mesa-dri, WGPU_BACKEND=gl)"
             ),
             RenderError::Device(e) => write!(f, "cannot create a GPU device: {e}"),
             RenderError::Gpu(e) => write!(f, "GPU error: {e}"),

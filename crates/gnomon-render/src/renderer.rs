@@ -400,6 +400,13 @@ impl Renderer {
         lights: &[(&gnomon::Light, Option<&gnomon::ShadowSetup>)],
         settings: &RenderSettings,
     ) -> Result<(), RenderError> {
+        if camera.lens().far > crate::MAX_VIEW_DISTANCE {
+            return Err(RenderError::Invalid(format!(
+                "a far plane {} away is beyond what the renderer draws precisely ({})",
+                camera.lens().far,
+                crate::MAX_VIEW_DISTANCE
+            )));
+        }
         if lights.len() > MAX_LIGHTS {
             return Err(RenderError::Invalid(format!(
                 "{} shadowed lights in one frame; at most {MAX_LIGHTS}",
