@@ -91,28 +91,54 @@ struct GnomonIncidence {
     cone: f32,
 };
 
+// (Fields are read one by one, not as whole records: copying a record loads all of it.)
 fn gnomon_incidence(light: u32, p: vec3<f32>) -> GnomonIncidence {
-    let l = gnomon_shadows.lights[light];
+    let vector = gnomon_shadows.lights[light].vector;
     var out: GnomonIncidence;
-    if (l.info.x == GNOMON_LIGHT_DIRECTIONAL) {
-        out.to_light = -l.vector.xyz;
+    if (gnomon_shadows.lights[light].info.x == GNOMON_LIGHT_DIRECTIONAL) {
+        out.to_light = -vector.xyz;
         out.in_light = true;
         out.cone = 1.0;
         return out;
     }
-    let d = l.vector.xyz - p;
+    let spot = gnomon_shadows.lights[light].spot;
+    let range = gnomon_shadows.lights[light].range;
+    let d = vector.xyz - p;
     out.to_light = normalize(d);
-    let along = dot(-d, l.spot.xyz);
-    let cos_angle = dot(-out.to_light, l.spot.xyz);
-    out.in_light = cos_angle >= l.spot.w && along <= l.range.x && along >= l.range.y;
-    out.cone = smoothstep(l.spot.w, min(l.spot.w + 0.03, 1.0), cos_angle);
+    let along = dot(-d, spot.xyz);
+    let cos_angle = dot(-out.to_light, spot.xyz);
+    out.in_light = cos_angle >= spot.w && along <= range.x && along >= range.y;
+    out.cone = smoothstep(spot.w, min(spot.w + 0.03, 1.0), cos_angle);
     return out;
+}
+
+// What a lookup needs of one map, read from its record once (each read of a record indexed
+// per fragment is a gather on a CPU rasteriser).
+struct GnomonMapView {
+    clip_from_camera: mat4x4<f32>,
+    depth_from_camera: vec4<f32>,
+    rect: vec4<f32>,
+    layer: i32,
+    resolution: f32,
+    normal_offset: f32,
+};
+
+fn gnomon_map_view(map: u32) -> GnomonMapView {
+    let info = gnomon_shadows.maps[map].info;
+    return GnomonMapView(
+        gnomon_shadows.maps[map].clip_from_camera,
+        gnomon_shadows.maps[map].depth_from_camera,
+        gnomon_shadows.maps[map].rect,
+        i32(info.x),
+        f32(info.z),
+        gnomon_shadows.maps[map].bias.w,
+    );
 }
 
 // The gradients of the map's normalised x and y at p (per view-space unit):
 // (row_i - ndc_i row_w) / w, exact for any projective map. Zero behind the map.
-fn gnomon_ndc_gradients(map: u32, p: vec3<f32>) -> mat2x3<f32> {
-    let m = gnomon_shadows.maps[map].clip_from_camera;
+fn gnomon_ndc_gradients(view: GnomonMapView, p: vec3<f32>) -> mat2x3<f32> {
+    let m = view.clip_from_camera;
     let clip = m * vec4<f32>(p, 1.0);
     if (clip.w <= 0.0) {
         return mat2x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0));
@@ -128,64 +154,67 @@ fn gnomon_ndc_gradients(map: u32, p: vec3<f32>) -> mat2x3<f32> {
 
 // The world size of the map's largest texel side at p (warps stretch texels differently
 // along x and y).
-fn gnomon_texel_world_size(map: u32, p: vec3<f32>) -> f32 {
-    let g = gnomon_ndc_gradients(map, p);
-    let resolution = f32(gnomon_shadows.maps[map].info.z);
-    return (2.0 / resolution) / max(min(length(g[0]), length(g[1])), 1e-30);
+fn gnomon_texel_world_size(view: GnomonMapView, p: vec3<f32>) -> f32 {
+    let g = gnomon_ndc_gradients(view, p);
+    return (2.0 / view.resolution) / max(min(length(g[0]), length(g[1])), 1e-30);
+}
+
+// The map's texture coordinate `uv` kept on its own texels, in its layer's coordinates.
+fn gnomon_layer_uv(view: GnomonMapView, uv: vec2<f32>) -> vec2<f32> {
+    let half_texel = 0.5 / view.resolution;
+    return view.rect.xy + clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel)) * view.rect.zw;
 }
 
 // One raw tap at the map's texture coordinate `uv`: 1 where `reference` is not farther than
 // the stored depth.
-fn gnomon_tap(map: u32, uv: vec2<f32>, reference: f32) -> f32 {
-    let m = gnomon_shadows.maps[map];
-    let half_texel = 0.5 / f32(m.info.z);
-    let inside = clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel));
+fn gnomon_tap(view: GnomonMapView, uv: vec2<f32>, reference: f32) -> f32 {
     let stored = textureSampleLevel(
-        gnomon_raw, gnomon_nearest, m.rect.xy + inside * m.rect.zw, i32(m.info.x), 0.0).r;
+        gnomon_raw, gnomon_nearest, gnomon_layer_uv(view, uv), view.layer, 0.0).r;
     return select(0.0, 1.0, reference <= stored);
 }
 
 // 1 where p is lit according to the map, 0 where shadowed, between for filtered lookups.
-fn gnomon_lookup(map: u32, p: vec3<f32>, filter_mode: u32) -> f32 {
-    let m = gnomon_shadows.maps[map];
-    let clip = m.clip_from_camera * vec4<f32>(p, 1.0);
+fn gnomon_lookup_view(view: GnomonMapView, p: vec3<f32>, filter_mode: u32) -> f32 {
+    let clip = view.clip_from_camera * vec4<f32>(p, 1.0);
     if (clip.w <= 0.0) {
         return 1.0;
     }
     let ndc = clip.xy / clip.w;
     let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
-    let reference = dot(m.depth_from_camera, vec4<f32>(p, 1.0));
+    let reference = dot(view.depth_from_camera, vec4<f32>(p, 1.0));
     if (filter_mode == GNOMON_FILTER_HARDWARE_2X2) {
-        let half_texel = 0.5 / f32(m.info.z);
-        let inside = clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel));
         return textureSampleCompareLevel(
-            gnomon_depth, gnomon_compare, m.rect.xy + inside * m.rect.zw, i32(m.info.x),
-            reference);
+            gnomon_depth, gnomon_compare, gnomon_layer_uv(view, uv), view.layer, reference);
     }
     if (filter_mode == GNOMON_FILTER_PCF_5X5) {
-        let texel = 1.0 / f32(m.info.z);
+        let texel = 1.0 / view.resolution;
         var sum = 0.0;
         for (var y = -2; y <= 2; y++) {
             for (var x = -2; x <= 2; x++) {
-                sum += gnomon_tap(map, uv + vec2<f32>(f32(x), f32(y)) * texel, reference);
+                sum += gnomon_tap(view, uv + vec2<f32>(f32(x), f32(y)) * texel, reference);
             }
         }
         return sum / 25.0;
     }
-    return gnomon_tap(map, uv, reference);
+    return gnomon_tap(view, uv, reference);
 }
 
-// The point where `map` is read for a surface point p with geometric normal n_geo (unit,
+// gnomon_lookup_view of map `map`.
+fn gnomon_lookup(map: u32, p: vec3<f32>, filter_mode: u32) -> f32 {
+    return gnomon_lookup_view(gnomon_map_view(map), p, filter_mode);
+}
+
+// The point where a map is read for a surface point p with geometric normal n_geo (unit,
 // toward the viewer) and n_dot_l = dot(n_geo, to_light): moved along the normal by the
 // map's normal offset in texels, more where the light grazes the surface.
-fn gnomon_offset_point(map: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32) -> vec3<f32> {
-    let texels = gnomon_shadows.maps[map].bias.w;
-    return p + n_geo * texels * gnomon_texel_world_size(map, p) * clamp(1.0 - n_dot_l, 0.0, 1.0);
+fn gnomon_offset_point(view: GnomonMapView, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32) -> vec3<f32> {
+    let size = gnomon_texel_world_size(view, p);
+    return p + n_geo * view.normal_offset * size * clamp(1.0 - n_dot_l, 0.0, 1.0);
 }
 
 // The shadow factor of `light` at the surface point p (1 lit, 0 shadowed), with the frame's
 // filter.
 fn gnomon_shadow(light: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32) -> f32 {
-    let map = gnomon_map_index(light, p);
-    return gnomon_lookup(map, gnomon_offset_point(map, p, n_geo, n_dot_l), gnomon_shadows.info.y);
+    let view = gnomon_map_view(gnomon_map_index(light, p));
+    return gnomon_lookup_view(view, gnomon_offset_point(view, p, n_geo, n_dot_l), gnomon_shadows.info.y);
 }

@@ -59,10 +59,9 @@ struct DepthOut {
 fn vs_depth(@location(0) position: vec3<f32>, instance: CasterInstance) -> DepthOut {
     let camera_from_object = mat4x4<f32>(instance.c0, instance.c1, instance.c2, instance.c3);
     let p = camera_from_object * vec4<f32>(position, 1.0);
-    let map = gnomon_shadows.maps[slot.map];
     var out: DepthOut;
-    out.clip = map.clip_from_camera * p;
-    out.depth = dot(map.depth_from_camera, p);
+    out.clip = gnomon_shadows.maps[slot.map].clip_from_camera * p;
+    out.depth = dot(gnomon_shadows.maps[slot.map].depth_from_camera, p);
     return out;
 }
 
@@ -159,10 +158,10 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
         var one_tap = 1.0;
         var shadow = 1.0;
         if (s.receives) {
-            let map = gnomon_map_index(light, s.p);
-            let lookup = gnomon_offset_point(map, s.p, s.n_geo, n_dot_l_geo);
-            one_tap = gnomon_lookup(map, lookup, GNOMON_FILTER_ONE_TAP);
-            shadow = gnomon_lookup(map, lookup, gnomon_shadows.info.y);
+            let view = gnomon_map_view(gnomon_map_index(light, s.p));
+            let lookup = gnomon_offset_point(view, s.p, s.n_geo, n_dot_l_geo);
+            one_tap = gnomon_lookup_view(view, lookup, GNOMON_FILTER_ONE_TAP);
+            shadow = gnomon_lookup_view(view, lookup, gnomon_shadows.info.y);
         }
         if (incidence.in_light) {
             direct += max(dot(s.n, incidence.to_light), 0.0) * incidence.cone * shadow;
@@ -188,12 +187,12 @@ fn sampling_metrics(p: vec3<f32>, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> vec2<f3
         return vec2<f32>(-1.0, -1.0);
     }
     let map = gnomon_map_index(0u, p);
-    let m = gnomon_shadows.maps[map];
-    if ((m.clip_from_camera * vec4<f32>(p, 1.0)).w <= 0.0) {
+    if ((gnomon_shadows.maps[map].clip_from_camera * vec4<f32>(p, 1.0)).w <= 0.0) {
         return vec2<f32>(-1.0, -1.0);
     }
-    let g = gnomon_ndc_gradients(map, p);
-    let scale = 0.5 * f32(m.info.z);
+    let view = gnomon_map_view(map);
+    let g = gnomon_ndc_gradients(view, p);
+    let scale = 0.5 * view.resolution;
     let jx = scale * vec2<f32>(dot(g[0], dp_dx), dot(g[1], dp_dx));
     let jy = scale * vec2<f32>(dot(g[0], dp_dy), dot(g[1], dp_dy));
     // J^T J = [[a, b], [b, c]]: its eigenvalues are the squared singular values.
