@@ -33,6 +33,10 @@ pub struct BenchArgs {
         default_value = "focused,volumes,volumes-per-caster"
     )]
     pub techniques: Vec<String>,
+    /// Time the passes by the wall clock (each part submitted and waited for) even where the
+    /// GPU has timestamps: to compare with wall-clock figures.
+    #[arg(long)]
+    pub wall_clock: bool,
     /// The technique every frame time is divided by (one of --techniques).
     #[arg(long, default_value = "focused")]
     pub baseline: String,
@@ -162,6 +166,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let scene: RenderScene = render_scene(&args.scene, &args.mesh)?;
     let bounds = scene.bounds()?;
     let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
+    renderer.use_wall_clock(args.wall_clock);
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,

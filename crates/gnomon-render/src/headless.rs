@@ -218,7 +218,7 @@ pub(crate) struct FrameClock {
 
 impl FrameClock {
     pub fn start(renderer: &mut Renderer) -> Self {
-        let gpu_timed = renderer.timer.is_some();
+        let gpu_timed = renderer.timing_source() == TimingSource::GpuTimestamps;
         if let Some(timer) = &mut renderer.timer {
             timer.begin_frame();
         }
@@ -376,6 +376,9 @@ impl Renderer {
         let scopes = ErrorScopes::push(&self.gpu);
         self.prepare(camera, lights, settings)?;
         self.ensure_headless(width, height, settings.metrics);
+        // Made on first use, then kept.
+        self.pipelines
+            .measured(&self.gpu.device, settings.metrics, self.light_count);
         let mut clock = FrameClock::start(self);
         self.encode_shadow_maps_timed(clock.encoder(), true);
         clock.end_part(&self.gpu, Part::Shadow)?;
@@ -399,7 +402,11 @@ impl Renderer {
                     timestamp_writes: timestamps,
                     ..Default::default()
                 });
-            pass.set_pipeline(&self.pipelines.measured[usize::from(settings.metrics)]);
+            pass.set_pipeline(
+                self.pipelines
+                    .measured_for(settings.metrics, self.light_count)
+                    .expect("made above"),
+            );
             self.bind_frame(&mut pass);
             self.scene.bind(&mut pass);
             self.scene.draw(&mut pass, |_| true);

@@ -37,12 +37,13 @@ pub(crate) struct Pipelines {
     depth_layout: wgpu::PipelineLayout,
     /// Depth passes by the caster vertex stride.
     depth: HashMap<u64, wgpu::RenderPipeline>,
-    /// The measured main pass: [metrics].
-    pub measured: [wgpu::RenderPipeline; 2],
-    /// The main pass into a caller's target, by format and sample count.
-    color: HashMap<(wgpu::TextureFormat, u32), wgpu::RenderPipeline>,
+    /// The measured main pass, by (metrics, number of lights).
+    measured: HashMap<(bool, u32), wgpu::RenderPipeline>,
+    /// The main pass into a caller's target, by format, sample count and number of lights.
+    color: HashMap<(wgpu::TextureFormat, u32, u32), wgpu::RenderPipeline>,
     pub light_view: wgpu::RenderPipeline,
     fs_color: String,
+    fs_measured: String,
 }
 
 /// The scene's vertex streams: positions and normals, instances.
@@ -144,27 +145,7 @@ impl Pipelines {
             immediate_size: 0,
         });
         let mut pipelines = Self {
-            measured: [false, true].map(|metrics| {
-                let mut targets = vec![Some(COLOR_FORMAT.into()), Some(LIT_FORMAT.into())];
-                if metrics {
-                    targets.push(Some(METRICS_FORMAT.into()));
-                }
-                build(
-                    device,
-                    &shader,
-                    &layout,
-                    &PipelineSpec {
-                        label: "main (measured)",
-                        vertex: "vs_main",
-                        buffers: &scene_buffers(),
-                        fragment: Some(&fs_measured),
-                        targets: &targets,
-                        constants: &[("METRICS", if metrics { 1.0 } else { 0.0 })],
-                        depth: Some(camera_depth()),
-                        samples: 1,
-                    },
-                )
-            }),
+            measured: HashMap::new(),
             light_view: build(
                 device,
                 &shader,
@@ -183,6 +164,7 @@ impl Pipelines {
             shader,
             fragment_depth,
             fs_color,
+            fs_measured,
             frame_layout,
             lookup_layout,
             layout,
@@ -245,39 +227,74 @@ impl Pipelines {
         self.depth.get(&stride)
     }
 
-    /// The main pass into a target of `format` with `samples` samples.
-    pub fn color(
+    /// The measured main pass already made.
+    pub fn measured_for(&self, metrics: bool, lights: u32) -> Option<&wgpu::RenderPipeline> {
+        self.measured.get(&(metrics, lights))
+    }
+
+    /// The measured main pass (colour, lit-light bits, and with `metrics` the sampling
+    /// metrics) for `lights` lights.
+    pub fn measured(
         &mut self,
         device: &wgpu::Device,
-        format: wgpu::TextureFormat,
-        samples: u32,
+        metrics: bool,
+        lights: u32,
     ) -> &wgpu::RenderPipeline {
-        let (shader, layout, fragment) = (&self.shader, &self.layout, &self.fs_color);
-        self.color.entry((format, samples)).or_insert_with(|| {
+        let (shader, layout, fragment) = (&self.shader, &self.layout, &self.fs_measured);
+        self.measured.entry((metrics, lights)).or_insert_with(|| {
+            let mut targets = vec![Some(COLOR_FORMAT.into()), Some(LIT_FORMAT.into())];
+            if metrics {
+                targets.push(Some(METRICS_FORMAT.into()));
+            }
             build(
                 device,
                 shader,
                 layout,
                 &PipelineSpec {
-                    label: "main",
+                    label: "main (measured)",
                     vertex: "vs_main",
                     buffers: &scene_buffers(),
                     fragment: Some(fragment),
-                    targets: &[Some(format.into())],
-                    constants: &[],
+                    targets: &targets,
+                    constants: &[
+                        ("METRICS", if metrics { 1.0 } else { 0.0 }),
+                        ("LIGHT_COUNT", lights as f64),
+                    ],
                     depth: Some(camera_depth()),
-                    samples,
+                    samples: 1,
                 },
             )
         })
     }
 
-    pub fn color_for(
-        &self,
+    /// The main pass into a target of `format` with `samples` samples, for `lights` lights.
+    pub fn color(
+        &mut self,
+        device: &wgpu::Device,
         format: wgpu::TextureFormat,
         samples: u32,
-    ) -> Option<&wgpu::RenderPipeline> {
-        self.color.get(&(format, samples))
+        lights: u32,
+    ) -> &wgpu::RenderPipeline {
+        let (shader, layout, fragment) = (&self.shader, &self.layout, &self.fs_color);
+        self.color
+            .entry((format, samples, lights))
+            .or_insert_with(|| {
+                build(
+                    device,
+                    shader,
+                    layout,
+                    &PipelineSpec {
+                        label: "main",
+                        vertex: "vs_main",
+                        buffers: &scene_buffers(),
+                        fragment: Some(fragment),
+                        targets: &[Some(format.into())],
+                        constants: &[("LIGHT_COUNT", lights as f64)],
+                        depth: Some(camera_depth()),
+                        samples,
+                    },
+                )
+            })
     }
 }
 

@@ -152,11 +152,15 @@ pub struct Renderer {
     /// The prepared frame's records (kept to be rewritten without allocating).
     shadows: Box<GpuShadows>,
     pub(crate) prepared_camera: Option<Camera>,
+    /// The prepared frame's number of lights (the main pass is specialised by it).
+    pub(crate) light_count: u32,
     pub(crate) volumes: VolumePipelines,
     pub(crate) volume_casters: VolumeCasters,
     pub(crate) volume_targets: Option<VolumeTargets>,
     pub(crate) readback: Readback,
     pub(crate) timer: Option<Timer>,
+    /// Time headless frames by the wall clock even where timestamps exist.
+    pub(crate) wall_clock: bool,
     pub(crate) headless: Option<crate::headless::Targets>,
 }
 
@@ -262,11 +266,13 @@ impl Renderer {
             maps: Vec::new(),
             shadows: Box::new(bytemuck::Zeroable::zeroed()),
             prepared_camera: None,
+            light_count: 0,
             volumes,
             volume_casters,
             volume_targets: None,
             readback: Readback::new(),
             timer,
+            wall_clock: false,
             headless: None,
             resources,
             gpu,
@@ -287,11 +293,17 @@ impl Renderer {
     /// Where headless frames' pass times come from: GPU timestamps where the device has
     /// TIMESTAMP_QUERY, else the wall clock.
     pub fn timing_source(&self) -> crate::TimingSource {
-        if self.timer.is_some() {
+        if self.timer.is_some() && !self.wall_clock {
             crate::TimingSource::GpuTimestamps
         } else {
             crate::TimingSource::WallClock
         }
+    }
+
+    /// Times headless frames by the wall clock (each part submitted and waited for) even
+    /// where GPU timestamps exist: to compare with wall-clock figures.
+    pub fn use_wall_clock(&mut self, wall_clock: bool) {
+        self.wall_clock = wall_clock;
     }
 
     /// Reads images back in bands of at most `bytes` (default 16 MiB; at least one row):
@@ -522,6 +534,7 @@ impl Renderer {
         queue.write_buffer(&self.shadows_buffer, 0, bytemuck::bytes_of(&*self.shadows));
         self.scene.write_transforms(queue, view_from_world);
         self.prepared_camera = Some(*camera);
+        self.light_count = lights.len() as u32;
         Ok(())
     }
 
@@ -617,9 +630,10 @@ impl Renderer {
             let view = texture.create_view(&Default::default());
             self.camera_depth = Some((texture, view, w, h, samples));
         }
-        self.pipelines
-            .color(&self.gpu.device, target.format, samples);
         let depth = &self.camera_depth.as_ref().expect("made above").1;
+        let pipeline =
+            self.pipelines
+                .color(&self.gpu.device, target.format, samples, self.light_count);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("main"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -634,11 +648,7 @@ impl Renderer {
             depth_stencil_attachment: Some(cleared_camera_depth(depth)),
             ..Default::default()
         });
-        pass.set_pipeline(
-            self.pipelines
-                .color_for(target.format, samples)
-                .expect("made above"),
-        );
+        pass.set_pipeline(pipeline);
         self.bind_frame(&mut pass);
         self.scene.bind(&mut pass);
         self.scene.draw(&mut pass, |_| true);
