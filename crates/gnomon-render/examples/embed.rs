@@ -69,20 +69,27 @@ pub fn run() -> Result<Report, Box<dyn std::error::Error>> {
         required_features: adapter.features() & gnomon_render::OPTIONAL_FEATURES,
         ..Default::default()
     }))?;
-    let target = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("our target"),
-        size: wgpu::Extent3d {
-            width: WIDTH,
-            height: HEIGHT,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let texture = |label, format, usage| {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: WIDTH,
+                height: HEIGHT,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let target = texture(
+        "our target",
+        FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+    );
     let target_view = target.create_view(&Default::default());
     let lens = Lens {
         aspect: WIDTH as f64 / HEIGHT as f64,
@@ -253,20 +260,11 @@ pub fn run() -> Result<Report, Box<dyn std::error::Error>> {
             resource: uniform.as_entire_binding(),
         }],
     });
-    let depth = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("our depth"),
-        size: wgpu::Extent3d {
-            width: WIDTH,
-            height: HEIGHT,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Depth32Float,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
+    let depth = texture(
+        "our depth",
+        wgpu::TextureFormat::Depth32Float,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    );
     let depth_view = depth.create_view(&Default::default());
     let mut encoder = device.create_command_encoder(&Default::default());
     renderer.encode_shadow_maps_of(&mut encoder, &casters); // gnomon

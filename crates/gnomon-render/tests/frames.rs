@@ -27,6 +27,24 @@ fn overview() -> (Camera, Light) {
     (camera, sun)
 }
 
+/// The setup of `technique` for the camera and light over `bounds`, maps of `resolution`.
+fn setup(
+    technique: &dyn gnomon::ShadowTechnique,
+    camera: &Camera,
+    light: &Light,
+    bounds: &gnomon::SceneBounds,
+    resolution: u32,
+) -> gnomon::ShadowSetup {
+    compute_setup(
+        technique,
+        camera,
+        light,
+        bounds,
+        MapSettings::with_resolution(resolution),
+    )
+    .unwrap()
+}
+
 fn settings() -> RenderSettings {
     RenderSettings {
         width: SIZE,
@@ -41,16 +59,8 @@ fn steady_state_frames_make_no_buffer_or_texture() {
     let mut renderer = common::renderer(&scene);
     let (camera, light) = overview();
     let bounds = scene.bounds().unwrap();
-    let map = |technique: &dyn gnomon::ShadowTechnique| {
-        compute_setup(
-            technique,
-            &camera,
-            &light,
-            &bounds,
-            MapSettings::with_resolution(1024),
-        )
-        .unwrap()
-    };
+    let map =
+        |technique: &dyn gnomon::ShadowTechnique| setup(technique, &camera, &light, &bounds, 1024);
     let (focused, sppsm) = (map(&Focused), map(&Sppsm::default()));
     let settings = RenderSettings {
         metrics: true,
@@ -124,16 +134,7 @@ fn a_sun_and_a_spot_light_with_shadow_maps_in_one_frame_agree_with_the_oracle() 
         .unwrap(),
     );
     let bounds = scene.bounds().unwrap();
-    let setup = |light: &Light, resolution| {
-        compute_setup(
-            &Focused,
-            &camera,
-            light,
-            &bounds,
-            MapSettings::with_resolution(resolution),
-        )
-        .unwrap()
-    };
+    let setup = |light: &Light, resolution| setup(&Focused, &camera, light, &bounds, resolution);
     // Maps of different sizes: layers of one array, the smaller in a corner of its layer.
     let (sun_setup, spot_setup) = (setup(&sun, 2048), setup(&spot, 1024));
     let frame = renderer
@@ -215,14 +216,7 @@ fn a_moved_instance_casts_its_shadow_where_it_now_stands() {
     // The renderer's bounds follow the instance, and so does its shadow.
     let bounds = renderer.scene_bounds().unwrap();
     assert_eq!(bounds.scene_box(), scene.bounds().unwrap().scene_box());
-    let setup = compute_setup(
-        &Focused,
-        &camera,
-        &light,
-        &bounds,
-        MapSettings::with_resolution(1024),
-    )
-    .unwrap();
+    let setup = setup(&Focused, &camera, &light, &bounds, 1024);
     let frame = renderer
         .render(&camera, &light, &setup, &settings())
         .unwrap();
@@ -243,14 +237,7 @@ fn images_read_back_in_bands_equal_one_copy() {
     let mut renderer = common::renderer(&scene);
     let (camera, light) = overview();
     let bounds = scene.bounds().unwrap();
-    let setup = compute_setup(
-        &Focused,
-        &camera,
-        &light,
-        &bounds,
-        MapSettings::with_resolution(512),
-    )
-    .unwrap();
+    let setup = setup(&Focused, &camera, &light, &bounds, 512);
     let settings = RenderSettings {
         width: 300,
         height: 170,
@@ -311,14 +298,7 @@ fn the_scene_drawn_into_a_multisampled_target_of_the_callers_matches_the_headles
     let mut renderer = common::renderer(&scene);
     let (camera, light) = overview();
     let bounds = renderer.scene_bounds().unwrap();
-    let setup = compute_setup(
-        &Focused,
-        &camera,
-        &light,
-        &bounds,
-        MapSettings::with_resolution(1024),
-    )
-    .unwrap();
+    let setup = setup(&Focused, &camera, &light, &bounds, 1024);
     let reference = renderer
         .render(&camera, &light, &setup, &settings())
         .unwrap();
