@@ -18,6 +18,8 @@ use crate::args::{TechniqueParams, scene_layout, timed_setup};
 use crate::render::{open_renderer, parse_size, write_png, write_text};
 use crate::{CliError, heatmap};
 
+/// The largest frame side `compare` takes (its grids hold many frames).
+const MAX_COMPARE_SIZE: u32 = 4096;
 /// `gnomon compare`.
 #[derive(Debug, Clone, Args)]
 pub struct CompareArgs {
@@ -160,6 +162,14 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     let techniques = techniques(args)?;
     if techniques.is_empty() || views.is_empty() {
         return Err(CliError::usage("nothing to compare"));
+    }
+    // A view's grid holds three frames per technique and the volumes: larger frames make
+    // grids too large to hold and write.
+    if args.size.0 > MAX_COMPARE_SIZE || args.size.1 > MAX_COMPARE_SIZE {
+        return Err(CliError::usage(format!(
+            "--size {}x{}: compare's grids take frames of at most {MAX_COMPARE_SIZE} on a side",
+            args.size.0, args.size.1
+        )));
     }
     let scene = RenderScene::from_layout(&layout);
     let bounds = scene.bounds()?;

@@ -409,8 +409,8 @@ fn run_volumes(
     write_frame(&drawn.frame, &args.out, args.mask.as_deref(), None)?;
     let (t, stats) = (drawn.frame.timings, drawn.stats);
     eprintln!(
-        "volumes ({}) on {}: {} volume triangles ({} casters z-fail, {} z-pass{}), \
-         extrusion and stencil {:.2} ms, shading {:.2} ms; wrote {}",
+        "volumes ({}) on {}: {} volume triangles ({} casters z-fail, {} z-pass{}{}), \
+         extrusion and stencil {:.2} ms, shading {:.2} ms ({}); wrote {}",
         args.stencil.name(),
         renderer.gpu().describe(),
         stats.triangles,
@@ -420,8 +420,14 @@ fn run_volumes(
             .near_clip_fallback
             .map(|_| "; the light lies in the near plane: all z-fail")
             .unwrap_or_default(),
+        if renderer.volumes_have_float_depth() {
+            ""
+        } else {
+            "; depth Depth24PlusStencil8, the device lacks DEPTH32FLOAT_STENCIL8"
+        },
         t.shadow_pass_ms,
         t.main_pass_ms,
+        t.source.name(),
         args.out.display()
     );
     Ok(())

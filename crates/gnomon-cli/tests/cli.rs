@@ -805,6 +805,24 @@ fn render_writes_an_error_map_and_its_percentiles() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `compare` refuses frames too large for its grids before it makes its folder.
+#[test]
+fn compare_refuses_frames_too_large_for_its_grids() {
+    let dir = temp_dir("compare-large").join("report");
+    let out = gnomon(&[
+        "compare",
+        "--size",
+        "9000x8000",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("4096"), "{stderr}");
+    assert!(!dir.exists());
+}
+
 /// `gnomon compare` renders each view with each technique and the exact volumes, and writes
 /// a grid per view, a Markdown table and JSON: wrong pixels against the volumes (a 2048 map
 /// is wrong on fewer pixels than a 256 one), undersampling percentiles, times.
