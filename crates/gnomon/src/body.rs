@@ -86,6 +86,11 @@ pub(crate) fn extension_planes(
     if hull.len() >= 3 {
         for (k, &i) in hull.iter().enumerate() {
             let (a, b) = (projected[i], projected[hull[(k + 1) % hull.len()]]);
+            // An edge too short to have a direction bounds nothing that its neighbours do
+            // not (leaving a silhouette plane out only enlarges B, which stays safe).
+            if a.distance(b) <= tolerance {
+                continue;
+            }
             // Counter-clockwise hull: the inside is to the left of a -> b.
             let inward = (b - a).perp();
             if let Some(plane) = projector.plane_from_line(inward, -inward.dot(a)) {
