@@ -158,18 +158,19 @@ struct Case {
     point: DVec3,
 }
 
+/// The camera looking along `forward` with `up`, the light travelling along `sun`.
+fn camera(eye: DVec3, forward: DVec3, up: DVec3, lens: Lens) -> Camera {
+    Camera::look_at(eye, eye + forward, up, lens).unwrap()
+}
+
 fn case(
-    eye: DVec3,
-    forward: DVec3,
-    up: DVec3,
+    camera: Camera,
     sun: DVec3,
-    lens: Lens,
     ground_half: f64,
     boxes: &[([f64; 3], [f64; 3])],
     scene_box: Option<(DVec3, DVec3)>,
     point: DVec3,
 ) -> Case {
-    let camera = Camera::look_at(eye, eye + forward, up, lens).unwrap();
     let light = Light::Directional(DirectionalLight::new(sun).unwrap());
     let ground = Aabb::new(
         DVec3::new(-ground_half, -0.01 * ground_half, -ground_half),
@@ -211,20 +212,22 @@ fn case(
 /// 1.6 mm).
 fn near_the_ground() -> Case {
     case(
-        DVec3::new(12.77290181403474, 0.2383400832511522, 13.840931457504787),
-        DVec3::new(-0.626967034496259, -0.528870548385932, -0.5720212239986646),
-        DVec3::new(
-            -0.39069567623194135,
-            0.8487025056225319,
-            -0.3564560919997055,
+        camera(
+            DVec3::new(12.77290181403474, 0.2383400832511522, 13.840931457504787),
+            DVec3::new(-0.626967034496259, -0.528870548385932, -0.5720212239986646),
+            DVec3::new(
+                -0.39069567623194135,
+                0.8487025056225319,
+                -0.3564560919997055,
+            ),
+            Lens {
+                fov_y_degrees: 99.3308074193156,
+                aspect: 0.4074350120072408,
+                near: 0.0015958901889251559,
+                far: 18.573228365202898,
+            },
         ),
         DVec3::new(0.3906956762319413, -0.8487025056225319, 0.3564560919997055),
-        Lens {
-            fov_y_degrees: 99.3308074193156,
-            aspect: 0.4074350120072408,
-            near: 0.0015958901889251559,
-            far: 18.573228365202898,
-        },
         16.1764,
         &BOXES_NEAR_THE_GROUND,
         None,
@@ -236,16 +239,18 @@ fn near_the_ground() -> Case {
 /// casters: here a scene box that holds the view's far end stands in for them.
 fn kilometres() -> Case {
     case(
-        DVec3::new(17379.13, 45.271, 9376.64),
-        DVec3::new(-0.77007, -0.52479, -0.36275),
-        DVec3::new(-0.47476, 0.85123, -0.22364),
+        camera(
+            DVec3::new(17379.13, 45.271, 9376.64),
+            DVec3::new(-0.77007, -0.52479, -0.36275),
+            DVec3::new(-0.47476, 0.85123, -0.22364),
+            Lens {
+                fov_y_degrees: 83.57,
+                aspect: 0.5766,
+                near: 37.6,
+                far: 16484.8,
+            },
+        ),
         DVec3::new(0.47476, -0.85123, 0.22364),
-        Lens {
-            fov_y_degrees: 83.57,
-            aspect: 0.5766,
-            near: 37.6,
-            far: 16484.8,
-        },
         21786.0,
         &[],
         Some((
