@@ -394,3 +394,104 @@ fn volumes_shade_like_the_maps() {
         );
     }
 }
+
+fn demo_camera(eye: DVec3, target: DVec3, up: DVec3) -> Camera {
+    Camera::look_at(
+        eye,
+        target,
+        up,
+        Lens {
+            aspect: 1.0,
+            far: 800.0,
+            ..Lens::default()
+        },
+    )
+    .unwrap()
+}
+
+/// A spot light and the camera inside a closed caster (the demo's `block_1_1`): its walls are
+/// lit from inside, and everything outside it is in its shadow. (The closed volume is built
+/// from the light-facing triangles, and inside a closed mesh there are none: the dark cap
+/// alone once shadowed every pixel.)
+#[test]
+fn a_spot_light_inside_a_closed_caster_lights_its_walls() {
+    let scene = RenderScene::from_layout(&gnomon_scene::demo());
+    let mut renderer = common::renderer(&scene);
+    let camera = demo_camera(
+        DVec3::new(-118.0, 20.0, -118.0),
+        DVec3::new(-100.0, 10.0, -118.0),
+        DVec3::Y,
+    );
+    let light = Light::Spot(
+        SpotLight::new(
+            DVec3::new(-118.0, 30.0, -118.0),
+            DVec3::new(1.0, -0.5, 0.0),
+            60.0,
+            100.0,
+        )
+        .unwrap(),
+    );
+    let oracle = common::oracle(&scene, &camera, &light, SIZE, SIZE);
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    for mode in [StencilMode::ZFail, StencilMode::PerCaster] {
+        let drawn = renderer
+            .render_volumes(&camera, &light, &settings, mode)
+            .unwrap();
+        let a = common::agreement(&drawn.frame, &oracle, 0.1);
+        println!(
+            "{mode:?}: {:.3}% of {} ({} shadowed)",
+            100.0 * a.fraction(),
+            a.compared,
+            a.shadowed
+        );
+        // The walls the spot faces are lit: many pixels judged, most of them lit.
+        assert!(
+            a.compared > 5000 && a.compared - a.shadowed > 5000,
+            "{mode:?}: {a:?}"
+        );
+        assert!(a.fraction() >= 0.999, "{mode:?}: {a:?}");
+    }
+}
+
+/// A light straight down, the camera inside a block looking up at its ceiling, which faces
+/// away from the light: every pixel whose surface faces away from the light reads not lit,
+/// and the walls edge-on to the light (N.L = 0) too.
+#[test]
+fn surfaces_facing_away_from_a_light_straight_down_read_not_lit() {
+    let scene = RenderScene::from_layout(&gnomon_scene::demo());
+    let mut renderer = common::renderer(&scene);
+    let camera = demo_camera(
+        DVec3::new(0.0, 5.0, 0.0),
+        DVec3::new(0.0, 300.0, 0.0),
+        DVec3::new(0.0, 0.0, -1.0),
+    );
+    let light = Light::Directional(DirectionalLight::new(DVec3::NEG_Y).unwrap());
+    let oracle = common::oracle(&scene, &camera, &light, SIZE, SIZE);
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    for mode in [StencilMode::ZFail, StencilMode::PerCaster] {
+        let drawn = renderer
+            .render_volumes(&camera, &light, &settings, mode)
+            .unwrap();
+        let (mut judged, mut lit) = (0, 0);
+        for (i, m) in oracle.mask.iter().enumerate() {
+            if *m != gnomon_render::MASK_EMPTY && oracle.n_dot_l[i] <= 1e-9 {
+                judged += 1;
+                lit += usize::from(drawn.frame.mask[i] == gnomon_render::MASK_LIT);
+            }
+        }
+        println!("{mode:?}: {lit} of {judged} pixels facing away read lit");
+        assert!(judged > 10_000, "{mode:?}: only {judged} pixels judged");
+        assert_eq!(
+            lit, 0,
+            "{mode:?}: {lit} of {judged} pixels facing away read lit"
+        );
+    }
+}

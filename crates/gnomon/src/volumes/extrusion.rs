@@ -49,7 +49,10 @@ impl VolumeCounts {
 /// extruded quad per possible silhouette edge (an edge between a light-facing and a
 /// back-facing triangle); a mesh kept for per-triangle volumes
 /// ([`crate::volumes::OpenMeshPolicy::PerTriangle`]) gives every triangle not edge-on to
-/// the light a closed volume of its own, seen from the side the light sees. With
+/// the light a closed volume of its own, seen from the side the light sees. So does a closed
+/// mesh that encloses a point light (a lamp inside a closed caster): no triangle faces the
+/// light there, and the light cap, the silhouette and so the closed volume's construction
+/// are empty, while each triangle's own volume shadows what lies outside it. With
 /// [`VolumeParts::SidesOnly`] the caps are left out.
 pub fn extrude_volume(
     mesh: &MeshTopology,
@@ -105,7 +108,8 @@ pub fn extrude_volume(
     };
     let corners = |tri: &[u32; 3]| tri.map(|k| world[k as usize]);
 
-    if mesh.is_closed() {
+    let encloses_light = point.is_some_and(|c| mesh.is_closed() && encloses(mesh, &world, c));
+    if mesh.is_closed() && !encloses_light {
         let facing: Vec<bool> = mesh
             .triangles()
             .iter()
@@ -147,6 +151,33 @@ pub fn extrude_volume(
         }
     }
     counts
+}
+
+/// Whether the closed mesh (vertices `world`) encloses `p`: its winding number about `p`, the
+/// sum of the triangles' signed solid angles over 4 pi (Van Oosterom and Strackee's formula),
+/// is 1 inside and 0 outside, whatever the winding's sense. Points outside the mesh's bounds
+/// are rejected first.
+fn encloses(mesh: &MeshTopology, world: &[DVec3], p: DVec3) -> bool {
+    let (lo, hi) = world
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), q| {
+            (lo.min(*q), hi.max(*q))
+        });
+    if p.cmplt(lo).any() || p.cmpgt(hi).any() {
+        return false;
+    }
+    let total: f64 = mesh
+        .triangles()
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|k| world[k as usize] - p);
+            let (la, lb, lc) = (a.length(), b.length(), c.length());
+            let numerator = a.dot(b.cross(c));
+            let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+            2.0 * numerator.atan2(denominator)
+        })
+        .sum();
+    total.abs() > 2.0 * std::f64::consts::PI
 }
 
 /// View to clip space with the far plane at infinity (depth in [0, 1], as wgpu wants):
@@ -212,6 +243,53 @@ mod tests {
             (p * v).truncate().truncate(),
             (finite * v).truncate().truncate()
         );
+    }
+
+    #[test]
+    fn a_point_light_inside_a_closed_mesh_gets_one_volume_per_triangle() {
+        let mesh = tetrahedron();
+        let inside = Light::Spot(
+            SpotLight::new(DVec3::new(0.2, 0.2, -0.2), DVec3::NEG_Y, 60.0, 10.0).unwrap(),
+        );
+        let outside = Light::Spot(
+            SpotLight::new(DVec3::new(0.2, 3.0, -0.2), DVec3::NEG_Y, 60.0, 10.0).unwrap(),
+        );
+        let mut out = Vec::new();
+        // Inside: every triangle its own closed volume (cap, dark cap, three quads).
+        let counts = extrude_volume(
+            &mesh,
+            DMat4::IDENTITY,
+            &inside,
+            VolumeParts::Closed,
+            &mut out,
+        );
+        assert_eq!(
+            (counts.light_cap, counts.dark_cap, counts.sides),
+            (4, 4, 24),
+            "{counts:?}"
+        );
+        // Moved by a placement (mirrored too), the same.
+        let mirror = DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0));
+        let moved = Light::Spot(
+            SpotLight::new(DVec3::new(-0.2, 0.2, -0.2), DVec3::NEG_Y, 60.0, 10.0).unwrap(),
+        );
+        let counts = extrude_volume(&mesh, mirror, &moved, VolumeParts::Closed, &mut out);
+        assert_eq!(counts.light_cap, 4, "{counts:?}");
+        // Outside: the one closed volume (light cap and dark cap split the four faces).
+        let counts = extrude_volume(
+            &mesh,
+            DMat4::IDENTITY,
+            &outside,
+            VolumeParts::Closed,
+            &mut out,
+        );
+        assert_eq!(counts.light_cap + counts.dark_cap, 4, "{counts:?}");
+        assert!(counts.sides < 24, "{counts:?}");
+        // The winding number: inside, outside, outside the bounds.
+        let world = mesh.positions().to_vec();
+        assert!(encloses(&mesh, &world, DVec3::new(0.2, 0.2, -0.2)));
+        assert!(!encloses(&mesh, &world, DVec3::new(0.6, 0.6, -0.6)));
+        assert!(!encloses(&mesh, &world, DVec3::new(0.2, 3.0, -0.2)));
     }
 
     /// A tetrahedron, counter-clockwise from outside.
