@@ -70,6 +70,9 @@ fn techniques(params: &TechniqueParams) -> Vec<(String, Technique)> {
 
 /// Runs `gnomon analyze`.
 pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
+    if let Some(path) = &args.plot {
+        crate::output::check_output("--plot", path, &["svg"])?;
+    }
     let config = IdealConfiguration::new(args.zn, args.zf, args.gamma)?;
     if args.samples < 2 || args.samples > 100_000 {
         return Err(CliError::usage(format!(
@@ -125,24 +128,34 @@ pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
             "logarithmic_ideal": ideal,
             "techniques": techniques,
         });
-        println!(
+        crate::say!(
             "{}",
             serde_json::to_string_pretty(&out).expect("JSON of plain values")
         );
         return Ok(());
     }
-    println!(
+    crate::say!(
         "dp/ds along the view axis (projection term 1), z_n = {}, z_f = {}, gamma = {} degrees, \
          {}x{} maps",
-        config.z_near, config.z_far, config.gamma_degrees, args.shadow_map, args.shadow_map
+        config.z_near,
+        config.z_far,
+        config.gamma_degrees,
+        args.shadow_map,
+        args.shadow_map
     );
-    println!(
+    crate::say!(
         "{:<10} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}  fallback",
-        "technique", "max", "z of max", "at z_n", "at z_f", "min", "z of min"
+        "technique",
+        "max",
+        "z of max",
+        "at z_n",
+        "at z_f",
+        "min",
+        "z of min"
     );
     for r in &rows {
         match &r.curve {
-            Ok(c) => println!(
+            Ok(c) => crate::say!(
                 "{:<10} {:>9.3} {:>9.2} {:>9.3} {:>9.3} {:>9.3} {:>9.2}  {}",
                 r.label,
                 c.max,
@@ -153,10 +166,10 @@ pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
                 c.z_of_min,
                 r.fallback.unwrap_or("none")
             ),
-            Err(e) => println!("{:<10} not measurable: {e}", r.label),
+            Err(e) => crate::say!("{:<10} not measurable: {e}", r.label),
         }
     }
-    println!(
+    crate::say!(
         "logarithmic ideal z_n ln(z_f / z_n) = {ideal:.3} (no single map has a smaller maximum)"
     );
     if let Some(path) = &args.plot {

@@ -31,17 +31,22 @@ pub struct ViewArgs {
     /// Far plane distance.
     #[arg(long, default_value_t = 400.0, allow_hyphen_values = true)]
     pub far: f64,
-    /// Width over height.
-    #[arg(long, default_value_t = 16.0 / 9.0, allow_hyphen_values = true)]
-    pub aspect: f64,
+    /// Width over height (default: the image's; 16:9 without an image).
+    #[arg(long, allow_hyphen_values = true)]
+    pub aspect: Option<f64>,
 }
 
 impl ViewArgs {
-    /// The validated camera.
+    /// The validated camera (16:9 unless `--aspect` says otherwise).
     pub fn camera(&self) -> Result<Camera, CliError> {
+        self.camera_with_aspect(16.0 / 9.0)
+    }
+
+    /// The validated camera, of aspect `default_aspect` unless `--aspect` says otherwise.
+    pub fn camera_with_aspect(&self, default_aspect: f64) -> Result<Camera, CliError> {
         let lens = Lens {
             fov_y_degrees: self.fov,
-            aspect: self.aspect,
+            aspect: self.aspect.unwrap_or(default_aspect),
             near: self.near,
             far: self.far,
         };
@@ -146,6 +151,66 @@ pub struct TechniqueParams {
 }
 
 impl TechniqueParams {
+    /// Refuses a parameter that none of `techniques` (with the parameters applied) reads.
+    pub fn check_used_by(&self, techniques: &[Technique]) -> Result<(), CliError> {
+        // The techniques a parameter's map appears in, SPPSM's perspective map included.
+        let has = |wanted: &dyn Fn(&Technique) -> bool| {
+            techniques.iter().any(|t| {
+                wanted(t)
+                    || match t {
+                        Technique::Sppsm(s) => wanted(&match s.perspective {
+                            PerspectiveMap::Psm(p) => Technique::Psm(p),
+                            PerspectiveMap::Lispsm(p) => Technique::Lispsm(p),
+                            PerspectiveMap::Tsm(p) => Technique::Tsm(p),
+                            PerspectiveMap::Xpsm(p) => Technique::Xpsm(p),
+                        }),
+                        _ => false,
+                    }
+            })
+        };
+        let checks: [(&str, bool, &dyn Fn(&Technique) -> bool); 8] = [
+            ("--lispsm-n", self.lispsm_n.is_some(), &|t| {
+                matches!(t, Technique::Lispsm(_))
+            }),
+            ("--tsm-xi", self.tsm_xi.is_some(), &|t| {
+                matches!(t, Technique::Tsm(_))
+            }),
+            ("--tsm-focus", self.tsm_focus.is_some(), &|t| {
+                matches!(t, Technique::Tsm(_))
+            }),
+            ("--xpsm-coef", self.xpsm_coef.is_some(), &|t| {
+                matches!(t, Technique::Xpsm(_))
+            }),
+            ("--xpsm-epsilon-w", self.xpsm_epsilon_w.is_some(), &|t| {
+                matches!(t, Technique::Xpsm(_))
+            }),
+            ("--psm-slide-back", self.psm_slide_back.is_some(), &|t| {
+                matches!(t, Technique::Psm(_))
+            }),
+            ("--sppsm-with", self.sppsm_with.is_some(), &|t| {
+                matches!(t, Technique::Sppsm(_))
+            }),
+            (
+                "--sppsm-iterations",
+                self.sppsm_iterations.is_some(),
+                &|t| matches!(t, Technique::Sppsm(_)),
+            ),
+        ];
+        for (option, given, reads) in checks {
+            if given && !has(reads) {
+                let names: Vec<&str> = techniques
+                    .iter()
+                    .map(gnomon::ShadowTechnique::name)
+                    .collect();
+                return Err(CliError::usage(format!(
+                    "{option} does nothing for {}",
+                    names.join(", ")
+                )));
+            }
+        }
+        Ok(())
+    }
+
     /// `technique` with these parameters.
     pub fn apply(&self, technique: Technique) -> Technique {
         match technique {
@@ -273,6 +338,7 @@ pub fn run_setup(args: &SetupArgs) -> Result<(), CliError> {
     let camera = args.view.camera()?;
     let light = args.light.light()?;
     let technique = args.params.apply(args.technique.technique());
+    args.params.check_used_by(&[technique])?;
     let setup = compute_setup(
         &technique,
         &camera,
@@ -281,13 +347,13 @@ pub fn run_setup(args: &SetupArgs) -> Result<(), CliError> {
         MapSettings::with_resolution(args.shadow_map),
     )?;
     if args.json {
-        println!(
+        crate::say!(
             "{}",
             serde_json::to_string_pretty(&report::setup_json(&setup))
                 .expect("JSON of plain values")
         );
     } else {
-        print!("{}", report::setup_text(&setup));
+        crate::output::print(&report::setup_text(&setup));
     }
     Ok(())
 }

@@ -146,6 +146,24 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     if entries.is_empty() {
         return Err(CliError::usage("--techniques names nothing to time"));
     }
+    let maps: Vec<Technique> = entries
+        .iter()
+        .filter_map(|e| match e {
+            Entry::Map(t) => Some(args.params.apply(*t)),
+            Entry::Volumes(_) => None,
+        })
+        .collect();
+    if !maps.is_empty() {
+        args.params.check_used_by(&maps)?;
+    }
+    for (k, e) in entries.iter().enumerate() {
+        if entries[..k].iter().any(|f| f.name() == e.name()) {
+            return Err(CliError::usage(format!(
+                "--techniques names {} twice",
+                e.name()
+            )));
+        }
+    }
     let baseline = entries
         .iter()
         .position(|e| e.name() == args.baseline.trim())
@@ -258,7 +276,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         .collect();
     let baseline_name = entries[baseline].name();
     if args.json {
-        println!(
+        crate::say!(
             "{}",
             serde_json::to_string_pretty(&json!({
                 "device": renderer.gpu().describe(),
@@ -274,7 +292,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         );
         return Ok(());
     }
-    println!(
+    crate::say!(
         "{:<16} {:<20} {:>10} {:>8} {:>10} {:>10} {:>11}",
         "view",
         "technique",
@@ -285,7 +303,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         format!("vs {baseline_name}")
     );
     for r in &results {
-        println!(
+        crate::say!(
             "{:<16} {:<20} {:>10.2} {:>8.2} {:>10.2} {:>10.2} {:>11}",
             r["view"].as_str().unwrap_or_default(),
             r["technique"].as_str().unwrap_or_default(),
@@ -296,9 +314,9 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             format!("{:.2}x", r["vs_baseline"].as_f64().unwrap_or_default()),
         );
     }
-    println!("\nframe time / {baseline_name}'s over the views: mean (smallest, largest)");
+    crate::say!("\nframe time / {baseline_name}'s over the views: mean (smallest, largest)");
     for s in &summary {
-        println!(
+        crate::say!(
             "{:<20} {:>6.2}x ({:.2}x, {:.2}x)",
             s["technique"].as_str().unwrap_or_default(),
             s["mean_vs_baseline"].as_f64().unwrap_or_default(),

@@ -111,6 +111,16 @@ fn techniques(args: &CompareArgs) -> Result<Vec<Entry>, CliError> {
             })
             .collect::<Result<_, _>>()?
     };
+    for (k, t) in named.iter().enumerate() {
+        if named[..k].iter().any(|u| u.name() == t.name()) {
+            return Err(CliError::usage(format!(
+                "--techniques names {} twice",
+                t.name()
+            )));
+        }
+    }
+    let applied: Vec<Technique> = named.iter().map(|t| args.params.apply(*t)).collect();
+    args.params.check_used_by(&applied)?;
     let mut entries = Vec::new();
     for technique in named {
         let technique = args.params.apply(technique);
@@ -373,6 +383,6 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         views.len(),
         started.elapsed().as_secs_f64()
     );
-    println!("wrote {}", args.out.join("index.md").display());
+    crate::say!("wrote {}", args.out.join("index.md").display());
     Ok(())
 }

@@ -24,8 +24,8 @@ pub struct DemoArgs {
     /// Shadow-map resolution in texels.
     #[arg(long, default_value_t = 2048)]
     pub shadow_map: u32,
-    /// Image width in pixels (the height follows at 16:9).
-    #[arg(long, default_value_t = 960)]
+    /// Image width in pixels, 64 to 4096 (the height follows at 16:9).
+    #[arg(long, default_value_t = 960, value_parser = clap::value_parser!(u32).range(64..=4096))]
     pub width: u32,
     #[command(flatten)]
     pub params: TechniqueParams,
@@ -41,8 +41,8 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
     let mut renderer = Renderer::new(Gpu::new()?, &scene)?;
     eprintln!("gnomon demo: rendering on {}", renderer.gpu().describe());
-    let width = args.width.clamp(16, 8192);
-    let height = (width * 9 / 16).max(9);
+    let width = args.width;
+    let height = width * 9 / 16;
     let settings = RenderSettings {
         width,
         height,
@@ -194,6 +194,6 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         started.elapsed().as_secs_f64(),
         renderer.timing_source().name()
     );
-    println!("wrote {}", args.out.join("index.html").display());
+    crate::say!("wrote {}", args.out.join("index.html").display());
     Ok(())
 }

@@ -15,6 +15,7 @@ mod bench;
 mod compare;
 mod demo;
 mod heatmap;
+mod output;
 mod render;
 mod report;
 

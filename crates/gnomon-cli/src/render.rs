@@ -117,22 +117,23 @@ pub struct RenderArgs {
     /// Shadow volumes: how the stencil counts (z-fail is exact wherever the camera is;
     /// z-pass is wrong where a volume reaches the near plane; per-caster is exact and uses
     /// z-pass where it can).
-    #[arg(long, value_enum, default_value = "z-fail")]
-    pub stencil: StencilArg,
+    /// (Default z-fail.)
+    #[arg(long, value_enum)]
+    pub stencil: Option<StencilArg>,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Shadow-map filtering.
     #[arg(long, value_enum, default_value = "2x2")]
     pub pcf: PcfArg,
-    /// Constant depth bias in world units.
-    #[arg(long, default_value_t = DepthBias::default().constant_world)]
+    /// Constant depth bias in world units, 0 to 10^4.
+    #[arg(long, default_value_t = DepthBias::default().constant_world, value_parser = parse_bias_world, allow_hyphen_values = true)]
     pub bias_constant: f64,
-    /// Slope-scaled depth bias, in texels of depth slope.
-    #[arg(long, default_value_t = DepthBias::default().slope_texels)]
+    /// Slope-scaled depth bias, in texels of depth slope, 0 to 64.
+    #[arg(long, default_value_t = DepthBias::default().slope_texels, value_parser = parse_texels, allow_hyphen_values = true)]
     pub bias_slope: f64,
-    /// Normal offset, in texels.
-    #[arg(long, default_value_t = DepthBias::default().normal_offset_texels)]
+    /// Normal offset, in texels, 0 to 64.
+    #[arg(long, default_value_t = DepthBias::default().normal_offset_texels, value_parser = parse_texels, allow_hyphen_values = true)]
     pub normal_offset: f64,
     /// Where to write the image (PNG).
     #[arg(long, default_value = "frame.png")]
@@ -160,6 +161,27 @@ pub struct RenderArgs {
     /// (N.L > 0.1).
     #[arg(long)]
     pub json: bool,
+}
+
+/// A bias in world units: a number from 0 to 10^4.
+fn parse_bias_world(s: &str) -> Result<f64, String> {
+    parse_range(s, 0.0, 1e4, "world units")
+}
+
+/// A bias in texels: a number from 0 to 64.
+fn parse_texels(s: &str) -> Result<f64, String> {
+    parse_range(s, 0.0, 64.0, "texels")
+}
+
+fn parse_range(s: &str, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number"))?;
+    if !(v.is_finite() && (lo..=hi).contains(&v)) {
+        return Err(format!("{s} must be from {lo} to {hi} {unit}"));
+    }
+    Ok(v)
 }
 
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -223,10 +245,6 @@ pub fn write_png(
     color: image::ColorType,
     bytes: &[u8],
 ) -> Result<(), CliError> {
-    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent)
-            .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", parent.display())))?;
-    }
     image::save_buffer(path, bytes, width, height, color)
         .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))
 }
@@ -294,9 +312,25 @@ pub fn open_renderer(
 
 /// Runs `gnomon render`.
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
+    // Every output checked before any work.
+    let png: &[&str] = &["png"];
+    let mut outputs = vec![("--out", args.out.as_path(), png)];
+    for (option, path) in [
+        ("--mask", &args.mask),
+        ("--light-view", &args.light_view),
+        ("--error-map", &args.error_map),
+    ] {
+        if let Some(path) = path {
+            outputs.push((option, path.as_path(), png));
+        }
+    }
+    crate::output::check_outputs(&outputs)?;
     let scene = render_scene(&args.scene, &args.mesh)?;
     let bounds = scene.bounds()?;
-    let camera = args.view.camera()?;
+    // The lens's aspect follows the image unless given.
+    let camera = args
+        .view
+        .camera_with_aspect(args.size.0 as f64 / args.size.1 as f64)?;
     if camera.lens().far > gnomon_render::MAX_VIEW_DISTANCE {
         return Err(CliError::usage(format!(
             "--far {} is beyond what the renderer draws precisely (at most {})",
@@ -308,8 +342,21 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let Some(technique) = args.technique.map_technique() else {
         return run_volumes(args, &scene, &camera, &light);
     };
+    if args.stencil.is_some() {
+        return Err(CliError::usage(format!(
+            "--stencil counts shadow volumes; technique {} uses a shadow map",
+            gnomon::ShadowTechnique::name(&technique.technique())
+        )));
+    }
     let technique = args.params.apply(technique.technique());
+    args.params.check_used_by(&[technique])?;
     let (setup, setup_us) = timed_setup(&technique, &camera, &light, &bounds, args.shadow_map)?;
+    if args.tint && setup.maps.len() < 2 {
+        return Err(CliError::usage(format!(
+            "--tint colours the maps of a two-map technique (sppsm); {} has one map",
+            technique.name()
+        )));
+    }
     let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
     let settings = RenderSettings {
         width: args.size.0,
@@ -353,7 +400,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             "undersampling": heatmap::percentiles(metrics, &metrics.undersampling),
             "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
         });
-        println!(
+        crate::say!(
             "{}",
             serde_json::to_string_pretty(&summary).expect("JSON of plain values")
         );
@@ -400,7 +447,7 @@ fn run_volumes(
         height: args.size.1,
         ..RenderSettings::default()
     };
-    let mode = match args.stencil {
+    let mode = match args.stencil.unwrap_or(StencilArg::ZFail) {
         StencilArg::ZFail => StencilMode::ZFail,
         StencilArg::ZPass => StencilMode::ZPass,
         StencilArg::PerCaster => StencilMode::PerCaster,
@@ -411,7 +458,7 @@ fn run_volumes(
     eprintln!(
         "volumes ({}) on {}: {} volume triangles ({} casters z-fail, {} z-pass{}{}), \
          extrusion and stencil {:.2} ms, shading {:.2} ms ({}); wrote {}",
-        args.stencil.name(),
+        args.stencil.unwrap_or(StencilArg::ZFail).name(),
         renderer.gpu().describe(),
         stats.triangles,
         stats.z_fail_casters,

@@ -412,7 +412,13 @@ fn filters_change_the_image_but_not_the_one_tap_mask() {
 fn render_without_an_adapter_says_what_to_install() {
     let out = Command::new(env!("CARGO_BIN_EXE_gnomon"))
         .args(RENDER)
-        .args(["--out", "/nonexistent/never-written.png"])
+        .args([
+            "--out",
+            std::env::temp_dir()
+                .join("gnomon-never-written.png")
+                .to_str()
+                .unwrap(),
+        ])
         .env("WGPU_BACKEND", "metal")
         .output()
         .unwrap();
@@ -486,10 +492,11 @@ fn render_with_shadow_volumes_writes_a_mask_like_the_maps() {
     let dir = temp_dir("volumes");
     let mask = |technique: &str| {
         let path = dir.join(format!("{technique}.png"));
+        let frame = dir.join(format!("{technique}_frame.png"));
         let mut args = RENDER.to_vec();
         args.extend([
             "--out",
-            path.to_str().unwrap(),
+            frame.to_str().unwrap(),
             "--mask",
             path.to_str().unwrap(),
             "--technique",
@@ -999,4 +1006,151 @@ fn sppsm_setup_and_render() {
     bad.extend(view);
     assert_eq!(gnomon(&bad).status.code(), Some(2));
     std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Each bad input a new user met (the robustness issue's list): exit code 2, one line on
+/// stderr that says what is wrong, no panic, and no file written.
+#[test]
+fn bad_options_and_outputs_are_refused_before_any_work() {
+    let dir = temp_dir("refused");
+    let file = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let (frame, jpg, error_jpg) = (file("frame.png"), file("x.jpg"), file("e.jpg"));
+    let nested = file("missing/deeper/x.png");
+    let dir_path = dir.to_str().unwrap().to_string();
+    let zero_link = file("zero.off");
+    std::os::unix::fs::symlink("/dev/zero", &zero_link).unwrap();
+    let render = |extra: &[&str]| {
+        let mut args: Vec<String> = RENDER.iter().map(|s| s.to_string()).collect();
+        if !extra.contains(&"--out") {
+            args.extend(["--out".into(), frame.clone()]);
+        }
+        args.extend(extra.iter().map(|s| s.to_string()));
+        args
+    };
+    let plain = |args: &[&str]| args.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (render(&["--bias-constant", "nan"]), "bias-constant"),
+        (render(&["--normal-offset", "nan"]), "normal-offset"),
+        (render(&["--bias-slope", "inf"]), "bias-slope"),
+        (render(&["--bias-constant", "-0.1"]), "bias-constant"),
+        (render(&["--normal-offset", "1e9"]), "normal-offset"),
+        (render(&["--out", &jpg]), ".png"),
+        (render(&["--error-map", &error_jpg]), ".png"),
+        (render(&["--mask", "/proc/m.png"]), "cannot be written"),
+        (render(&["--out", &dir_path]), "folder"),
+        (render(&["--out", &nested]), "does not exist"),
+        (render(&["--tint"]), "--tint"),
+        (render(&["--stencil", "z-pass"]), "--stencil"),
+        (
+            render(&["--lispsm-n", "5"]),
+            "--lispsm-n does nothing for focused",
+        ),
+        (render(&["--mesh", &zero_link]), "not a regular file"),
+        (
+            plain(&[
+                "analyze",
+                "--zn",
+                "1",
+                "--zf",
+                "100",
+                "--plot",
+                &file("x.png"),
+            ]),
+            ".svg",
+        ),
+        (
+            plain(&["demo", "--width", "0", "--out", &file("demo")]),
+            "width",
+        ),
+        (
+            plain(&["demo", "--width", "100000", "--out", &file("demo")]),
+            "width",
+        ),
+        (
+            plain(&[
+                "compare",
+                "--techniques",
+                "focused,focused",
+                "--out",
+                &file("report"),
+            ]),
+            "twice",
+        ),
+    ];
+    for (args, expected) in &cases {
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = gnomon(&refs);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(expected),
+            "{args:?}: expected '{expected}' in {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+    // Nothing was written: the folder holds only the link made above.
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("zero.off")], "{left:?}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `render`'s lens follows the image's aspect unless `--aspect` is given.
+#[test]
+fn the_aspect_follows_the_image_unless_given() {
+    let dir = temp_dir("aspect");
+    let render = |name: &str, extra: &[&str]| {
+        let path = dir.join(name);
+        // RENDER's 160x90 made square.
+        let mut args: Vec<&str> = RENDER
+            .iter()
+            .map(|a| if *a == "160x90" { "120x120" } else { *a })
+            .collect();
+        args.extend(["--out", path.to_str().unwrap()]);
+        args.extend(extra);
+        let out = gnomon(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read(path).unwrap()
+    };
+    let default = render("default.png", &[]);
+    assert_eq!(default, render("square.png", &["--aspect", "1"]));
+    assert_ne!(default, render("wide.png", &["--aspect", "1.7778"]));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `gnomon analyze --json | head`: the closed pipe ends the program quietly.
+#[test]
+fn a_closed_pipe_ends_the_output_quietly() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gnomon"))
+        .args([
+            "analyze",
+            "--zn",
+            "1",
+            "--zf",
+            "100",
+            "--json",
+            "--samples",
+            "2000",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Read a little, then close the pipe, as `head -c 10` does.
+    let mut stdout = child.stdout.take().unwrap();
+    let mut first = [0u8; 10];
+    std::io::Read::read_exact(&mut stdout, &mut first).unwrap();
+    drop(stdout);
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
 }

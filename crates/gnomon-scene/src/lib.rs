@@ -16,7 +16,7 @@ use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
 
 pub use demo::{DEMO_VIEWS, DemoView, GROUND_HALF_SIZE, demo};
-pub use load::{LoadError, MeshFormat};
+pub use load::{LoadError, MAX_MESH_BYTES, MeshFormat};
 pub use mesh::Mesh;
 
 /// The shape of an object, in its own space (centred on the origin unless said otherwise).

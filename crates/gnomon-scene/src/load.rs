@@ -44,9 +44,22 @@ impl MeshFormat {
     }
 }
 
+/// The largest mesh file read: 1 GiB.
+pub const MAX_MESH_BYTES: u64 = 1 << 30;
+
 /// Why a mesh file could not be loaded.
 #[derive(Debug)]
 pub enum LoadError {
+    /// The path is not a regular file (a folder, a device such as /dev/zero, a pipe).
+    NotAFile {
+        /// The path.
+        path: PathBuf,
+    },
+    /// The file is larger than [`MAX_MESH_BYTES`].
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+    },
     /// The file could not be read.
     Io {
         /// The file.
@@ -94,6 +107,15 @@ pub enum LoadError {
 impl fmt::Display for LoadError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Self::NotAFile { path } => {
+                write!(f, "{} is not a regular file", path.display())
+            }
+            Self::TooLarge { path } => write!(
+                f,
+                "{} is larger than {} MiB, the most a mesh file may hold",
+                path.display(),
+                MAX_MESH_BYTES >> 20
+            ),
             Self::Io { path, source } => write!(f, "cannot read {}: {source}", path.display()),
             Self::UnknownFormat { path } => write!(
                 f,
@@ -144,10 +166,28 @@ impl Mesh {
         let format = MeshFormat::from_path(path).ok_or_else(|| LoadError::UnknownFormat {
             path: path.to_path_buf(),
         })?;
-        let bytes = std::fs::read(path).map_err(|source| LoadError::Io {
+        let io = |source| LoadError::Io {
             path: path.to_path_buf(),
             source,
-        })?;
+        };
+        // A regular file, read up to the limit (a link to /dev/zero reports size 0 and never
+        // ends; a size check alone would pass it).
+        if !std::fs::metadata(path).map_err(io)?.is_file() {
+            return Err(LoadError::NotAFile {
+                path: path.to_path_buf(),
+            });
+        }
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(
+            &mut std::io::Read::take(std::fs::File::open(path).map_err(io)?, MAX_MESH_BYTES + 1),
+            &mut bytes,
+        )
+        .map_err(io)?;
+        if bytes.len() as u64 > MAX_MESH_BYTES {
+            return Err(LoadError::TooLarge {
+                path: path.to_path_buf(),
+            });
+        }
         Self::parse(&bytes, format).map_err(|e| e.at(path))
     }
 
@@ -218,6 +258,8 @@ impl LoadError {
     fn at(mut self, file: &Path) -> Self {
         match &mut self {
             Self::Io { path, .. }
+            | Self::NotAFile { path }
+            | Self::TooLarge { path }
             | Self::UnknownFormat { path }
             | Self::Parse { path, .. }
             | Self::IndexOutOfRange { path, .. }
