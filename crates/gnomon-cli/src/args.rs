@@ -150,63 +150,50 @@ pub struct TechniqueParams {
     pub sppsm_iterations: Option<u32>,
 }
 
+/// The technique parameters `technique` reads (SPPSM: its own and its perspective map's).
+fn options_read_by(technique: &Technique) -> Vec<&'static str> {
+    match technique {
+        Technique::Lispsm(_) => vec!["--lispsm-n"],
+        Technique::Tsm(_) => vec!["--tsm-xi", "--tsm-focus"],
+        Technique::Xpsm(_) => vec!["--xpsm-coef", "--xpsm-epsilon-w"],
+        Technique::Psm(_) => vec!["--psm-slide-back"],
+        Technique::Sppsm(s) => {
+            let mut read = vec!["--sppsm-with", "--sppsm-iterations"];
+            read.extend(options_read_by(&match s.perspective {
+                PerspectiveMap::Psm(p) => Technique::Psm(p),
+                PerspectiveMap::Lispsm(p) => Technique::Lispsm(p),
+                PerspectiveMap::Tsm(p) => Technique::Tsm(p),
+                PerspectiveMap::Xpsm(p) => Technique::Xpsm(p),
+            }));
+            read
+        }
+        _ => Vec::new(),
+    }
+}
+
 impl TechniqueParams {
     /// Refuses a parameter that none of `techniques` (with the parameters applied) reads.
     pub fn check_used_by(&self, techniques: &[Technique]) -> Result<(), CliError> {
-        // The techniques a parameter's map appears in, SPPSM's perspective map included.
-        let has = |wanted: &dyn Fn(&Technique) -> bool| {
-            techniques.iter().any(|t| {
-                wanted(t)
-                    || match t {
-                        Technique::Sppsm(s) => wanted(&match s.perspective {
-                            PerspectiveMap::Psm(p) => Technique::Psm(p),
-                            PerspectiveMap::Lispsm(p) => Technique::Lispsm(p),
-                            PerspectiveMap::Tsm(p) => Technique::Tsm(p),
-                            PerspectiveMap::Xpsm(p) => Technique::Xpsm(p),
-                        }),
-                        _ => false,
-                    }
-            })
-        };
-        let checks: [(&str, bool, &dyn Fn(&Technique) -> bool); 8] = [
-            ("--lispsm-n", self.lispsm_n.is_some(), &|t| {
-                matches!(t, Technique::Lispsm(_))
-            }),
-            ("--tsm-xi", self.tsm_xi.is_some(), &|t| {
-                matches!(t, Technique::Tsm(_))
-            }),
-            ("--tsm-focus", self.tsm_focus.is_some(), &|t| {
-                matches!(t, Technique::Tsm(_))
-            }),
-            ("--xpsm-coef", self.xpsm_coef.is_some(), &|t| {
-                matches!(t, Technique::Xpsm(_))
-            }),
-            ("--xpsm-epsilon-w", self.xpsm_epsilon_w.is_some(), &|t| {
-                matches!(t, Technique::Xpsm(_))
-            }),
-            ("--psm-slide-back", self.psm_slide_back.is_some(), &|t| {
-                matches!(t, Technique::Psm(_))
-            }),
-            ("--sppsm-with", self.sppsm_with.is_some(), &|t| {
-                matches!(t, Technique::Sppsm(_))
-            }),
-            (
-                "--sppsm-iterations",
-                self.sppsm_iterations.is_some(),
-                &|t| matches!(t, Technique::Sppsm(_)),
-            ),
+        let given = [
+            ("--lispsm-n", self.lispsm_n.is_some()),
+            ("--tsm-xi", self.tsm_xi.is_some()),
+            ("--tsm-focus", self.tsm_focus.is_some()),
+            ("--xpsm-coef", self.xpsm_coef.is_some()),
+            ("--xpsm-epsilon-w", self.xpsm_epsilon_w.is_some()),
+            ("--psm-slide-back", self.psm_slide_back.is_some()),
+            ("--sppsm-with", self.sppsm_with.is_some()),
+            ("--sppsm-iterations", self.sppsm_iterations.is_some()),
         ];
-        for (option, given, reads) in checks {
-            if given && !has(reads) {
-                let names: Vec<&str> = techniques
-                    .iter()
-                    .map(gnomon::ShadowTechnique::name)
-                    .collect();
-                return Err(CliError::usage(format!(
-                    "{option} does nothing for {}",
-                    names.join(", ")
-                )));
-            }
+        let read: Vec<&str> = techniques.iter().flat_map(options_read_by).collect();
+        for (option, _) in given.iter().filter(|(o, g)| *g && !read.contains(o)) {
+            let names: Vec<&str> = techniques
+                .iter()
+                .map(gnomon::ShadowTechnique::name)
+                .collect();
+            return Err(CliError::usage(format!(
+                "{option} does nothing for {}",
+                names.join(", ")
+            )));
         }
         Ok(())
     }
