@@ -185,7 +185,7 @@ impl TechniqueParams {
             ("--sppsm-iterations", self.sppsm_iterations.is_some()),
         ];
         let read: Vec<&str> = techniques.iter().flat_map(options_read_by).collect();
-        for (option, _) in given.iter().filter(|(o, g)| *g && !read.contains(o)) {
+        if let Some((option, _)) = given.iter().find(|(o, g)| *g && !read.contains(o)) {
             let names: Vec<&str> = techniques
                 .iter()
                 .map(gnomon::ShadowTechnique::name)
