@@ -124,12 +124,14 @@ pub struct TechniqueParams {
     /// the paper's n_opt / sin(gamma)).
     #[arg(long, allow_hyphen_values = true)]
     pub lispsm_n: Option<f64>,
-    /// TSM: where the focus line lands in the map's y, in (-1, 1) (default -0.6, the 80%
-    /// rule).
+    /// TSM, with --tsm-focus: where the focus line lands in the map's y, in (-1, 1) (default
+    /// -0.6, the 80% rule).
     #[arg(long, allow_hyphen_values = true)]
     pub tsm_xi: Option<f64>,
     /// TSM: where the focus point lies along the view, as a fraction of the way from the near
-    /// plane to the far end of the view body, in [0, 1] (default 0.8).
+    /// plane to the far end of the view body, in [0, 1], for the paper's 80% rule with
+    /// --tsm-xi (default: the projection point that balances the aliasing at z_n and z_f, as
+    /// LiSPSM's n_opt does).
     #[arg(long, allow_hyphen_values = true)]
     pub tsm_focus: Option<f64>,
     /// XPSM: warp strength per world unit (default 0.05, for scenes in metres).
@@ -184,6 +186,11 @@ impl TechniqueParams {
             ("--sppsm-with", self.sppsm_with.is_some()),
             ("--sppsm-iterations", self.sppsm_iterations.is_some()),
         ];
+        if self.tsm_xi.is_some() && self.tsm_focus.is_none() {
+            return Err(CliError::usage(
+                "--tsm-xi places the focus line of --tsm-focus (the 80% rule); give both",
+            ));
+        }
         let read: Vec<&str> = techniques.iter().flat_map(options_read_by).collect();
         if let Some((option, _)) = given.iter().find(|(o, g)| *g && !read.contains(o)) {
             let names: Vec<&str> = techniques
@@ -207,7 +214,7 @@ impl TechniqueParams {
             }
             Technique::Tsm(mut t) => {
                 t.xi = self.tsm_xi.unwrap_or(t.xi);
-                t.focus = self.tsm_focus.unwrap_or(t.focus);
+                t.focus = self.tsm_focus.or(t.focus);
                 Technique::Tsm(t)
             }
             Technique::Psm(mut t) => {

@@ -3,6 +3,8 @@
 //! plane to the far end of the view body, lands at y = xi; the near plane's centre lands on
 //! the top line or beyond it (y >= 1, inside the inset).
 
+mod common;
+
 use glam::DVec3;
 use gnomon::{
     Aabb, Camera, DirectionalLight, Lens, Light, MapSettings, SceneBounds, Tsm, compute_setup,
@@ -42,7 +44,7 @@ fn focus_point_lands_at_xi_and_the_near_plane_on_top() {
     for xi in [-0.6, -0.7, -0.9, -0.3] {
         let tsm = Tsm {
             xi,
-            ..Tsm::default()
+            focus: Some(0.8),
         };
         let setup = compute_setup(
             &tsm,
@@ -101,7 +103,7 @@ fn bad_parameters_are_typed_errors() {
     }
     let r = compute_setup(
         &Tsm {
-            focus: 1.5,
+            focus: Some(1.5),
             ..Tsm::default()
         },
         &camera,
@@ -113,4 +115,30 @@ fn bad_parameters_are_typed_errors() {
         r,
         Err(gnomon::SetupError::InvalidParameter { .. })
     ));
+}
+
+/// In the LiSPSM paper's ideal configuration (z_n = 1, z_f = 100, light perpendicular to the
+/// view) TSM's default projection point balances the aliasing at both ends, as LiSPSM's
+/// n_opt does: dp/ds = 9.9 at z_n and z_f, measured from the matrix. (The 80% rule with the
+/// focus at 80% of the depth and xi = -0.6 gives parallel sides there: the focused map, 99 at
+/// z_n.)
+#[test]
+fn the_default_projection_point_balances_the_ideal_configuration() {
+    use common::{Z_F, Z_N, dp_ds, ideal_map, within};
+    let map = ideal_map(&Tsm::default());
+    let (near, far) = (dp_ds(&map, Z_N), dp_ds(&map, Z_F));
+    println!("TSM default: dp/ds(z_n) = {near:.4}, dp/ds(z_f) = {far:.4}");
+    assert!(
+        within(near, 9.9, 0.03) && within(far, 9.9, 0.03),
+        "{near}, {far}"
+    );
+    let rule = ideal_map(&Tsm {
+        xi: -0.6,
+        focus: Some(0.8),
+    });
+    let rule_near = dp_ds(&rule, Z_N);
+    assert!(
+        within(rule_near, 99.0, 0.03),
+        "the 80% rule at z_n: {rule_near}"
+    );
 }

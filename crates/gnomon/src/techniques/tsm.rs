@@ -9,11 +9,23 @@
 //! shadowable visible receiver and every caster point that shadows one lies in Q). The centre
 //! line runs from the projected centre of the near plane toward the projected centre of the
 //! far plane (direction l). The top and base lines are perpendicular to l and touch Q; lambda
-//! is their distance. The 80% rule: the point on the view axis at `focus` (0.8) of the way
-//! from the near plane to the far end of P, at distance delta' below the top line, must map
-//! to y = xi (-0.6: 80% of the map lies between the top and it). That puts the projection
-//! point q at eta = lambda delta' (1 + xi) / (lambda (1 - xi) - 2 delta') behind the top line;
-//! the side lines pass through q and touch Q. The 2D projective map sends this trapezoid to
+//! is their distance. The side lines pass through a projection point q at eta behind the top
+//! line and touch Q.
+//!
+//! Where q goes. The paper's 80% rule: the point on the view axis at `focus` of the way from
+//! the near plane to the far end of P, at distance delta' below the top line, maps to y = xi
+//! (-0.6: 80% of the map lies between the top and it), which puts q at
+//! eta = lambda delta' (1 + xi) / (lambda (1 - xi) - 2 delta'). The focus distance is where
+//! the viewer's region of interest ends, well inside the view; the paper leaves it to the
+//! application. Given as a fraction, `focus` is used as the rule says. By default (`focus:
+//! None`) eta balances the perspective aliasing at both ends of the view as LiSPSM's n_opt
+//! does: along the centre line the map is the 1D perspective y(t) ~ 1 / (t + eta), so a
+//! texel spans (t + eta)^2 / eta of t; dp/ds = that over the view depth z is equal at z_n
+//! (t = 0) and z_f (t = lambda) when eta = lambda sqrt(z_n) / (sqrt(z_f) - sqrt(z_n)), with
+//! z_n and z_f the view depths where P begins and ends. In the LiSPSM paper's ideal
+//! configuration (z_n = 1, z_f = 100, light perpendicular to the view) that is LiSPSM's warp:
+//! dp/ds = 9.9 at both ends. (A focus at 80% of the depth with xi = -0.6 makes the
+//! denominator vanish there: the side lines come out parallel and TSM is the focused map.) The 2D projective map sends this trapezoid to
 //! the inset square: with t the distance below the top line, a the lateral offset from q and
 //! w = t + eta,
 //!
@@ -42,24 +54,26 @@ use crate::setup::{Fallback, MapProjection, SetupInput, ShadowMap, ShadowSetup, 
 use crate::techniques::focused::Focused;
 use crate::techniques::{tolerance, with_fallback};
 
-/// Trapezoidal shadow map (TSM, Martin and Tan 2004) over the focused map, with the 80% rule.
-/// See the module documentation for the construction and each degenerate case.
+/// Trapezoidal shadow map (TSM, Martin and Tan 2004) over the focused map. See the module
+/// documentation for the construction, where its projection point goes, and each degenerate
+/// case.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tsm {
-    /// Where the focus line lands in the map's y, in (-1, 1); -0.6 puts 80% of the map
-    /// between the near side and the focus line.
+    /// With `focus`: where the focus line lands in the map's y, in (-1, 1); -0.6 puts 80% of
+    /// the map between the near side and the focus line.
     pub xi: f64,
     /// Where the focus point lies along the view, as a fraction of the way from the near plane
-    /// to the far end of the view body, in [0, 1].
-    pub focus: f64,
+    /// to the far end of the view body, in [0, 1] (the 80% rule); `None`: the projection
+    /// point that balances the aliasing at both ends of the view.
+    pub focus: Option<f64>,
 }
 
 impl Default for Tsm {
-    /// xi = -0.6, focus at 80% of the view's depth (the paper's 80% rule).
+    /// xi = -0.6; the projection point that balances the aliasing at z_n and z_f.
     fn default() -> Self {
         Self {
             xi: -0.6,
-            focus: 0.8,
+            focus: None,
         }
     }
 }
@@ -72,10 +86,10 @@ impl Tsm {
                 value: self.xi,
             });
         }
-        if !(0.0..=1.0).contains(&self.focus) {
+        if let Some(focus) = self.focus.filter(|f| !(0.0..=1.0).contains(f)) {
             return Err(SetupError::InvalidParameter {
                 name: "tsm focus",
-                value: self.focus,
+                value: focus,
             });
         }
         Ok(())
@@ -150,13 +164,28 @@ impl ShadowTechnique for Tsm {
         if lambda.is_nan() || lambda <= 0.0 {
             return fall_back(Fallback::DegenerateFocusBody);
         }
-        let focus_point =
-            ndc(eye + forward * (near + self.focus * (far - near))).unwrap_or(near_center);
-        // delta' below the top line, kept a little off the top so that eta stays positive.
-        let delta = (focus_point.dot(l) - t_min).clamp(1e-3 * lambda, lambda);
-        let denominator = lambda * (1.0 - self.xi) - 2.0 * delta;
-        let eta =
-            (denominator > 1e-9 * lambda).then(|| lambda * delta * (1.0 + self.xi) / denominator);
+        let eta = match self.focus {
+            Some(focus) => {
+                let focus_point =
+                    ndc(eye + forward * (near + focus * (far - near))).unwrap_or(near_center);
+                // delta' below the top line, kept a little off the top so that eta stays
+                // positive.
+                let delta = (focus_point.dot(l) - t_min).clamp(1e-3 * lambda, lambda);
+                let denominator = lambda * (1.0 - self.xi) - 2.0 * delta;
+                (denominator > 1e-9 * lambda)
+                    .then(|| lambda * delta * (1.0 + self.xi) / denominator)
+            }
+            None => {
+                // z_n: where P begins along the view (at least the near plane).
+                let z_n = body
+                    .iter()
+                    .map(|p| (*p - eye).dot(forward))
+                    .fold(far, f64::min)
+                    .max(near);
+                let (root_n, root_f) = (z_n.sqrt(), far.sqrt());
+                (root_f > root_n * (1.0 + 1e-9)).then(|| lambda * root_n / (root_f - root_n))
+            }
+        };
         let centre_lateral = near_center.dot(side);
         let rows = trapezoid_rows(
             &focused,
