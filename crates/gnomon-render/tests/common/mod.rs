@@ -132,11 +132,18 @@ pub struct Agreement {
     pub agreeing: usize,
     /// Oracle pixels compared that are in shadow (so that a test is not all lit).
     pub shadowed: usize,
+    /// Of those, how many the mask has in shadow too.
+    pub shadowed_agreeing: usize,
 }
 
 impl Agreement {
     pub fn fraction(&self) -> f64 {
         self.agreeing as f64 / self.compared.max(1) as f64
+    }
+
+    /// The share of the oracle's shadowed pixels that the mask has in shadow.
+    pub fn shadow_recall(&self) -> f64 {
+        self.shadowed_agreeing as f64 / self.shadowed.max(1) as f64
     }
 }
 
@@ -155,6 +162,7 @@ pub fn mask_agreement(mask: &[u8], oracle: &OracleMask, min_n_dot_l: f64) -> Agr
         compared: 0,
         agreeing: 0,
         shadowed: 0,
+        shadowed_agreeing: 0,
     };
     for y in 1..h - 1 {
         for x in 1..w - 1 {
@@ -172,6 +180,7 @@ pub fn mask_agreement(mask: &[u8], oracle: &OracleMask, min_n_dot_l: f64) -> Agr
             result.compared += 1;
             result.shadowed += usize::from(value == MASK_UNLIT);
             result.agreeing += usize::from(mask[i] == value);
+            result.shadowed_agreeing += usize::from(value == MASK_UNLIT && mask[i] == value);
         }
     }
     result
