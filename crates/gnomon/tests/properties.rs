@@ -560,6 +560,69 @@ proptest! {
     }
 }
 
+/// Unit cube clipping's XY is the casters' extents intersected with the visible receivers'
+/// (the blog post's rule): the focused map covers no more than the casters' boxes span, nor
+/// more than the receivers' boxes span, in its own coordinates (checked on the boxes' corners,
+/// a superset of what the map fits to). A map fitted to the receivers alone would spread over
+/// a ground that does not cast (613 times the area for a post on such ground).
+fn check_tightness(cfg: &Config) -> Result<bool, String> {
+    let setup = compute_setup(
+        &Focused,
+        &cfg.camera,
+        &cfg.light,
+        &cfg.scene,
+        MapSettings::with_resolution(1024),
+    )
+    .map_err(|e| e.to_string())?;
+    if !setup.diagnostics.fallbacks.is_empty() {
+        return Ok(false);
+    }
+    let map = setup.maps[0];
+    let s = map.inset_ndc();
+    let span = |boxes: &[Aabb]| -> Option<(DVec3, DVec3)> {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for b in boxes {
+            for c in b.corners() {
+                let n = map.project(c)?;
+                lo = lo.min(n);
+                hi = hi.max(n);
+            }
+        }
+        Some((lo, hi))
+    };
+    for (what, boxes) in [
+        ("casters", cfg.scene.casters()),
+        ("receivers", cfg.scene.receivers()),
+    ] {
+        // Corners behind a spot light's map: no bound from this side.
+        let Some((lo, hi)) = span(boxes) else {
+            return Ok(false);
+        };
+        // The extents' padding (a millionth of their size plus the setup's tolerance, which
+        // is large against a small map in a large scene) stays below a hundredth; a map
+        // fitted to the receivers alone is off by far more.
+        let slack = 1e-2 * s;
+        if lo.x > -s + slack || lo.y > -s + slack || hi.x < s - slack || hi.y < s - slack {
+            return Err(format!(
+                "the focused map covers more than the {what}' boxes span: their NDC span {lo} to {hi}, the square {s}"
+            ));
+        }
+    }
+    Ok(true)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn the_focused_map_is_no_wider_than_casters_and_receivers(seed in any::<u64>()) {
+        let cfg = config(seed);
+        if let Err(e) = check_tightness(&cfg) {
+            prop_assert!(false, "case {} (seed {seed}): {e}\n{cfg:?}", cfg.case);
+        }
+    }
+}
+
 /// The hard cases fire the fallbacks they should, so the property test above exercises them.
 #[test]
 fn hard_cases_are_drawn_and_name_their_fallbacks() {
@@ -707,4 +770,15 @@ fn spot_lights_are_warped_by_lispsm_and_psm() {
     for (name, n) in ["lispsm", "psm"].iter().zip(warped) {
         assert!(2 * n > seen, "{name}: {n} of {seen} warped");
     }
+}
+
+/// The tightness property checks most configurations (those with no fallback and every box
+/// corner in front of a spot light's map).
+#[test]
+fn tightness_checks_are_not_vacuous() {
+    let checked = (0..2000u64)
+        .filter(|&seed| check_tightness(&config(seed)) == Ok(true))
+        .count();
+    println!("tightness checked in {checked} of 2000 configurations");
+    assert!(checked > 600, "{checked}");
 }
