@@ -10,6 +10,9 @@ use gnomon::{
 use crate::CliError;
 use crate::report;
 
+/// Every command's default shadow-map size (texels on a side): one default for all.
+pub const DEFAULT_SHADOW_MAP: u32 = 2048;
+
 /// A camera, given by eye, target and up, and its lens.
 #[derive(Debug, Clone, Args)]
 pub struct ViewArgs {
@@ -280,12 +283,12 @@ pub struct SetupArgs {
     #[command(flatten)]
     pub light: LightArgs,
     /// The shadow-map technique.
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, default_value = "focused")]
     pub technique: TechniqueArg,
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Shadow-map resolution in texels (square).
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
     pub shadow_map: u32,
     /// Print JSON instead of a summary.
     #[arg(long)]

@@ -49,7 +49,7 @@ pub struct BenchArgs {
     #[arg(long, default_value = "960x540", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Shadow-map resolution in texels.
-    #[arg(long, default_value_t = 2048)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
     pub shadow_map: u32,
     /// Print JSON instead of a table.
     #[arg(long)]

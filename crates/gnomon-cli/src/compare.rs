@@ -36,7 +36,7 @@ pub struct CompareArgs {
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Shadow-map resolution in texels.
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
     pub shadow_map: u32,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "640x360", value_parser = parse_size)]

@@ -112,7 +112,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Shadow-map resolution in texels (square).
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
     pub shadow_map: u32,
     /// Shadow volumes: how the stencil counts (z-fail is exact wherever the camera is;
     /// z-pass is wrong where a volume reaches the near plane; per-caster is exact and uses

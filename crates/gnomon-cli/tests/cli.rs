@@ -1019,6 +1019,18 @@ fn bad_options_and_outputs_are_refused_before_any_work() {
     let dir_path = dir.to_str().unwrap().to_string();
     let zero_link = file("zero.off");
     std::os::unix::fs::symlink("/dev/zero", &zero_link).unwrap();
+    // An OFF file shorter than its header says.
+    let short_off = file("short.off");
+    std::fs::write(&short_off, "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").unwrap();
+    // Any closed mesh of the repository's tests will do; the knot is fetched by
+    // scripts/fetch-meshes.sh, so a cube written here stands in for it.
+    let knot = file("cube.off");
+    std::fs::write(
+        &knot,
+        "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n\
+         4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n",
+    )
+    .unwrap();
     let render = |extra: &[&str]| {
         let mut args: Vec<String> = RENDER.iter().map(|s| s.to_string()).collect();
         if !extra.contains(&"--out") {
@@ -1046,6 +1058,27 @@ fn bad_options_and_outputs_are_refused_before_any_work() {
             "--lispsm-n does nothing for focused",
         ),
         (render(&["--mesh", &zero_link]), "not a regular file"),
+        (
+            render(&["--mesh", &short_off]),
+            "declares 4 vertices and 1 faces",
+        ),
+        (
+            render(&["--mesh", &knot, "--mesh-height", "1e12"]),
+            "height must be a positive number up to 1e7",
+        ),
+        (render(&["--aspect", "1e30"]), "from 1e-6 to 1e6"),
+        (
+            plain(&[
+                "analyze",
+                "--zn",
+                "1",
+                "--zf",
+                "100",
+                "--psm-slide-back",
+                "1e12",
+            ]),
+            "psm slide back",
+        ),
         (
             plain(&[
                 "analyze",
@@ -1090,11 +1123,20 @@ fn bad_options_and_outputs_are_refused_before_any_work() {
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }
     // Nothing was written: the folder holds only the link made above.
-    let left: Vec<_> = std::fs::read_dir(&dir)
+    let mut left: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
-    assert_eq!(left, vec![std::ffi::OsString::from("zero.off")], "{left:?}");
+    left.sort();
+    assert_eq!(
+        left,
+        vec![
+            std::ffi::OsString::from("cube.off"),
+            std::ffi::OsString::from("short.off"),
+            std::ffi::OsString::from("zero.off")
+        ],
+        "{left:?}"
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }
 

@@ -56,9 +56,10 @@ impl RenderScene {
     /// bounds centred over the origin, resting at y = 0 on a square slab ten times as wide as
     /// the mesh's largest side (the slab receives shadows, the mesh casts and receives).
     pub fn mesh_on_ground(name: &str, mesh: Mesh, height: f64) -> Result<Self, RenderError> {
-        if !(height.is_finite() && height > 0.0) {
+        // The slab is ten times as wide as the mesh: keep it within the core's range.
+        if !(height.is_finite() && height > 0.0 && height <= 1e7) {
             return Err(RenderError::Invalid(format!(
-                "the mesh's height must be a positive number, got {height}"
+                "the mesh's height must be a positive number up to 1e7, got {height}"
             )));
         }
         let (lo, hi) = mesh.bounds();

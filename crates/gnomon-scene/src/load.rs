@@ -291,8 +291,46 @@ fn smooth_normals(positions: &[DVec3], indices: &[u32]) -> Vec<DVec3> {
 
 type Polygons = (Vec<DVec3>, Vec<Vec<i64>>);
 
+/// The OFF header's vertex and face counts against the lines that follow it, so that a
+/// short file says so (the parser reads a face line as a vertex with a colour and reports a
+/// colour).
+fn check_off_counts(text: &str) -> Result<(), String> {
+    let mut lines = text
+        .lines()
+        .map(|l| l.split('#').next().unwrap_or("").trim())
+        .filter(|l| !l.is_empty());
+    let Some(first) = lines.next() else {
+        return Err("the file is empty".into());
+    };
+    // The counts are on the keyword's line or the next one.
+    let rest = first.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+    let counts_line = if rest.trim().is_empty() {
+        lines.next().unwrap_or("")
+    } else {
+        rest
+    };
+    let counts: Vec<usize> = counts_line
+        .split_whitespace()
+        .take(2)
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    let [vertices, faces] = counts[..] else {
+        return Err(format!(
+            "the header's counts '{counts_line}' are not numbers"
+        ));
+    };
+    let found = lines.count();
+    if found < vertices + faces {
+        return Err(format!(
+            "the header declares {vertices} vertices and {faces} faces, but only {found} lines follow it"
+        ));
+    }
+    Ok(())
+}
+
 fn parse_off(bytes: &[u8]) -> Result<Polygons, String> {
     let text = std::str::from_utf8(bytes).map_err(|e| format!("not text: {e}"))?;
+    check_off_counts(text)?;
     let options = off_rs::parser::options::Options {
         limits: off_rs::parser::options::Limits::MAX,
         ..Default::default()

@@ -123,7 +123,7 @@ impl fmt::Display for SetupError {
                 )
             }
             SetupError::InvalidAspect { aspect } => {
-                write!(f, "aspect ratio must be positive (got {aspect})")
+                write!(f, "aspect ratio must be from 1e-6 to 1e6 (got {aspect})")
             }
             SetupError::NotRigid => {
                 write!(

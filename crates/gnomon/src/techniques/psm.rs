@@ -71,10 +71,12 @@ pub struct Psm {
 impl Psm {
     fn validate(&self) -> Result<(), SetupError> {
         match self.slide_back {
-            Some(s) if !(s.is_finite() && s >= 0.0) => Err(SetupError::InvalidParameter {
-                name: "psm slide back",
-                value: s,
-            }),
+            Some(s) if !(s.is_finite() && (0.0..=crate::MAX_COORDINATE).contains(&s)) => {
+                Err(SetupError::InvalidParameter {
+                    name: "psm slide back",
+                    value: s,
+                })
+            }
             _ => Ok(()),
         }
     }
