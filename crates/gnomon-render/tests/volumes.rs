@@ -495,3 +495,71 @@ fn surfaces_facing_away_from_a_light_straight_down_read_not_lit() {
         );
     }
 }
+
+/// Per-caster counting with both kinds in one stencil, overlapping: a wall whose shadow holds
+/// the camera (z-fail: its volume reaches the near plane) and, inside that shadow, a small
+/// box whose own shadow falls there too (z-pass). Where the two overlap the count is 2; with
+/// z-fail's increment and decrement swapped the two would cancel there.
+#[test]
+fn per_caster_counts_add_up_where_z_fail_and_z_pass_shadows_overlap() {
+    use glam::DMat4;
+    use gnomon_render::Instance;
+    let cuboid = |half: DVec3| gnomon_scene::Shape::Cuboid { half_extents: half }.mesh();
+    let place = |name: &str, mesh, at: DVec3, casts| Instance {
+        name: name.into(),
+        mesh,
+        world_from_object: DMat4::from_translation(at),
+        casts,
+        receives: true,
+        color: [0.6, 0.6, 0.6],
+    };
+    let scene = RenderScene {
+        meshes: vec![
+            cuboid(DVec3::new(60.0, 0.5, 60.0)),
+            cuboid(DVec3::new(30.0, 10.0, 0.5)),
+            cuboid(DVec3::new(1.0, 0.75, 1.0)),
+        ],
+        instances: vec![
+            place("ground", 0, DVec3::new(0.0, -0.5, 0.0), false),
+            place("wall", 1, DVec3::new(0.0, 10.0, 8.5), true),
+            place("box", 2, DVec3::new(0.0, 0.75, -3.0), true),
+        ],
+    };
+    let mut renderer = common::renderer(&scene);
+    let camera = Camera::look_at(
+        DVec3::new(0.0, 2.0, 5.0),
+        DVec3::new(0.0, 0.0, -10.0),
+        DVec3::Y,
+        Lens {
+            aspect: 1.0,
+            far: 200.0,
+            ..Lens::default()
+        },
+    )
+    .unwrap();
+    // Sideways too, so that the box's own shadow lies beside it, in view.
+    let light = Light::Directional(DirectionalLight::new(DVec3::new(1.0, -1.0, -1.0)).unwrap());
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    let oracle = common::oracle(&scene, &camera, &light, SIZE, SIZE);
+    let drawn = renderer
+        .render_volumes(&camera, &light, &settings, StencilMode::PerCaster)
+        .unwrap();
+    assert!(
+        drawn.stats.z_fail_casters >= 1 && drawn.stats.z_pass_casters >= 1,
+        "{:?}",
+        drawn.stats
+    );
+    let a = common::agreement(&drawn.frame, &oracle, 0.1);
+    println!(
+        "{:.3}% of {} ({} shadowed)",
+        100.0 * a.fraction(),
+        a.compared,
+        a.shadowed
+    );
+    assert!(a.shadowed > 5000, "{a:?}");
+    assert!(a.fraction() >= 0.999, "{a:?}");
+}

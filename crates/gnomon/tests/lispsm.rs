@@ -274,7 +274,10 @@ fn small_angles_between_view_and_light_stay_near_the_focused_map() {
         };
         let (lispsm, focused) = (worst(&Lispsm::default()), worst(&Focused));
         println!("gamma {gamma}: LiSPSM {lispsm:.1}, focused {focused:.1}");
-        assert!(lispsm <= 1.25 * focused, "gamma {gamma}: {lispsm} vs {focused}");
+        assert!(
+            lispsm <= 1.25 * focused,
+            "gamma {gamma}: {lispsm} vs {focused}"
+        );
         if gamma >= 15.0 {
             assert!(lispsm <= focused, "gamma {gamma}: {lispsm} vs {focused}");
         }
