@@ -222,9 +222,8 @@ fn tilted_and_curved_receivers_need_no_normal_offset() {
     let cam = camera(DVec3::new(0.0, 30.0, 40.0), DVec3::new(0.0, 0.0, 0.0));
     for elevation in [25.0f64, 50.0] {
         let e = elevation.to_radians();
-        let light = Light::Directional(
-            DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), -0.2)).unwrap(),
-        );
+        let light =
+            Light::Directional(DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), -0.2)).unwrap());
         let (_, frame) = common::render(
             &mut renderer,
             &scene,

@@ -285,7 +285,8 @@ proptest! {
 
 /// The property test above is not vacuous: most configurations get a plane that is checked
 /// at many points, for every perspective map (TSM and XPSM under suns only: their warps are
-/// for directional lights; TSM less often, see below).
+/// for directional lights). A configuration without a plane passes the property silently;
+/// this count keeps those few.
 #[test]
 fn most_configurations_get_a_checked_plane() {
     for perspective in perspective_maps() {
@@ -304,13 +305,10 @@ fn most_configurations_get_a_checked_plane() {
                 "{} (spot {spot}): {checked} of 60 configurations checked",
                 perspective.name()
             );
-            // TSM's default 80% rule often asks for no warp at all (parallel sides: then both
-            // maps are affine, one finer everywhere, and there is no plane).
-            let least = if matches!(perspective, PerspectiveMap::Tsm(_)) {
-                10
-            } else {
-                40
-            };
+            // Every perspective map warps in most views (TSM too: its default projection
+            // point balances the ends of the view; the 80% rule at 80% of the depth often gave
+            // parallel sides, no plane).
+            let least = 45;
             assert!(
                 checked > least,
                 "{} (spot {spot}): {checked} of 60",
