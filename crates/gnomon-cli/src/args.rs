@@ -155,6 +155,39 @@ pub struct TechniqueParams {
     pub sppsm_iterations: Option<u32>,
 }
 
+/// The `gnomon render` command that draws named view `view` as a report's cell: `technique`
+/// a map technique (`None`: the exact volumes) with those of `params` it reads, the rest as
+/// the report drew it. Every figure can be reproduced from its report.
+pub fn render_command(
+    view: &gnomon_scene::DemoView,
+    technique: Option<&Technique>,
+    params: &TechniqueParams,
+    shadow_map: u32,
+    size: (u32, u32),
+    extra: &str,
+) -> String {
+    let v = |a: [f64; 3]| format!("{},{},{}", a[0], a[1], a[2]);
+    let mut command = format!(
+        "gnomon render --eye={} --target={} --far {} --light-dir={} --technique {}",
+        v(view.eye),
+        v(view.target),
+        view.far,
+        v(view.light_direction),
+        technique.map_or("volumes", gnomon::ShadowTechnique::name),
+    );
+    if let Some(technique) = technique {
+        command += &format!(" --shadow-map {shadow_map}");
+        let read = options_read_by(technique);
+        for (option, flag) in params.flags() {
+            if read.contains(&option) {
+                command += &format!(" {flag}");
+            }
+        }
+    }
+    command += &format!(" --size {}x{}{extra}", size.0, size.1);
+    command
+}
+
 /// The technique parameters `technique` reads (SPPSM: its own and its perspective map's).
 fn options_read_by(technique: &Technique) -> Vec<&'static str> {
     match technique {
@@ -177,6 +210,37 @@ fn options_read_by(technique: &Technique) -> Vec<&'static str> {
 }
 
 impl TechniqueParams {
+    /// The options that give these parameters (option, option with its value), for a
+    /// command that reproduces a figure.
+    pub fn flags(&self) -> Vec<(&'static str, String)> {
+        let mut flags = Vec::new();
+        let mut number = |name: &'static str, value: Option<f64>| {
+            if let Some(v) = value {
+                flags.push((name, format!("{name}={v}")));
+            }
+        };
+        number("--lispsm-n", self.lispsm_n);
+        number("--tsm-xi", self.tsm_xi);
+        number("--tsm-focus", self.tsm_focus);
+        number("--xpsm-coef", self.xpsm_coef);
+        number("--xpsm-epsilon-w", self.xpsm_epsilon_w);
+        number("--psm-slide-back", self.psm_slide_back);
+        if let Some(with) = self.sppsm_with {
+            flags.push((
+                "--sppsm-with",
+                format!(
+                    "--sppsm-with {}",
+                    with.to_possible_value()
+                        .map_or("psm".into(), |v| v.get_name().to_string())
+                ),
+            ));
+        }
+        if let Some(n) = self.sppsm_iterations {
+            flags.push(("--sppsm-iterations", format!("--sppsm-iterations {n}")));
+        }
+        flags
+    }
+
     /// Refuses a parameter that none of `techniques` (with the parameters applied) reads.
     pub fn check_used_by(&self, techniques: &[Technique]) -> Result<(), CliError> {
         let given = [

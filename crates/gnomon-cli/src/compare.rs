@@ -14,6 +14,7 @@ use gnomon_render::{
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::{Value, json};
 
+use crate::args::render_command;
 use crate::args::{TechniqueParams, scene_layout, timed_setup};
 use crate::render::{open_renderer, parse_size, write_png, write_text};
 use crate::{CliError, heatmap};
@@ -280,8 +281,18 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             summary[k]
                 .2
                 .push(undersampling["p99"].as_f64().unwrap_or(f64::NAN));
+            // sppsm-same-texels is sppsm at its own map size.
+            let command = render_command(
+                view,
+                Some(&entry.technique),
+                &args.params,
+                entry.resolution,
+                (width, height),
+                " --out frame.png --mask mask.png --error-map error.png",
+            );
             rows.push(json!({
                 "technique": entry.label,
+                "command": command,
                 "shadow_map": entry.resolution,
                 "maps": setup.maps.len(),
                 "fallback": setup.fallback().map(|f| f.name()),
@@ -340,10 +351,45 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
                 r["fallback"].as_str().unwrap_or("none"),
             );
         }
-        let _ = writeln!(markdown, "\n![{}]({}.png)", view.name, view.name);
+        let volumes_command = render_command(
+            view,
+            None,
+            &args.params,
+            args.shadow_map,
+            (width, height),
+            " --out frame.png --mask mask.png",
+        );
+        let mut labels: Vec<&str> = rows
+            .iter()
+            .map(|r| r["technique"].as_str().unwrap_or_default())
+            .collect();
+        labels.push("exact shadow volumes");
+        let _ = writeln!(
+            markdown,
+            "\n![{}]({}.png)\n\nGrid rows, top to bottom: {}. Columns: the frame, the mask \
+             errors (red: false shadow, blue: missed shadow), the sampling error map.\n\n\
+             Each row from the command line:\n",
+            view.name,
+            view.name,
+            labels.join(", ")
+        );
+        for r in &rows {
+            let _ = writeln!(
+                markdown,
+                "- {}: `{}`",
+                r["technique"].as_str().unwrap_or_default(),
+                r["command"].as_str().unwrap_or_default()
+            );
+        }
+        let _ = writeln!(markdown, "- exact shadow volumes: `{volumes_command}`");
         report.push(json!({
             "view": view.name,
             "description": view.description,
+            "eye": view.eye,
+            "target": view.target,
+            "far": view.far,
+            "light_direction": view.light_direction,
+            "volumes_command": volumes_command,
             "volumes_frame_ms": exact_ms,
             "techniques": rows,
         }));

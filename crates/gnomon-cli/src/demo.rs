@@ -11,6 +11,7 @@ use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
 use crate::CliError;
+use crate::args::render_command;
 use crate::args::{TechniqueParams, timed_setup};
 use crate::render::{write_frame, write_text};
 use crate::report;
@@ -89,10 +90,18 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 timings.shadow_pass_ms,
                 timings.main_pass_ms,
             );
+            let command = render_command(
+                view,
+                Some(technique),
+                &args.params,
+                args.shadow_map,
+                (width, height),
+                &format!(" --out {stem}.png --light-view {stem}_light.png"),
+            );
             cells.push_str(&format!(
                 "<td><img src=\"{stem}.png\" width=480><br><img src=\"{stem}_light.png\" width=240>\
                  <br>{} &middot; setup {setup_us:.0} &micro;s &middot; shadow pass {:.1} ms &middot; \
-                 main pass {:.1} ms &middot; fallback {fallback}</td>",
+                 main pass {:.1} ms &middot; fallback {fallback}<br><code>{command}</code></td>",
                 technique.name(),
                 timings.shadow_pass_ms,
                 timings.main_pass_ms
@@ -132,12 +141,20 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         cells.push_str(&format!(
             "<td><img src=\"{stem}.png\" width=480><br>exact shadow volumes &middot; {} triangles \
              ({} casters z-pass, {} z-fail) &middot; extrusion and stencil {:.1} ms &middot; \
-             shading {:.1} ms</td>",
+             shading {:.1} ms<br><code>{}</code></td>",
             stats.triangles,
             stats.z_pass_casters,
             stats.z_fail_casters,
             timings.shadow_pass_ms,
-            timings.main_pass_ms
+            timings.main_pass_ms,
+            render_command(
+                view,
+                None,
+                &args.params,
+                args.shadow_map,
+                (width, height),
+                &format!(" --stencil per-caster --out {stem}.png"),
+            )
         ));
         all.push(json!({
             "view": view.name,

@@ -1196,3 +1196,72 @@ fn a_closed_pipe_ends_the_output_quietly() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(out.status.code(), Some(0), "{stderr}");
 }
+
+/// Every cell of `compare`'s report says the `gnomon render` command that draws it, and that
+/// command reproduces the cell's frame.
+#[test]
+fn compare_cells_are_reproduced_by_their_render_commands() {
+    let dir = temp_dir("reproduce");
+    let out = gnomon(&[
+        "compare",
+        "--views",
+        "street",
+        "--techniques",
+        "lispsm",
+        "--shadow-map",
+        "512",
+        "--size",
+        "160x90",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let row = &report["views"][0]["techniques"][0];
+    let command = row["command"].as_str().unwrap();
+    assert!(command.starts_with("gnomon render "), "{command}");
+    let markdown = std::fs::read_to_string(dir.join("index.md")).unwrap();
+    assert!(markdown.contains(command), "the report lists the command");
+    // Run it, writing into the test's folder.
+    let frame = dir.join("frame.png");
+    let args: Vec<String> = command
+        .split_whitespace()
+        .skip(1)
+        .map(|a| match a {
+            "frame.png" => frame.to_str().unwrap().to_string(),
+            "mask.png" => dir.join("mask.png").to_str().unwrap().to_string(),
+            "error.png" => dir.join("error.png").to_str().unwrap().to_string(),
+            other => other.to_string(),
+        })
+        .collect();
+    let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    let run = gnomon(&refs);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    // The grid's first cell is the frame.
+    let grid = image::open(dir.join("street.png")).unwrap().to_rgba8();
+    let single = image::open(&frame).unwrap().to_rgba8();
+    let (w, h) = single.dimensions();
+    assert_eq!((w, h), (160, 90));
+    let mut differing = 0;
+    for y in 0..h {
+        for x in 0..w {
+            if grid.get_pixel(x, y) != single.get_pixel(x, y) {
+                differing += 1;
+            }
+        }
+    }
+    assert_eq!(
+        differing, 0,
+        "{differing} pixels differ from the report's cell"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
