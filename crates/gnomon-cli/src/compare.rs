@@ -244,8 +244,8 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         let exact = renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
         let exact_ms = exact.frame.timings.shadow_pass_ms + exact.frame.timings.main_pass_ms;
         progress.inc(1);
-        // The grid: cells of the frame's size plus the error map's legend strip.
-        let cell_height = height + 30;
+        // The grid: cells of the frame's size (the error map's legend lies over its bottom).
+        let cell_height = height;
         let grid_width = 3 * width;
         let grid_height = cell_height * (techniques.len() as u32 + 1);
         let mut grid = vec![255u8; (grid_width * grid_height * 4) as usize];

@@ -792,8 +792,8 @@ fn render_writes_an_error_map_and_its_percentiles() {
     let (large, _) = run("2048");
     assert_eq!(
         image.dimensions(),
-        (160, 90 + 30),
-        "legend strip under the frame"
+        (160, 90),
+        "the frame's size, the legend over its bottom strip"
     );
     let p = |j: &Value, k: &str| j["undersampling"][k].as_f64().unwrap();
     for j in [&small, &large] {
@@ -866,8 +866,9 @@ fn compare_writes_grids_tables_and_json() {
     assert!(markdown.contains("| focused |") && markdown.contains("## street"));
     for view in ["street", "low_sun"] {
         let grid = image::open(dir.join(format!("{view}.png"))).unwrap();
-        // Three columns; a row per technique and one for the volumes, each with the legend.
-        assert_eq!((grid.width(), grid.height()), (3 * 240, 3 * (135 + 30)));
+        // Three columns; a row per technique and one for the volumes, each the frame's size
+        // (the error map's legend lies over its bottom strip).
+        assert_eq!((grid.width(), grid.height()), (3 * 240, 3 * 135));
     }
     let wrong = |json: &Value, view: usize, technique: usize| {
         json["views"][view]["techniques"][technique]["wrong_percent"]
