@@ -178,24 +178,36 @@ pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The curves on a log y axis, with the logarithmic ideal as a dashed line.
+/// The curves on a log y axis, with the logarithmic ideal as a dashed line, and the legend
+/// beside the plot (not over the data). A curve that coincides with an earlier one (to a
+/// thousandth everywhere) is drawn dashed over it and its legend entry says which it equals.
 fn plot(path: &std::path::Path, config: &IdealConfiguration, rows: &[Row]) -> Result<(), CliError> {
     use plotters::prelude::*;
     let error = |e: String| CliError::runtime(format!("cannot plot to {}: {e}", path.display()));
-    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent).map_err(|e| error(e.to_string()))?;
-    }
     let curves: Vec<(&str, &AliasingCurve)> = rows
         .iter()
         .filter_map(|r| r.curve.as_ref().ok().map(|c| (r.label.as_str(), c)))
         .collect();
+    // Which earlier curve each one coincides with.
+    let same_as = |k: usize| -> Option<&str> {
+        let c = curves[k].1;
+        curves[..k].iter().find_map(|(label, d)| {
+            let equal = c.dp_ds.len() == d.dp_ds.len()
+                && c.dp_ds
+                    .iter()
+                    .zip(&d.dp_ds)
+                    .all(|(a, b)| (a - b).abs() <= 1e-3 * a.abs().max(b.abs()));
+            equal.then_some(*label)
+        })
+    };
     let ideal = config.logarithmic_ideal();
     let (lo, hi) = curves.iter().fold((ideal, ideal), |(lo, hi), (_, c)| {
         (lo.min(c.min), hi.max(c.max))
     });
-    let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
+    let root = SVGBackend::new(path, (1100, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| error(e.to_string()))?;
-    let mut chart = ChartBuilder::on(&root)
+    let (plot_area, legend_area) = root.split_horizontally(880);
+    let mut chart = ChartBuilder::on(&plot_area)
         .caption(
             format!(
                 "perspective aliasing dp/ds, z_n = {}, z_f = {}, gamma = {} deg",
@@ -217,18 +229,24 @@ fn plot(path: &std::path::Path, config: &IdealConfiguration, rows: &[Row]) -> Re
         .y_desc("dp/ds")
         .draw()
         .map_err(|e| error(e.to_string()))?;
+    let mut legend: Vec<(String, RGBAColor, bool)> = Vec::new();
     for (k, (label, c)) in curves.iter().enumerate() {
         let color = Palette99::pick(k).to_rgba();
-        chart
-            .draw_series(LineSeries::new(
-                c.z.iter().copied().zip(c.dp_ds.iter().copied()),
-                color.stroke_width(2),
-            ))
-            .map_err(|e| error(e.to_string()))?
-            .label(*label)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-            });
+        let points = c.z.iter().copied().zip(c.dp_ds.iter().copied());
+        match same_as(k) {
+            None => {
+                chart
+                    .draw_series(LineSeries::new(points, color.stroke_width(2)))
+                    .map_err(|e| error(e.to_string()))?;
+                legend.push((label.to_string(), color, false));
+            }
+            Some(other) => {
+                chart
+                    .draw_series(DashedLineSeries::new(points, 8, 8, color.stroke_width(3)))
+                    .map_err(|e| error(e.to_string()))?;
+                legend.push((format!("{label} (= {other})"), color, true));
+            }
+        }
     }
     chart
         .draw_series(DashedLineSeries::new(
@@ -237,15 +255,38 @@ fn plot(path: &std::path::Path, config: &IdealConfiguration, rows: &[Row]) -> Re
             4,
             BLACK.stroke_width(1),
         ))
-        .map_err(|e| error(e.to_string()))?
-        .label(format!("logarithmic ideal {ideal:.2}"))
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
         .map_err(|e| error(e.to_string()))?;
+    legend.push((
+        format!("logarithmic ideal {ideal:.2}"),
+        BLACK.to_rgba(),
+        true,
+    ));
+    // The legend, beside the plot.
+    for (k, (label, color, dashed)) in legend.iter().enumerate() {
+        let y = 60 + 26 * k as i32;
+        let line = if *dashed {
+            vec![(10, y), (18, y), (26, y), (34, y)]
+        } else {
+            vec![(10, y), (34, y)]
+        };
+        let segments: Vec<_> = if *dashed {
+            line.chunks(2).map(|s| s.to_vec()).collect()
+        } else {
+            vec![line]
+        };
+        for segment in segments {
+            legend_area
+                .draw(&PathElement::new(segment, color.stroke_width(3)))
+                .map_err(|e| error(e.to_string()))?;
+        }
+        legend_area
+            .draw(&Text::new(
+                label.clone(),
+                (42, y - 8),
+                ("sans-serif", 16).into_font(),
+            ))
+            .map_err(|e| error(e.to_string()))?;
+    }
     root.present().map_err(|e| error(e.to_string()))?;
     Ok(())
 }

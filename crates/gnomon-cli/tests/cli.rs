@@ -744,6 +744,21 @@ fn analyze_reproduces_the_papers() {
     ] {
         assert!(svg.contains(name), "{name} not in the plot");
     }
+    // Coinciding curves say so in the legend (the focused map is the uniform one in the ideal
+    // configuration), and the legend lies beside the plot, right of its 880 pixels.
+    assert!(
+        svg.contains("focused (= uniform)"),
+        "coinciding curves unmarked"
+    );
+    let legend_x = svg
+        .split("<text")
+        .filter(|t| t.contains("logarithmic ideal"))
+        .find_map(|t| {
+            let x = t.split("x=\"").nth(1)?.split('"').next()?;
+            x.parse::<f64>().ok()
+        })
+        .expect("the legend entry's position");
+    assert!(legend_x > 880.0, "legend at x = {legend_x}");
     // The table says the same.
     let out = gnomon(&["analyze", "--gamma", "60"]);
     let table = String::from_utf8_lossy(&out.stdout);
