@@ -7,13 +7,14 @@ use std::time::Instant;
 
 use clap::Args;
 use glam::DVec3;
-use gnomon::{Camera, DirectionalLight, Lens, Light, ShadowTechnique, Technique};
-use gnomon_render::{RenderScene, RenderSettings, StencilMode, Timings};
+use gnomon::{Camera, DirectionalLight, Lens, Light, Technique};
+use gnomon_render::{RenderScene, RenderSettings, Timings};
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
 use crate::CliError;
 use crate::args::{TechniqueParams, timed_setup};
+use crate::names::Drawn;
 use crate::render::{MeshArgs, open_renderer, parse_size, render_scene};
 
 /// `gnomon bench`.
@@ -56,38 +57,8 @@ pub struct BenchArgs {
     pub json: bool,
 }
 
-/// One thing timed.
-#[derive(Debug, Clone)]
-enum Entry {
-    Map(Technique),
-    Volumes(StencilMode),
-}
-
-impl Entry {
-    fn parse(name: &str) -> Result<Self, CliError> {
-        Ok(match name.trim() {
-            "volumes" | "volumes-z-fail" => Entry::Volumes(StencilMode::ZFail),
-            "volumes-z-pass" => Entry::Volumes(StencilMode::ZPass),
-            "volumes-per-caster" => Entry::Volumes(StencilMode::PerCaster),
-            other => Entry::Map(other.parse().map_err(|_| {
-                CliError::usage(format!(
-                    "unknown technique '{other}' (known: {}, volumes, volumes-z-pass, \
-                     volumes-per-caster)",
-                    Technique::NAMES.join(", ")
-                ))
-            })?),
-        })
-    }
-
-    fn name(&self) -> String {
-        match self {
-            Entry::Map(t) => t.name().to_string(),
-            Entry::Volumes(StencilMode::ZFail) => "volumes".into(),
-            Entry::Volumes(StencilMode::ZPass) => "volumes-z-pass".into(),
-            Entry::Volumes(StencilMode::PerCaster) => "volumes-per-caster".into(),
-        }
-    }
-}
+/// One thing timed: a name of the registry.
+type Entry = Drawn;
 
 /// A view to time: name, camera, light.
 type View = (String, Camera, Light);
@@ -141,7 +112,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let entries = args
         .techniques
         .iter()
-        .map(|t| Entry::parse(t))
+        .map(|t| Drawn::parse(t).map_err(CliError::usage))
         .collect::<Result<Vec<_>, _>>()?;
     if entries.is_empty() {
         return Err(CliError::usage("--techniques names nothing to time"));
@@ -149,8 +120,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let maps: Vec<Technique> = entries
         .iter()
         .filter_map(|e| match e {
-            Entry::Map(t) => Some(args.params.apply(*t)),
-            Entry::Volumes(_) => None,
+            Drawn::Map(t) => Some(args.params.apply(*t)),
+            Drawn::Volumes(_) => None,
         })
         .collect();
     if !maps.is_empty() {
@@ -205,7 +176,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let mut frame =
         |entry: &Entry, camera: &Camera, light: &Light| -> Result<(f64, Timings), CliError> {
             match entry {
-                Entry::Map(technique) => {
+                Drawn::Map(technique) => {
                     let technique = args.params.apply(*technique);
                     let (setup, setup_us) =
                         timed_setup(&technique, camera, light, &bounds, args.shadow_map)?;
@@ -213,7 +184,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                     let t = f.timings;
                     Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
                 }
-                Entry::Volumes(mode) => {
+                Drawn::Volumes(mode) => {
                     let f = renderer
                         .render_volumes(camera, light, &settings, *mode)?
                         .frame;

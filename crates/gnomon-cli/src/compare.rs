@@ -106,10 +106,7 @@ fn techniques(args: &CompareArgs) -> Result<Vec<Entry>, CliError> {
     } else {
         args.techniques
             .iter()
-            .map(|name| {
-                name.parse::<Technique>()
-                    .map_err(|e| CliError::usage(e.to_string()))
-            })
+            .map(|name| crate::names::parse_map(name).map_err(CliError::usage))
             .collect::<Result<_, _>>()?
     };
     for (k, t) in named.iter().enumerate() {
@@ -132,7 +129,7 @@ fn techniques(args: &CompareArgs) -> Result<Vec<Entry>, CliError> {
         });
         if let Technique::Sppsm(_) = technique {
             entries.push(Entry {
-                label: "sppsm-same-texels".into(),
+                label: crate::names::SPPSM_SAME_TEXELS.into(),
                 technique,
                 resolution: ((args.shadow_map as f64) / std::f64::consts::SQRT_2).round() as u32,
             });

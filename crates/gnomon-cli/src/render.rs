@@ -8,7 +8,8 @@ use gnomon_render::{
     DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer, StencilMode,
 };
 
-use crate::args::{LightArgs, TechniqueArg, TechniqueParams, ViewArgs, scene_layout, timed_setup};
+use crate::args::{LightArgs, TechniqueParams, ViewArgs, scene_layout, timed_setup};
+use crate::names::Drawn;
 use crate::{CliError, heatmap};
 
 /// Shadow-map filtering on the command line.
@@ -34,43 +35,6 @@ impl From<PcfArg> for Filter {
     }
 }
 
-/// What `gnomon render` draws shadows with.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum RenderTechniqueArg {
-    /// Uniform shadow map (SSM).
-    Uniform,
-    /// Focused shadow map with unit cube clipping (FSM).
-    Focused,
-    /// Light space perspective shadow map (LiSPSM).
-    Lispsm,
-    /// Trapezoidal shadow map (TSM).
-    Tsm,
-    /// Extended perspective shadow map (XPSM).
-    Xpsm,
-    /// Perspective shadow map (PSM).
-    Psm,
-    /// Separating-plane PSM: the focused map and a perspective one (SPPSM).
-    Sppsm,
-    /// Exact shadows: stenciled shadow volumes.
-    Volumes,
-}
-
-impl RenderTechniqueArg {
-    /// The shadow-map technique, or `None` for shadow volumes.
-    fn map_technique(self) -> Option<TechniqueArg> {
-        Some(match self {
-            Self::Uniform => TechniqueArg::Uniform,
-            Self::Focused => TechniqueArg::Focused,
-            Self::Lispsm => TechniqueArg::Lispsm,
-            Self::Tsm => TechniqueArg::Tsm,
-            Self::Xpsm => TechniqueArg::Xpsm,
-            Self::Psm => TechniqueArg::Psm,
-            Self::Sppsm => TechniqueArg::Sppsm,
-            Self::Volumes => return None,
-        })
-    }
-}
-
 /// How shadow volumes are counted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum StencilArg {
@@ -81,16 +45,6 @@ pub enum StencilArg {
     /// Per caster: z-pass without caps where its volume cannot reach the near plane, z-fail
     /// elsewhere (exact, and faster).
     PerCaster,
-}
-
-impl StencilArg {
-    /// The name on the command line.
-    fn name(self) -> String {
-        self.to_possible_value()
-            .expect("no skipped variants")
-            .get_name()
-            .to_string()
-    }
 }
 
 /// `gnomon render`.
@@ -106,9 +60,10 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub light: LightArgs,
     /// The shadow technique: a shadow-map technique, or `volumes` (exact stenciled shadow
-    /// volumes).
-    #[arg(long, value_enum, default_value = "focused")]
-    pub technique: RenderTechniqueArg,
+    /// volumes; `volumes-z-pass`, `volumes-per-caster` name a way of counting them): the
+    /// names of [`crate::names`].
+    #[arg(long, default_value = "focused", value_parser = crate::names::drawn_arg)]
+    pub technique: Drawn,
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Shadow-map resolution in texels (square).
@@ -339,16 +294,17 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         )));
     }
     let light = args.light.light()?;
-    let Some(technique) = args.technique.map_technique() else {
-        return run_volumes(args, &scene, &camera, &light);
+    let technique = match args.technique {
+        Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &light, mode),
+        Drawn::Map(technique) => technique,
     };
     if args.stencil.is_some() {
         return Err(CliError::usage(format!(
             "--stencil counts shadow volumes; technique {} uses a shadow map",
-            gnomon::ShadowTechnique::name(&technique.technique())
+            gnomon::ShadowTechnique::name(&technique)
         )));
     }
-    let technique = args.params.apply(technique.technique());
+    let technique = args.params.apply(technique);
     args.params.check_used_by(&[technique])?;
     let (setup, setup_us) = timed_setup(&technique, &camera, &light, &bounds, args.shadow_map)?;
     if args.tint && setup.maps.len() < 2 {
@@ -435,6 +391,7 @@ fn run_volumes(
     scene: &RenderScene,
     camera: &gnomon::Camera,
     light: &gnomon::Light,
+    named: StencilMode,
 ) -> Result<(), CliError> {
     if args.light_view.is_some() || args.error_map.is_some() || args.json {
         return Err(CliError::usage(
@@ -447,10 +404,19 @@ fn run_volumes(
         height: args.size.1,
         ..RenderSettings::default()
     };
-    let mode = match args.stencil.unwrap_or(StencilArg::ZFail) {
-        StencilArg::ZFail => StencilMode::ZFail,
-        StencilArg::ZPass => StencilMode::ZPass,
-        StencilArg::PerCaster => StencilMode::PerCaster,
+    // `--stencil` picks the counting for `volumes`; a `volumes-*` name already did.
+    let mode = match (args.stencil, args.technique.name()) {
+        (None, _) => named,
+        (Some(stencil), "volumes") => match stencil {
+            StencilArg::ZFail => StencilMode::ZFail,
+            StencilArg::ZPass => StencilMode::ZPass,
+            StencilArg::PerCaster => StencilMode::PerCaster,
+        },
+        (Some(_), name) => {
+            return Err(CliError::usage(format!(
+                "--technique {name} names the counting already; drop --stencil"
+            )));
+        }
     };
     let drawn = renderer.render_volumes(camera, light, &settings, mode)?;
     write_frame(&drawn.frame, &args.out, args.mask.as_deref(), None)?;
@@ -458,7 +424,7 @@ fn run_volumes(
     eprintln!(
         "volumes ({}) on {}: {} volume triangles ({} casters z-fail, {} z-pass{}{}), \
          extrusion and stencil {:.2} ms, shading {:.2} ms ({}); wrote {}",
-        args.stencil.unwrap_or(StencilArg::ZFail).name(),
+        Drawn::Volumes(mode).name(),
         renderer.gpu().describe(),
         stats.triangles,
         stats.z_fail_casters,

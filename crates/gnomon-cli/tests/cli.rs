@@ -1057,6 +1057,25 @@ fn bad_options_and_outputs_are_refused_before_any_work() {
     };
     let plain = |args: &[&str]| args.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            render(&["--technique", "volumes-z-pass", "--stencil", "z-fail"]),
+            "drop --stencil",
+        ),
+        (render(&["--technique", "nope"]), "volumes-per-caster"),
+        (
+            plain(&[
+                "setup",
+                "--eye",
+                "0,2,0",
+                "--target",
+                "1,2,0",
+                "--light-dir",
+                "0,-1,0",
+                "--technique",
+                "volumes",
+            ]),
+            "needs a shadow-map technique",
+        ),
         (render(&["--bias-constant", "nan"]), "bias-constant"),
         (render(&["--normal-offset", "nan"]), "normal-offset"),
         (render(&["--bias-slope", "inf"]), "bias-slope"),

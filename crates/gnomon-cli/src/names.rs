@@ -1,0 +1,105 @@
+//! One registry of what the commands draw, by name: the core's shadow-map techniques
+//! ([`gnomon::Technique`]), the exact shadow volumes with each way of counting them, and
+//! `compare`'s extra row. Every command (and the viewer) parses technique names here.
+
+use gnomon::{ShadowTechnique, Technique};
+use gnomon_render::StencilMode;
+
+/// The exact shadow volumes, one name per way of counting.
+pub const VOLUMES: [(&str, StencilMode); 3] = [
+    ("volumes", StencilMode::ZFail),
+    ("volumes-z-pass", StencilMode::ZPass),
+    ("volumes-per-caster", StencilMode::PerCaster),
+];
+
+/// `compare`'s row of SPPSM with two maps of half the area each (the texels of one map).
+pub const SPPSM_SAME_TEXELS: &str = "sppsm-same-texels";
+
+/// Something a command draws: a shadow-map technique or the exact volumes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Drawn {
+    /// A shadow-map technique (default parameters).
+    Map(Technique),
+    /// Stenciled shadow volumes, counted as the mode says.
+    Volumes(StencilMode),
+}
+
+impl Drawn {
+    /// By name: a technique of [`Technique::NAMES`] or one of [`VOLUMES`].
+    pub fn parse(name: &str) -> Result<Self, String> {
+        let name = name.trim();
+        if let Some((_, mode)) = VOLUMES.iter().find(|(n, _)| *n == name) {
+            return Ok(Drawn::Volumes(*mode));
+        }
+        name.parse::<Technique>()
+            .map(Drawn::Map)
+            .map_err(|_| format!("unknown technique '{name}' (known: {})", known(true)))
+    }
+
+    /// Its name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Drawn::Map(t) => t.name(),
+            Drawn::Volumes(mode) => {
+                VOLUMES
+                    .iter()
+                    .find(|(_, m)| m == mode)
+                    .expect("every mode has a name")
+                    .0
+            }
+        }
+    }
+}
+
+/// A shadow-map technique by name (the commands that need a map: setup, analyze, compare,
+/// demo).
+pub fn parse_map(name: &str) -> Result<Technique, String> {
+    match Drawn::parse(name)? {
+        Drawn::Map(t) => Ok(t),
+        Drawn::Volumes(_) => Err(format!(
+            "'{name}' draws exact shadow volumes; this needs a shadow-map technique (known: {})",
+            known(false)
+        )),
+    }
+}
+
+/// The known names, comma-separated, with the volumes' when `volumes`.
+pub fn known(volumes: bool) -> String {
+    let mut names: Vec<&str> = Technique::NAMES.to_vec();
+    if volumes {
+        names.extend(VOLUMES.iter().map(|(n, _)| *n));
+    }
+    names.join(", ")
+}
+
+/// `Drawn::parse` as a clap value parser.
+pub fn drawn_arg(name: &str) -> Result<Drawn, String> {
+    Drawn::parse(name)
+}
+
+/// `parse_map` as a clap value parser.
+pub fn map_arg(name: &str) -> Result<Technique, String> {
+    parse_map(name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_parses_to_itself() {
+        for name in Technique::NAMES
+            .iter()
+            .chain(VOLUMES.iter().map(|(n, _)| n))
+        {
+            assert_eq!(Drawn::parse(name).unwrap().name(), *name);
+        }
+        assert!(
+            Drawn::parse("nope")
+                .unwrap_err()
+                .contains("volumes-per-caster")
+        );
+        assert!(parse_map("volumes").is_err());
+        assert_eq!(parse_map("lispsm").unwrap().name(), "lispsm");
+    }
+}
