@@ -602,7 +602,16 @@ fn check_tightness(cfg: &Config) -> Result<bool, String> {
         // is large against a small map in a large scene) stays below a hundredth; a map
         // fitted to the receivers alone is off by far more.
         let slack = 1e-2 * s;
-        if lo.x > -s + slack || lo.y > -s + slack || hi.x < s - slack || hi.y < s - slack {
+        // An axis on which casters and receivers barely meet collapses to a sliver whose
+        // size is its padding (the setup's absolute tolerance): no relative bound there.
+        let scale =
+            cfg.scene.scene_box().diagonal() + (cfg.eye - cfg.scene.scene_box().center()).length();
+        let m = map.clip_from_world;
+        let half = |row: usize| s / m.row(row).truncate().length();
+        let (check_x, check_y) = (half(0) > 1e-5 * scale, half(1) > 1e-5 * scale);
+        if (check_x && (lo.x > -s + slack || hi.x < s - slack))
+            || (check_y && (lo.y > -s + slack || hi.y < s - slack))
+        {
             return Err(format!(
                 "the focused map covers more than the {what}' boxes span: their NDC span {lo} to {hi}, the square {s}"
             ));
@@ -781,4 +790,7 @@ fn tightness_checks_are_not_vacuous() {
         .count();
     println!("tightness checked in {checked} of 2000 configurations");
     assert!(checked > 600, "{checked}");
+    // Found at 10^6 cases: casters and receivers barely meet on one axis (a grazing light),
+    // and the map is a sliver there.
+    assert!(check_tightness(&config(1643661818672702969)).is_ok());
 }
