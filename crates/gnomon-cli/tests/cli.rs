@@ -845,6 +845,35 @@ fn compare_refuses_frames_too_large_for_its_grids() {
     assert!(!dir.exists());
 }
 
+/// Runs `gnomon compare` into `dir` and returns its report.json.
+fn run_compare(
+    dir: &std::path::Path,
+    views: &str,
+    techniques: &str,
+    shadow_map: &str,
+    size: &str,
+) -> Value {
+    let out = gnomon(&[
+        "compare",
+        "--views",
+        views,
+        "--techniques",
+        techniques,
+        "--shadow-map",
+        shadow_map,
+        "--size",
+        size,
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
+}
+
 /// `gnomon compare` renders each view with each technique and the exact volumes, and writes
 /// a grid per view, a Markdown table and JSON: wrong pixels against the volumes (a 2048 map
 /// is wrong on fewer pixels than a 256 one), undersampling percentiles, times.
@@ -852,28 +881,13 @@ fn compare_refuses_frames_too_large_for_its_grids() {
 fn compare_writes_grids_tables_and_json() {
     let dir = temp_dir("compare");
     let run = |shadow_map: &str| {
-        let out = gnomon(&[
-            "compare",
-            "--views",
+        run_compare(
+            &dir,
             "street,low_sun",
-            "--techniques",
             "focused,lispsm",
-            "--shadow-map",
             shadow_map,
-            "--size",
             "240x135",
-            "--out",
-            dir.to_str().unwrap(),
-        ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let json: Value =
-            serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap())
-                .unwrap();
-        json
+        )
     };
     let coarse = run("256");
     let fine = run("2048");
@@ -1237,26 +1251,7 @@ fn a_closed_pipe_ends_the_output_quietly() {
 #[test]
 fn compare_cells_are_reproduced_by_their_render_commands() {
     let dir = temp_dir("reproduce");
-    let out = gnomon(&[
-        "compare",
-        "--views",
-        "street",
-        "--techniques",
-        "lispsm",
-        "--shadow-map",
-        "512",
-        "--size",
-        "160x90",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let report = run_compare(&dir, "street", "lispsm", "512", "160x90");
     let row = &report["views"][0]["techniques"][0];
     let command = row["command"].as_str().unwrap();
     assert!(command.starts_with("gnomon render "), "{command}");

@@ -502,17 +502,7 @@ fn surfaces_facing_away_from_a_light_straight_down_read_not_lit() {
 /// z-fail's increment and decrement swapped the two would cancel there.
 #[test]
 fn per_caster_counts_add_up_where_z_fail_and_z_pass_shadows_overlap() {
-    use glam::DMat4;
-    use gnomon_render::Instance;
-    let cuboid = |half: DVec3| gnomon_scene::Shape::Cuboid { half_extents: half }.mesh();
-    let place = |name: &str, mesh, at: DVec3, casts| Instance {
-        name: name.into(),
-        mesh,
-        world_from_object: DMat4::from_translation(at),
-        casts,
-        receives: true,
-        color: [0.6, 0.6, 0.6],
-    };
+    use common::{cuboid, placed as place};
     let scene = RenderScene {
         meshes: vec![
             cuboid(DVec3::new(60.0, 0.5, 60.0)),

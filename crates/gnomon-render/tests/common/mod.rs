@@ -209,29 +209,35 @@ pub fn render(
     (setup, frame)
 }
 
+/// A cuboid mesh of half extents `half`.
+pub fn cuboid(half: DVec3) -> gnomon_scene::Mesh {
+    gnomon_scene::Shape::Cuboid { half_extents: half }.mesh()
+}
+
+/// An instance of mesh `mesh` placed at `at` (receives shadows; casts as `casts` says).
+pub fn placed(name: &str, mesh: usize, at: DVec3, casts: bool) -> gnomon_render::Instance {
+    gnomon_render::Instance {
+        name: name.into(),
+        mesh,
+        world_from_object: glam::DMat4::from_translation(at),
+        casts,
+        receives: true,
+        color: [0.6, 0.6, 0.6],
+    }
+}
+
 /// A square ground slab (half size `ground_half`, top at y = 0; receives, does not cast) and
 /// one box named `name` with half extents `half` standing on it with its base centred at
 /// `base` (casts and receives).
 pub fn box_on_ground(ground_half: f64, name: &str, half: DVec3, base: DVec3) -> RenderScene {
-    use glam::DMat4;
-    use gnomon_render::Instance;
-    let cuboid = |half: DVec3| gnomon_scene::Shape::Cuboid { half_extents: half }.mesh();
-    let place = |name: &str, mesh, at: DVec3, casts| Instance {
-        name: name.into(),
-        mesh,
-        world_from_object: DMat4::from_translation(at),
-        casts,
-        receives: true,
-        color: [0.6, 0.6, 0.6],
-    };
     RenderScene {
         meshes: vec![
             cuboid(DVec3::new(ground_half, 0.5, ground_half)),
             cuboid(half),
         ],
         instances: vec![
-            place("ground", 0, DVec3::new(0.0, -0.5, 0.0), false),
-            place(name, 1, base + DVec3::Y * half.y, true),
+            placed("ground", 0, DVec3::new(0.0, -0.5, 0.0), false),
+            placed(name, 1, base + DVec3::Y * half.y, true),
         ],
     }
 }
