@@ -60,3 +60,59 @@ fn line(rgba: &mut [u8], n: usize, (x0, y0): (f64, f64), (x1, y1): (f64, f64), w
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{DMat4, DVec3, DVec4};
+    use gnomon::{Lens, MapProjection};
+
+    /// The frustum's lines are several pixels wide on a large picture, so that they show in
+    /// the gallery's thumbnails (one pixel on 2048 did not).
+    #[test]
+    fn frustum_lines_are_wide_enough_to_see_in_a_thumbnail() {
+        let size = 2048;
+        let camera = Camera::look_at(
+            DVec3::new(0.0, 10.0, 30.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            Lens {
+                far: 60.0,
+                ..Lens::default()
+            },
+        )
+        .unwrap();
+        // A map looking straight down over a 200 m square.
+        let clip_from_world = DMat4::from_cols(
+            DVec4::new(0.01, 0.0, 0.0, 0.0),
+            DVec4::new(0.0, 0.0, 0.001, 0.0),
+            DVec4::new(0.0, -0.01, 0.0, 0.0),
+            DVec4::new(0.0, 0.0, 0.5, 1.0),
+        );
+        let map = ShadowMap {
+            clip_from_world,
+            depth_from_world: DVec4::new(0.0, 0.001, 0.0, 0.5),
+            resolution: size,
+            viewport_inset: 1,
+            projection: MapProjection::Orthographic,
+        };
+        let mut rgba = vec![255u8; (size * size * 4) as usize];
+        draw_frustum(&mut rgba, size, &camera, &map);
+        let red = |x: usize, y: usize| rgba[(y * size as usize + x) * 4 + 1] == 40;
+        // Along every row, red runs are at least 4 pixels long where a line crosses it.
+        let mut runs = Vec::new();
+        for y in (0..size as usize).step_by(64) {
+            let mut run = 0;
+            for x in 0..size as usize {
+                if red(x, y) {
+                    run += 1;
+                } else if run > 0 {
+                    runs.push(run);
+                    run = 0;
+                }
+            }
+        }
+        assert!(!runs.is_empty(), "no line crosses the sampled rows");
+        assert!(runs.iter().all(|&r| r >= 4), "runs {runs:?}");
+    }
+}
