@@ -6,14 +6,14 @@ use std::time::Instant;
 
 use clap::Args;
 use gnomon::{ShadowTechnique, Technique};
-use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer, StencilMode};
+use gnomon_render::{RenderScene, RenderSettings, StencilMode};
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
 use crate::CliError;
 use crate::args::render_command;
 use crate::args::{TechniqueParams, timed_setup};
-use crate::render::{write_frame, write_text};
+use crate::render::{open_renderer, write_frame, write_text};
 use crate::report;
 
 /// `gnomon demo`.
@@ -40,10 +40,10 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let bounds = scene.bounds()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
-    let mut renderer = Renderer::new(Gpu::new()?, &scene)?;
-    eprintln!("gnomon demo: rendering on {}", renderer.gpu().describe());
     let width = args.width;
     let height = width * 9 / 16;
+    let mut renderer = open_renderer(&scene, (width, height), Some(args.shadow_map))?;
+    eprintln!("gnomon demo: rendering on {}", renderer.gpu().describe());
     let settings = RenderSettings {
         width,
         height,

@@ -6,9 +6,8 @@ use std::ops::Range;
 use glam::DMat4;
 use gnomon::Aabb;
 
-use crate::records::GpuInstance;
 use crate::renderer::reaches_all;
-use crate::scene::{INSTANCE_STRIDE, transformed_bounds};
+use crate::scene::{InstanceStream, transformed_bounds};
 use crate::{RenderError, Renderer};
 
 /// One caster: a range of the index buffer drawn with a base vertex and a placement.
@@ -35,8 +34,7 @@ pub struct CasterSet {
     index_format: wgpu::IndexFormat,
     draws: Vec<CasterDraw>,
     world_bounds: Vec<Option<Aabb>>,
-    instance_buffer: wgpu::Buffer,
-    staged: Vec<GpuInstance>,
+    instances: InstanceStream,
 }
 
 /// The caller's buffers for [`CasterSet::new`].
@@ -79,21 +77,16 @@ impl CasterSet {
                     .and_then(|b| transformed_bounds(&b, d.world_from_object))
             })
             .collect();
-        let instance_buffer = renderer.resources.buffer(
-            "caster instances",
-            INSTANCE_STRIDE * draws.len().max(1) as u64,
-            wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-        );
+        let instances = InstanceStream::new(&renderer.resources, "caster instances", draws.len());
         Ok(Self {
             vertices: buffers.vertices,
             vertex_offset: buffers.vertex_offset,
             vertex_stride: buffers.vertex_stride,
             indices: buffers.indices,
             index_format: buffers.index_format,
-            staged: Vec::with_capacity(draws.len()),
             draws,
             world_bounds,
-            instance_buffer,
+            instances,
         })
     }
 
@@ -116,27 +109,16 @@ impl CasterSet {
         let camera = renderer.prepared_camera.ok_or_else(|| {
             RenderError::Invalid("prepare the frame before writing caster transforms".into())
         })?;
-        let view_from_world = camera.view_from_world();
-        self.staged.clear();
-        self.staged.extend(
-            self.draws
-                .iter()
-                .map(|d| GpuInstance::new(view_from_world, d.world_from_object, [1.0; 4])),
-        );
-        if !self.staged.is_empty() {
-            renderer.gpu.queue.write_buffer(
-                &self.instance_buffer,
-                0,
-                bytemuck::cast_slice(&self.staged),
-            );
-        }
+        let placements = self.draws.iter().map(|d| (d.world_from_object, [1.0; 4]));
+        self.instances
+            .write(&renderer.gpu.queue, camera.view_from_world(), placements);
         Ok(())
     }
 
     /// Draws the casters that reach every plane.
     pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, planes: &[glam::DVec4]) {
         pass.set_vertex_buffer(0, self.vertices.slice(self.vertex_offset..));
-        pass.set_vertex_buffer(1, self.instance_buffer.slice(..));
+        pass.set_vertex_buffer(1, self.instances.buffer.slice(..));
         pass.set_index_buffer(self.indices.slice(..), self.index_format);
         for (k, draw) in self.draws.iter().enumerate() {
             if self.world_bounds[k].is_none_or(|b| reaches_all(&b, planes)) {

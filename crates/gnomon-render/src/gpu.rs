@@ -75,11 +75,51 @@ impl Gpu {
         self.device.limits().max_texture_dimension_2d
     }
 
+    /// Refuses a `what` (image, target) of `width` x `height` that this device cannot make.
+    pub(crate) fn check_size(
+        &self,
+        what: &str,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        let max = self.max_texture_size();
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(RenderError::Invalid(format!(
+                "{what} size {width}x{height} is outside 1..={max} (this GPU's largest texture)"
+            )));
+        }
+        Ok(())
+    }
+
     /// Waits until the GPU has finished all submitted work.
     pub(crate) fn wait(&self) -> Result<(), RenderError> {
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
             .map_err(|e| RenderError::Gpu(e.to_string()))
+    }
+}
+
+/// Validation and internal (GL shader compilation) error scopes around GPU work.
+pub(crate) struct ErrorScopes {
+    validation: wgpu::ErrorScopeGuard,
+    internal: wgpu::ErrorScopeGuard,
+}
+
+impl ErrorScopes {
+    pub fn push(gpu: &Gpu) -> Self {
+        Self {
+            validation: gpu.device.push_error_scope(wgpu::ErrorFilter::Validation),
+            internal: gpu.device.push_error_scope(wgpu::ErrorFilter::Internal),
+        }
+    }
+
+    pub fn pop(self) -> Result<(), RenderError> {
+        let internal = pollster::block_on(self.internal.pop());
+        let validation = pollster::block_on(self.validation.pop());
+        match internal.or(validation) {
+            Some(error) => Err(RenderError::Gpu(error.to_string())),
+            None => Ok(()),
+        }
     }
 }

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use gnomon::{Camera, Light, ShadowSetup};
 
+use crate::gpu::ErrorScopes;
 use crate::light_view::{MAX_LIGHT_VIEW, draw_frustum};
 use crate::pipelines::{
     CAMERA_DEPTH_FORMAT, COLOR_FORMAT, LIGHT_VIEW_FORMAT, LIT_FORMAT, METRICS_FORMAT,
@@ -182,30 +183,6 @@ pub(crate) struct Targets {
     light_view: Option<(wgpu::Texture, wgpu::TextureView)>,
 }
 
-/// Validation and internal (GL shader) error scopes around a frame.
-pub(crate) struct ErrorScopes {
-    validation: wgpu::ErrorScopeGuard,
-    internal: wgpu::ErrorScopeGuard,
-}
-
-impl ErrorScopes {
-    pub fn push(gpu: &Gpu) -> Self {
-        Self {
-            validation: gpu.device.push_error_scope(wgpu::ErrorFilter::Validation),
-            internal: gpu.device.push_error_scope(wgpu::ErrorFilter::Internal),
-        }
-    }
-
-    pub fn pop(self) -> Result<(), RenderError> {
-        let internal = pollster::block_on(self.internal.pop());
-        let validation = pollster::block_on(self.validation.pop());
-        match internal.or(validation) {
-            Some(error) => Err(RenderError::Gpu(error.to_string())),
-            None => Ok(()),
-        }
-    }
-}
-
 /// A frame's encoder and its part times: with GPU timestamps one submission and the passes'
 /// own times; without, a submission and a wait after each part, timed by the wall clock.
 pub(crate) struct FrameClock {
@@ -306,14 +283,9 @@ impl FrameClock {
 impl Renderer {
     /// The image size of `settings`, checked against the GPU's limit.
     pub(crate) fn image_size(&self, settings: &RenderSettings) -> Result<(u32, u32), RenderError> {
-        let (width, height) = (settings.width, settings.height);
-        let max = self.gpu.max_texture_size();
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(RenderError::Invalid(format!(
-                "image size {width}x{height} is outside 1..={max} (this GPU's largest texture)"
-            )));
-        }
-        Ok((width, height))
+        self.gpu
+            .check_size("image", settings.width, settings.height)?;
+        Ok((settings.width, settings.height))
     }
 
     /// Makes (or keeps) the headless targets for a `width` x `height` frame.
@@ -409,7 +381,7 @@ impl Renderer {
             );
             self.bind_frame(&mut pass);
             self.scene.bind(&mut pass);
-            self.scene.draw(&mut pass, |_| true);
+            self.scene.draw_all(&mut pass);
         }
         clock.end_part(&self.gpu, Part::Main)?;
         let mut timings = clock.finish(self)?;
@@ -460,7 +432,7 @@ impl Renderer {
         let mut k = 0u32;
         for l in lights {
             for map in &l.setup.maps {
-                let size = map.resolution.min(MAX_LIGHT_VIEW);
+                let (size, offset) = (map.resolution.min(MAX_LIGHT_VIEW), self.slot(k));
                 let targets = self.headless.as_mut().expect("made by render");
                 if targets
                     .light_view
@@ -488,7 +460,7 @@ impl Renderer {
                         ..Default::default()
                     });
                     pass.set_pipeline(&self.pipelines.light_view);
-                    pass.set_bind_group(0, &self.frame_group, &[k * self.slot_stride]);
+                    pass.set_bind_group(0, &self.frame_group, &[offset]);
                     pass.set_bind_group(1, &self.atlas.bind_group, &[]);
                     pass.draw(0..3, 0..1);
                 }

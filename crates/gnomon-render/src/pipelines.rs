@@ -85,23 +85,15 @@ impl Pipelines {
     /// The fragment entry point `name`, or its `_frag_depth` twin where camera passes write
     /// their depth.
     pub fn fragment(&self, name: &str) -> String {
-        if self.fragment_depth {
-            format!("{name}_frag_depth")
-        } else {
-            name.to_string()
-        }
+        fragment_entry(name, self.fragment_depth)
     }
 
     pub fn new(device: &wgpu::Device, backend: wgpu::Backend) -> Self {
         let fragment_depth = backend == wgpu::Backend::Gl;
-        let entry = |name: &str| {
-            if fragment_depth {
-                format!("{name}_frag_depth")
-            } else {
-                name.to_string()
-            }
-        };
-        let (fs_measured, fs_color) = (entry("fs_measured"), entry("fs_color"));
+        let (fs_measured, fs_color) = (
+            fragment_entry("fs_measured", fragment_depth),
+            fragment_entry("fs_color", fragment_depth),
+        );
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("gnomon passes"),
             source: wgpu::ShaderSource::Wgsl(shader_source().into()),
@@ -295,6 +287,15 @@ impl Pipelines {
                     },
                 )
             })
+    }
+}
+
+/// A fragment entry point, or its `_frag_depth` twin when camera passes write their depth.
+fn fragment_entry(name: &str, fragment_depth: bool) -> String {
+    if fragment_depth {
+        format!("{name}_frag_depth")
+    } else {
+        name.to_string()
     }
 }
 

@@ -78,15 +78,7 @@ impl Readback {
             );
             gpu.queue.submit([encoder.finish()]);
             let slice = staging.slice(..padded * rows as u64);
-            let (sender, receiver) = std::sync::mpsc::channel();
-            slice.map_async(wgpu::MapMode::Read, move |result| {
-                let _ = sender.send(result);
-            });
-            gpu.wait()?;
-            receiver
-                .recv()
-                .map_err(|e| RenderError::Gpu(e.to_string()))?
-                .map_err(|e| RenderError::Gpu(e.to_string()))?;
+            map_for_reading(gpu, &slice)?;
             {
                 let data = slice
                     .get_mapped_range()
@@ -100,4 +92,18 @@ impl Readback {
         }
         Ok(out)
     }
+}
+
+/// Maps `slice` for reading and waits until it is mapped (after the work that fills it was
+/// submitted).
+pub(crate) fn map_for_reading(gpu: &Gpu, slice: &wgpu::BufferSlice<'_>) -> Result<(), RenderError> {
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |result| {
+        let _ = sender.send(result);
+    });
+    gpu.wait()?;
+    receiver
+        .recv()
+        .map_err(|e| RenderError::Gpu(e.to_string()))?
+        .map_err(|e| RenderError::Gpu(e.to_string()))
 }

@@ -165,9 +165,9 @@ pub(crate) fn light_record(
     light: &Light,
     setup: Option<&ShadowSetup>,
     view_from_world: DMat4,
+    world_from_camera: DMat4,
     first_map: usize,
 ) -> Result<GpuLight, RenderError> {
-    let world_from_camera = view_from_world.inverse();
     let (vector, spot, range, kind) = match light {
         Light::Directional(d) => (
             vec4(view_from_world.transform_vector3(d.direction()), 0.0),

@@ -9,6 +9,7 @@ use gnomon::{Aabb, Camera, MapSelection};
 
 use crate::atlas::{AtlasBindings, ShadowAtlas};
 use crate::casters::CasterSet;
+use crate::gpu::ErrorScopes;
 use crate::pipelines::{CAMERA_DEPTH_FORMAT, Pipelines};
 use crate::readback::Readback;
 use crate::records::{
@@ -117,6 +118,7 @@ pub struct SceneTarget<'a> {
 }
 
 /// One map of the prepared frame: where it is and which instances it draws.
+#[derive(Default)]
 pub(crate) struct PreparedMap {
     pub layer: u32,
     pub resolution: u32,
@@ -141,7 +143,7 @@ pub struct Renderer {
     frame_buffer: wgpu::Buffer,
     shadows_buffer: wgpu::Buffer,
     _slot_buffer: wgpu::Buffer,
-    pub(crate) slot_stride: u32,
+    slot_stride: u32,
     pub(crate) frame_group: wgpu::BindGroup,
     /// The records alone, for the depth passes.
     records_group: wgpu::BindGroup,
@@ -168,8 +170,7 @@ impl Renderer {
     /// Uploads the scene and builds the pipelines.
     pub fn new(gpu: Gpu, scene: &RenderScene) -> Result<Self, RenderError> {
         let device = gpu.device.clone();
-        let error_scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let internal_scope = device.push_error_scope(wgpu::ErrorFilter::Internal);
+        let scopes = ErrorScopes::push(&gpu);
         let resources = Resources::new(device.clone());
         let pipelines = Pipelines::new(&device, gpu.adapter_info.backend);
         let sampler = |label, filter, compare| {
@@ -277,11 +278,7 @@ impl Renderer {
             resources,
             gpu,
         };
-        let internal = pollster::block_on(internal_scope.pop());
-        let validation = pollster::block_on(error_scope.pop());
-        if let Some(error) = internal.or(validation) {
-            return Err(RenderError::Gpu(error.to_string()));
-        }
+        scopes.pop()?;
         Ok(renderer)
     }
 
@@ -343,11 +340,6 @@ impl Renderer {
             ));
         }
         self.scene.set_transform(index, world_from_object);
-        self.volume_casters.set_transform(
-            index,
-            world_from_object,
-            self.scene.instances[index].bounds,
-        );
         Ok(())
     }
 
@@ -361,7 +353,7 @@ impl Renderer {
                 if i.casts {
                     casters.push(b);
                 }
-                if i.color[3] > 0.5 {
+                if i.receives {
                     receivers.push(b);
                 }
             }
@@ -467,11 +459,12 @@ impl Renderer {
         let world_from_camera = view_from_world.inverse();
         let shadows = &mut *self.shadows;
         shadows.lights = [bytemuck::Zeroable::zeroed(); MAX_LIGHTS];
-        let maps_taken = std::mem::take(&mut self.maps);
-        let mut spare = maps_taken.into_iter();
+        // The maps' records are refilled in place (their lists keep their memory).
+        self.maps.resize_with(map_count, PreparedMap::default);
         let mut layer = 0usize;
         for (k, (light, setup)) in lights.iter().enumerate() {
-            shadows.lights[k] = light_record(light, *setup, view_from_world, layer)?;
+            shadows.lights[k] =
+                light_record(light, *setup, view_from_world, world_from_camera, layer)?;
             let Some(setup) = setup else { continue };
             for (i, map) in setup.maps.iter().enumerate() {
                 shadows.maps[layer] = map_record(
@@ -483,13 +476,7 @@ impl Renderer {
                     },
                     &settings.bias,
                 );
-                let mut prepared = spare.next().unwrap_or(PreparedMap {
-                    layer: 0,
-                    resolution: 0,
-                    inset: 0,
-                    planes: Vec::new(),
-                    casters: Vec::new(),
-                });
+                let prepared = &mut self.maps[layer];
                 prepared.layer = layer as u32;
                 prepared.resolution = map.resolution;
                 prepared.inset = map.viewport_inset;
@@ -512,7 +499,6 @@ impl Renderer {
                         prepared.casters.push(index as u32);
                     }
                 }
-                self.maps.push(prepared);
                 layer += 1;
             }
         }
@@ -555,6 +541,7 @@ impl Renderer {
     ) {
         let stride = std::mem::size_of::<crate::scene::Vertex>() as u64;
         for k in 0..self.maps.len() {
+            let offset = self.slot(k as u32);
             let timestamps = if timed {
                 self.timer.as_mut().and_then(|t| t.pass(Part::Shadow))
             } else {
@@ -563,16 +550,11 @@ impl Renderer {
             let map = &self.maps[k];
             let mut pass = begin_depth_pass(encoder, &self.atlas, map, timestamps);
             pass.set_pipeline(self.pipelines.depth_for(stride).expect("made at start"));
-            pass.set_bind_group(0, &self.frame_group, &[k as u32 * self.slot_stride]);
+            pass.set_bind_group(0, &self.frame_group, &[offset]);
             pass.set_bind_group(1, &self.records_group, &[]);
-            pass.set_vertex_buffer(0, self.scene.vertices.slice(..));
-            pass.set_vertex_buffer(1, self.scene.instance_buffer.slice(..));
-            pass.set_index_buffer(self.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-            for &index in &map.casters {
-                let instance = &self.scene.instances[index as usize];
-                let mesh = &self.scene.meshes[instance.mesh];
-                pass.draw_indexed(mesh.indices.clone(), mesh.base_vertex, index..index + 1);
-            }
+            self.scene.bind(&mut pass);
+            self.scene
+                .draw_instances(&mut pass, map.casters.iter().copied());
         }
     }
 
@@ -607,12 +589,7 @@ impl Renderer {
         target: &SceneTarget<'_>,
     ) -> Result<(), RenderError> {
         let (w, h, samples) = (target.width, target.height, target.sample_count);
-        let max = self.gpu.max_texture_size();
-        if w == 0 || h == 0 || w > max || h > max {
-            return Err(RenderError::Invalid(format!(
-                "target size {w}x{h} is outside 1..={max}"
-            )));
-        }
+        self.gpu.check_size("target", w, h)?;
         if self
             .camera_depth
             .as_ref()
@@ -651,7 +628,7 @@ impl Renderer {
         pass.set_pipeline(pipeline);
         self.bind_frame(&mut pass);
         self.scene.bind(&mut pass);
-        self.scene.draw(&mut pass, |_| true);
+        self.scene.draw_all(&mut pass);
         Ok(())
     }
 

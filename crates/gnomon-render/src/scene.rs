@@ -184,7 +184,16 @@ pub(crate) struct SceneInstance {
     /// World bounds (none for a mesh without vertices).
     pub bounds: Option<Aabb>,
     pub casts: bool,
-    pub color: [f32; 4],
+    pub receives: bool,
+    pub color: [f32; 3],
+}
+
+impl SceneInstance {
+    /// The colour the shaders read: w is 1 where shadows fall on the instance.
+    fn shader_color(&self) -> [f32; 4] {
+        let [r, g, b] = self.color;
+        [r, g, b, if self.receives { 1.0 } else { 0.0 }]
+    }
 }
 
 /// The scene on the GPU: every mesh once, in object space, in one vertex and one index
@@ -195,17 +204,51 @@ pub(crate) struct GpuScene {
     pub indices: wgpu::Buffer,
     pub meshes: Vec<MeshRange>,
     pub instances: Vec<SceneInstance>,
-    pub instance_buffer: wgpu::Buffer,
-    /// Whether every instance receives shadows.
-    pub all_receive: bool,
+    pub instances_on_gpu: InstanceStream,
     /// Each mesh's object-space bounds (for moved instances).
     mesh_bounds: Vec<Option<Aabb>>,
-    /// The last transforms written (the CPU side of `instance_buffer`).
-    staged: Vec<GpuInstance>,
 }
 
 /// Instance buffer stride (`GpuInstance`).
 pub(crate) const INSTANCE_STRIDE: u64 = std::mem::size_of::<GpuInstance>() as u64;
+
+/// Per-instance transforms on the GPU (view from object, written every frame in f64 and
+/// rounded last) and their CPU copy, kept so that frames allocate nothing.
+pub(crate) struct InstanceStream {
+    pub buffer: wgpu::Buffer,
+    staged: Vec<GpuInstance>,
+}
+
+impl InstanceStream {
+    /// Room for `count` instances.
+    pub fn new(resources: &Resources, label: &str, count: usize) -> Self {
+        Self {
+            buffer: resources.buffer(
+                label,
+                INSTANCE_STRIDE * count.max(1) as u64,
+                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            ),
+            staged: Vec::with_capacity(count),
+        }
+    }
+
+    /// Writes each instance's (world from object, colour) for the camera's view.
+    pub fn write(
+        &mut self,
+        queue: &wgpu::Queue,
+        view_from_world: DMat4,
+        instances: impl Iterator<Item = (DMat4, [f32; 4])>,
+    ) {
+        self.staged.clear();
+        self.staged
+            .extend(instances.map(|(world_from_object, color)| {
+                GpuInstance::new(view_from_world, world_from_object, color)
+            }));
+        if !self.staged.is_empty() {
+            queue.write_buffer(&self.buffer, 0, bytemuck::cast_slice(&self.staged));
+        }
+    }
+}
 
 impl GpuScene {
     pub fn new(resources: &Resources, scene: &RenderScene) -> Result<Self, RenderError> {
@@ -242,13 +285,13 @@ impl GpuScene {
                     scene.meshes.len()
                 )));
             }
-            let [r, g, b] = instance.color;
             instances.push(SceneInstance {
                 mesh: instance.mesh,
                 world_from_object: instance.world_from_object,
                 bounds: scene.instance_bounds(instance).ok(),
                 casts: instance.casts,
-                color: [r, g, b, if instance.receives { 1.0 } else { 0.0 }],
+                receives: instance.receives,
+                color: instance.color,
             });
         }
         // Buffers are never empty (a scene without geometry still binds them).
@@ -266,16 +309,11 @@ impl GpuScene {
             &pad(bytemuck::cast_slice(&indices).to_vec()),
             wgpu::BufferUsages::INDEX,
         );
-        let instance_buffer = resources.buffer(
-            "scene instances",
-            INSTANCE_STRIDE * instances.len().max(1) as u64,
-            wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-        );
+        let instances_on_gpu = InstanceStream::new(resources, "scene instances", instances.len());
         Ok(Self {
             vertices: vertex_buffer,
             indices: index_buffer,
             meshes,
-            all_receive: scene.instances.iter().all(|i| i.receives),
             mesh_bounds: scene
                 .meshes
                 .iter()
@@ -284,9 +322,8 @@ impl GpuScene {
                     Aabb::new(lo, hi).ok()
                 })
                 .collect(),
-            staged: Vec::with_capacity(instances.len()),
             instances,
-            instance_buffer,
+            instances_on_gpu,
         })
     }
 
@@ -299,37 +336,42 @@ impl GpuScene {
             self.mesh_bounds[instance.mesh].and_then(|b| transformed_bounds(&b, world_from_object));
     }
 
+    /// Whether every instance receives shadows.
+    pub fn all_receive(&self) -> bool {
+        self.instances.iter().all(|i| i.receives)
+    }
+
     /// Writes every instance's view-from-object transform for the camera's view.
     pub fn write_transforms(&mut self, queue: &wgpu::Queue, view_from_world: DMat4) {
-        self.staged.clear();
-        self.staged.extend(
-            self.instances
-                .iter()
-                .map(|i| GpuInstance::new(view_from_world, i.world_from_object, i.color)),
-        );
-        if !self.staged.is_empty() {
-            queue.write_buffer(&self.instance_buffer, 0, bytemuck::cast_slice(&self.staged));
-        }
+        let placements = self
+            .instances
+            .iter()
+            .map(|i| (i.world_from_object, i.shader_color()));
+        self.instances_on_gpu
+            .write(queue, view_from_world, placements);
     }
 
     /// Binds the buffers for the main pass (positions and normals, instances).
     pub fn bind(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_vertex_buffer(0, self.vertices.slice(..));
-        pass.set_vertex_buffer(1, self.instance_buffer.slice(..));
+        pass.set_vertex_buffer(1, self.instances_on_gpu.buffer.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
     }
 
-    /// Draws the instances that `keep` accepts (after [`GpuScene::bind`]).
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, keep: impl Fn(usize) -> bool) {
-        for (k, instance) in self.instances.iter().enumerate() {
-            if keep(k) {
-                let mesh = &self.meshes[instance.mesh];
-                pass.draw_indexed(
-                    mesh.indices.clone(),
-                    mesh.base_vertex,
-                    k as u32..k as u32 + 1,
-                );
-            }
+    /// Draws every instance (after [`GpuScene::bind`]).
+    pub fn draw_all(&self, pass: &mut wgpu::RenderPass<'_>) {
+        self.draw_instances(pass, 0..self.instances.len() as u32);
+    }
+
+    /// Draws the instances of `indices` (after [`GpuScene::bind`]).
+    pub fn draw_instances(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        indices: impl IntoIterator<Item = u32>,
+    ) {
+        for k in indices {
+            let mesh = &self.meshes[self.instances[k as usize].mesh];
+            pass.draw_indexed(mesh.indices.clone(), mesh.base_vertex, k..k + 1);
         }
     }
 }

@@ -110,15 +110,7 @@ impl Timer {
             return Ok((0.0, 0.0));
         }
         let slice = self.readback.slice(..8 * n);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = sender.send(r);
-        });
-        gpu.wait()?;
-        receiver
-            .recv()
-            .map_err(|e| RenderError::Gpu(e.to_string()))?
-            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        crate::readback::map_for_reading(gpu, &slice)?;
         let mut sums = (0.0, 0.0);
         {
             let data = slice

@@ -16,7 +16,7 @@
 
 use std::ops::Range;
 
-use glam::{DMat4, DVec4};
+use glam::DVec4;
 use gnomon::volumes::{
     MeshTopology, NearClipFallback, NearClipVolume, OpenMeshPolicy, VolumeParts, extrude_volume,
 };
@@ -24,6 +24,7 @@ use gnomon::{Aabb, Camera, Light};
 
 use crate::headless::{FrameClock, MASK_CLEAR, SKY, color_target};
 use crate::pipelines::{COLOR_FORMAT, MASK_FORMAT, PipelineSpec, Pipelines, build, scene_buffers};
+use crate::scene::SceneInstance;
 use crate::timing::Part;
 use crate::{Frame, Gpu, RenderError, RenderScene, RenderSettings, Renderer};
 
@@ -71,13 +72,10 @@ pub struct VolumeFrame {
     pub stats: VolumeStats,
 }
 
-/// The casters' meshes, ready for extrusion.
+/// The casters' meshes, ready for extrusion (their placements are the scene's instances).
 pub(crate) struct VolumeCasters {
     /// Per mesh of the scene, its topology (open meshes kept for per-triangle volumes).
     topologies: Vec<Option<MeshTopology>>,
-    /// Every instance of the scene: mesh index, placement, world bounds (none for a flat or
-    /// empty mesh: it then always counts as reaching the near plane) and whether it casts.
-    instances: Vec<(usize, DMat4, Option<Aabb>, bool)>,
     /// The last extrusion (kept so that frames reuse its memory).
     out: Vec<DVec4>,
 }
@@ -93,7 +91,6 @@ pub(crate) struct ExtrudedVolumes {
 impl VolumeCasters {
     pub fn new(scene: &RenderScene) -> Self {
         let mut topologies: Vec<Option<MeshTopology>> = vec![None; scene.meshes.len()];
-        let mut instances = Vec::new();
         for instance in &scene.instances {
             if instance.casts && instance.mesh < scene.meshes.len() {
                 let slot = &mut topologies[instance.mesh];
@@ -109,31 +106,19 @@ impl VolumeCasters {
                     .ok();
                 }
             }
-            let bounds = scene.instance_bounds(instance).ok();
-            instances.push((
-                instance.mesh,
-                instance.world_from_object,
-                bounds,
-                instance.casts,
-            ));
         }
         Self {
             topologies,
-            instances,
             out: Vec::new(),
         }
     }
 
-    pub fn set_transform(&mut self, index: usize, world_from_object: DMat4, bounds: Option<Aabb>) {
-        let instance = &mut self.instances[index];
-        instance.1 = world_from_object;
-        instance.2 = bounds;
-    }
-
-    /// Every caster's volume for each light, counted as `mode` says (`camera` decides which
-    /// casters can reach its near plane under [`StencilMode::PerCaster`]), in view space.
+    /// Every casting instance's volume for each light, counted as `mode` says (`camera`
+    /// decides which casters can reach its near plane under [`StencilMode::PerCaster`]; an
+    /// instance without bounds always counts as reaching it), in view space.
     pub fn extrude(
         &mut self,
+        instances: &[SceneInstance],
         camera: &Camera,
         lights: &[Light],
         mode: StencilMode,
@@ -166,16 +151,21 @@ impl VolumeCasters {
                 } else {
                     VolumeParts::SidesOnly
                 };
-                for (mesh, world_from_object, bounds, casts) in &self.instances {
-                    let Some(topology) = self.topologies[*mesh].as_ref().filter(|_| *casts) else {
+                for instance in instances.iter().filter(|i| i.casts) {
+                    let Some(topology) = &self.topologies[instance.mesh] else {
                         continue;
                     };
-                    if z_fail(bounds) != counted_z_fail {
+                    if z_fail(&instance.bounds) != counted_z_fail {
                         continue;
                     }
                     self.out.clear();
-                    let counts =
-                        extrude_volume(topology, *world_from_object, light, parts, &mut self.out);
+                    let counts = extrude_volume(
+                        topology,
+                        instance.world_from_object,
+                        light,
+                        parts,
+                        &mut self.out,
+                    );
                     into.stats.triangles += counts.total();
                     if counted_z_fail {
                         into.stats.z_fail_casters += 1;
@@ -432,7 +422,7 @@ impl Renderer {
             ));
         }
         let (width, height) = self.image_size(settings)?;
-        let scopes = crate::headless::ErrorScopes::push(&self.gpu);
+        let scopes = crate::gpu::ErrorScopes::push(&self.gpu);
         self.prepare_lights(camera, lights, settings)?;
         self.ensure_headless(width, height, false);
         let mut targets = match self.volume_targets.take() {
@@ -484,8 +474,13 @@ impl Renderer {
         };
         let mut clock = FrameClock::start(self);
         // Extrusion on the CPU counts as the shadow part.
-        self.volume_casters
-            .extrude(camera, lights, mode, &mut targets.extruded);
+        self.volume_casters.extrude(
+            &self.scene.instances,
+            camera,
+            lights,
+            mode,
+            &mut targets.extruded,
+        );
         let bytes = (targets.extruded.vertices.len() * 16) as u64;
         if bytes > 0 && targets.vertices.as_ref().is_none_or(|b| b.size() < bytes) {
             let size = bytes.next_power_of_two().max(1 << 16);
@@ -573,7 +568,7 @@ impl Renderer {
             pass.set_pipeline(&self.volumes.depth_and_ambient);
             self.bind_frame(&mut pass);
             self.scene.bind(&mut pass);
-            self.scene.draw(&mut pass, |_| true);
+            self.scene.draw_all(&mut pass);
         }
         clock.end_part(&self.gpu, Part::Main)?;
         for k in 0..light_count {
@@ -616,7 +611,7 @@ impl Renderer {
                 // shadows get their direct light in the shadowed draw too, so the first light
                 // skips it only when every instance receives.)
                 let first = k == 0;
-                let skip_shadowed = first && self.scene.all_receive;
+                let skip_shadowed = first && self.scene.all_receive();
                 let timestamps = clock.timestamps(&mut self.timer, Part::Main);
                 let mut pass = clock
                     .encoder()
@@ -641,7 +636,7 @@ impl Renderer {
                 let draws = [&self.volumes.lit, &self.volumes.shadowed];
                 for pipeline in draws.iter().take(if skip_shadowed { 1 } else { 2 }) {
                     pass.set_pipeline(pipeline);
-                    self.scene.draw(&mut pass, |_| true);
+                    self.scene.draw_all(&mut pass);
                 }
             }
             clock.end_part(&self.gpu, Part::Main)?;
