@@ -292,11 +292,7 @@ impl Renderer {
     pub(crate) fn ensure_headless(&mut self, width: u32, height: u32, metrics: bool) {
         let r = &self.resources;
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let make = |label, format, usage| {
-            let t = r.texture(label, width, height, 1, 1, format, usage);
-            let v = t.create_view(&Default::default());
-            (t, v)
-        };
+        let make = |label, format, usage| r.target(label, (width, height), 1, format, usage);
         if self
             .headless
             .as_ref()
@@ -439,17 +435,13 @@ impl Renderer {
                     .as_ref()
                     .is_none_or(|t| t.0.width() != size)
                 {
-                    let t = self.resources.texture(
+                    targets.light_view = Some(self.resources.target(
                         "light view",
-                        size,
-                        size,
-                        1,
+                        (size, size),
                         1,
                         LIGHT_VIEW_FORMAT,
                         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                    );
-                    let v = t.create_view(&Default::default());
-                    targets.light_view = Some((t, v));
+                    ));
                 }
                 let (texture, view) = targets.light_view.as_ref().expect("made above");
                 let mut encoder = self.gpu.device.create_command_encoder(&Default::default());

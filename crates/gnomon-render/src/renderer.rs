@@ -595,16 +595,13 @@ impl Renderer {
             .as_ref()
             .is_none_or(|d| (d.2, d.3, d.4) != (w, h, samples))
         {
-            let texture = self.resources.texture(
+            let (texture, view) = self.resources.target(
                 "camera depth",
-                w,
-                h,
-                1,
+                (w, h),
                 samples,
                 CAMERA_DEPTH_FORMAT,
                 wgpu::TextureUsages::RENDER_ATTACHMENT,
             );
-            let view = texture.create_view(&Default::default());
             self.camera_depth = Some((texture, view, w, h, samples));
         }
         let depth = &self.camera_depth.as_ref().expect("made above").1;

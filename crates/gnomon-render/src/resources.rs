@@ -81,4 +81,18 @@ impl Resources {
             view_formats: &[],
         })
     }
+
+    /// A one-layer render target and its view.
+    pub fn target(
+        &self,
+        label: &str,
+        (width, height): (u32, u32),
+        sample_count: u32,
+        format: wgpu::TextureFormat,
+        usage: wgpu::TextureUsages,
+    ) -> (wgpu::Texture, wgpu::TextureView) {
+        let texture = self.texture(label, width, height, 1, sample_count, format, usage);
+        let view = texture.create_view(&Default::default());
+        (texture, view)
+    }
 }

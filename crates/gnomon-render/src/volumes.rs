@@ -428,28 +428,22 @@ impl Renderer {
         let mut targets = match self.volume_targets.take() {
             Some(t) if t.size == (width, height) && t.masks.len() >= lights.len() => t,
             old => {
-                let depth = self.resources.texture(
+                let (_, depth_view) = self.resources.target(
                     "volumes depth and stencil",
-                    width,
-                    height,
-                    1,
+                    (width, height),
                     1,
                     self.volumes.format,
                     wgpu::TextureUsages::RENDER_ATTACHMENT,
                 );
                 let masks = (0..lights.len())
                     .map(|_| {
-                        let t = self.resources.texture(
+                        self.resources.target(
                             "light mask",
-                            width,
-                            height,
-                            1,
+                            (width, height),
                             1,
                             MASK_FORMAT,
                             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                        );
-                        let v = t.create_view(&Default::default());
-                        (t, v)
+                        )
                     })
                     .collect();
                 let (vertices, extruded) = match old {
@@ -465,7 +459,7 @@ impl Renderer {
                 };
                 VolumeTargets {
                     size: (width, height),
-                    depth_view: depth.create_view(&Default::default()),
+                    depth_view,
                     masks,
                     vertices,
                     extruded,
