@@ -175,7 +175,6 @@ pub(crate) fn color_target(
 
 /// The headless frame's kept targets.
 pub(crate) struct Targets {
-    size: (u32, u32),
     pub color: (wgpu::Texture, wgpu::TextureView),
     lit: (wgpu::Texture, wgpu::TextureView),
     depth: wgpu::TextureView,
@@ -296,10 +295,9 @@ impl Renderer {
         if self
             .headless
             .as_ref()
-            .is_none_or(|t| t.size != (width, height))
+            .is_none_or(|t| (t.color.0.width(), t.color.0.height()) != (width, height))
         {
             self.headless = Some(Targets {
-                size: (width, height),
                 color: make("color", COLOR_FORMAT, attachment),
                 lit: make("lit lights", LIT_FORMAT, attachment),
                 depth: make(

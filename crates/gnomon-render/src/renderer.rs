@@ -148,8 +148,8 @@ pub struct Renderer {
     /// The records alone, for the depth passes.
     records_group: wgpu::BindGroup,
     pub(crate) atlas: ShadowAtlas,
-    /// The camera's depth for `encode_scene` (size, samples).
-    camera_depth: Option<(wgpu::Texture, wgpu::TextureView, u32, u32, u32)>,
+    /// The camera's depth for `encode_scene` (its size and samples are the target's).
+    camera_depth: Option<(wgpu::Texture, wgpu::TextureView)>,
     pub(crate) maps: Vec<PreparedMap>,
     /// The prepared frame's records (kept to be rewritten without allocating).
     shadows: Box<GpuShadows>,
@@ -593,16 +593,15 @@ impl Renderer {
         if self
             .camera_depth
             .as_ref()
-            .is_none_or(|d| (d.2, d.3, d.4) != (w, h, samples))
+            .is_none_or(|(t, _)| (t.width(), t.height(), t.sample_count()) != (w, h, samples))
         {
-            let (texture, view) = self.resources.target(
+            self.camera_depth = Some(self.resources.target(
                 "camera depth",
                 (w, h),
                 samples,
                 CAMERA_DEPTH_FORMAT,
                 wgpu::TextureUsages::RENDER_ATTACHMENT,
-            );
-            self.camera_depth = Some((texture, view, w, h, samples));
+            ));
         }
         let depth = &self.camera_depth.as_ref().expect("made above").1;
         let pipeline =
@@ -692,7 +691,7 @@ pub(crate) fn clip_side_planes(clip_from_world: DMat4) -> [DVec4; 4] {
 
 /// Whether a box reaches the positive side of every plane (some corner on it).
 pub(crate) fn reaches_all(b: &Aabb, planes: &[DVec4]) -> bool {
-    let (c, h) = (0.5 * (b.min() + b.max()), 0.5 * (b.max() - b.min()));
+    let (c, h) = (b.center(), b.half_extents());
     planes.iter().all(|p| {
         let n = p.truncate();
         n.dot(c) + p.w + n.abs().dot(h) >= 0.0

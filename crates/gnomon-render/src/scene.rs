@@ -378,15 +378,9 @@ impl GpuScene {
 
 /// The world box of an object-space box under a transform (its eight corners).
 pub(crate) fn transformed_bounds(b: &Aabb, world_from_object: DMat4) -> Option<Aabb> {
-    let (lo, hi) = (b.min(), b.max());
     let mut min = DVec3::INFINITY;
     let mut max = DVec3::NEG_INFINITY;
-    for k in 0..8 {
-        let c = DVec3::new(
-            if k & 1 == 0 { lo.x } else { hi.x },
-            if k & 2 == 0 { lo.y } else { hi.y },
-            if k & 4 == 0 { lo.z } else { hi.z },
-        );
+    for c in b.corners() {
         let w = world_from_object.transform_point3(c);
         min = min.min(w);
         max = max.max(w);

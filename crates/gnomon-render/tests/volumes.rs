@@ -17,13 +17,18 @@ use gnomon_scene::Mesh;
 const SIZE: u32 = 256;
 
 fn camera(eye: DVec3, target: DVec3, near: f64, far: f64) -> Camera {
+    camera_up(eye, target, DVec3::Y, near, far)
+}
+
+/// A square 60 degree camera with its own up (one looking straight up or down needs one).
+fn camera_up(eye: DVec3, target: DVec3, up: DVec3, near: f64, far: f64) -> Camera {
     let lens = Lens {
         fov_y_degrees: 60.0,
         aspect: 1.0,
         near,
         far,
     };
-    Camera::look_at(eye, target, DVec3::Y, lens).unwrap()
+    Camera::look_at(eye, target, up, lens).unwrap()
 }
 
 /// A ground slab and a 40 m tower at the origin.
@@ -395,20 +400,6 @@ fn volumes_shade_like_the_maps() {
     }
 }
 
-fn demo_camera(eye: DVec3, target: DVec3, up: DVec3) -> Camera {
-    Camera::look_at(
-        eye,
-        target,
-        up,
-        Lens {
-            aspect: 1.0,
-            far: 800.0,
-            ..Lens::default()
-        },
-    )
-    .unwrap()
-}
-
 /// A spot light and the camera inside a closed caster (the demo's `block_1_1`): its walls are
 /// lit from inside, and everything outside it is in its shadow. (The closed volume is built
 /// from the light-facing triangles, and inside a closed mesh there are none: the dark cap
@@ -417,10 +408,11 @@ fn demo_camera(eye: DVec3, target: DVec3, up: DVec3) -> Camera {
 fn a_spot_light_inside_a_closed_caster_lights_its_walls() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
     let mut renderer = common::renderer(&scene);
-    let camera = demo_camera(
+    let camera = camera(
         DVec3::new(-118.0, 20.0, -118.0),
         DVec3::new(-100.0, 10.0, -118.0),
-        DVec3::Y,
+        1.0,
+        800.0,
     );
     let light = Light::Spot(
         SpotLight::new(
@@ -464,10 +456,12 @@ fn a_spot_light_inside_a_closed_caster_lights_its_walls() {
 fn surfaces_facing_away_from_a_light_straight_down_read_not_lit() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
     let mut renderer = common::renderer(&scene);
-    let camera = demo_camera(
+    let camera = camera_up(
         DVec3::new(0.0, 5.0, 0.0),
         DVec3::new(0.0, 300.0, 0.0),
         DVec3::new(0.0, 0.0, -1.0),
+        1.0,
+        800.0,
     );
     let light = Light::Directional(DirectionalLight::new(DVec3::NEG_Y).unwrap());
     let oracle = common::oracle(&scene, &camera, &light, SIZE, SIZE);
@@ -516,17 +510,12 @@ fn per_caster_counts_add_up_where_z_fail_and_z_pass_shadows_overlap() {
         ],
     };
     let mut renderer = common::renderer(&scene);
-    let camera = Camera::look_at(
+    let camera = camera(
         DVec3::new(0.0, 2.0, 5.0),
         DVec3::new(0.0, 0.0, -10.0),
-        DVec3::Y,
-        Lens {
-            aspect: 1.0,
-            far: 200.0,
-            ..Lens::default()
-        },
-    )
-    .unwrap();
+        1.0,
+        200.0,
+    );
     // Sideways too, so that the box's own shadow lies beside it, in view.
     let light = Light::Directional(DirectionalLight::new(DVec3::new(1.0, -1.0, -1.0)).unwrap());
     let settings = RenderSettings {

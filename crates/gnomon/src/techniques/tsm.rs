@@ -25,9 +25,10 @@
 //! z_n and z_f the view depths where P begins and ends. In the LiSPSM paper's ideal
 //! configuration (z_n = 1, z_f = 100, light perpendicular to the view) that is LiSPSM's warp:
 //! dp/ds = 9.9 at both ends. (A focus at 80% of the depth with xi = -0.6 makes the
-//! denominator vanish there: the side lines come out parallel and TSM is the focused map.) The 2D projective map sends this trapezoid to
-//! the inset square: with t the distance below the top line, a the lateral offset from q and
-//! w = t + eta,
+//! denominator vanish there: the side lines come out parallel and TSM is the focused map.)
+//!
+//! The 2D projective map sends this trapezoid to the inset square: with t the distance below
+//! the top line, a the lateral offset from q and w = t + eta,
 //!
 //! ```text
 //! x = (2 a - (r_max + r_min) w) / ((r_max - r_min) w),   y = (lambda w - 2 t (lambda + eta)) / (lambda w)
