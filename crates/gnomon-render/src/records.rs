@@ -86,10 +86,13 @@ impl GpuInstance {
     pub fn new(view_from_world: DMat4, world_from_object: DMat4, color: [f32; 4]) -> Self {
         let camera_from_object = view_from_world * world_from_object;
         let n = DMat3::from_mat4(camera_from_object).inverse().transpose();
-        let col = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
         Self {
             camera_from_object: mat(camera_from_object),
-            normal: [col(n.x_axis), col(n.y_axis), col(n.z_axis)],
+            normal: [
+                vec4(n.x_axis, 0.0),
+                vec4(n.y_axis, 0.0),
+                vec4(n.z_axis, 0.0),
+            ],
             color,
         }
     }
@@ -186,24 +189,15 @@ pub(crate) fn light_record(
         ),
     };
     let mut params = [[0.0f32; 4]; 3];
-    let Some(setup) = setup else {
-        return Ok(GpuLight {
-            vector,
-            spot,
-            range,
-            info: [kind, SELECT_SINGLE, first_map as u32, 0],
-            params,
-        });
-    };
-    let selection = match (setup.selection, setup.maps.len()) {
-        (MapSelection::Single, 1) => SELECT_SINGLE,
-        (MapSelection::Plane { plane_world }, 2) => {
+    let selection = match setup.map(|s| (s, s.selection, s.maps.len())) {
+        None | Some((_, MapSelection::Single, 1)) => SELECT_SINGLE,
+        Some((_, MapSelection::Plane { plane_world }, 2)) => {
             params[0] = row_in_camera(plane_world, world_from_camera)
                 .as_vec4()
                 .to_array();
             SELECT_PLANE
         }
-        (selection, n) => {
+        Some((setup, selection, n)) => {
             return Err(RenderError::Invalid(format!(
                 "setup '{}' has {n} maps for a {} selection",
                 setup.technique,
@@ -211,11 +205,12 @@ pub(crate) fn light_record(
             )));
         }
     };
+    let map_count = setup.map_or(0, |s| s.maps.len() as u32);
     Ok(GpuLight {
         vector,
         spot,
         range,
-        info: [kind, selection, first_map as u32, setup.maps.len() as u32],
+        info: [kind, selection, first_map as u32, map_count],
         params,
     })
 }

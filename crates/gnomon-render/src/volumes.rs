@@ -66,8 +66,6 @@ pub struct VolumeFrame {
     /// The image; its mask says where at least one light reaches (for one light, that
     /// light's mask).
     pub frame: Frame,
-    /// Each light's own direct-light mask, in the order of the lights.
-    pub light_masks: Vec<Vec<u8>>,
     /// What was drawn.
     pub stats: VolumeStats,
 }
@@ -527,12 +525,11 @@ impl Renderer {
                 height,
                 color,
                 mask,
-                light_masks: light_masks.clone(),
+                light_masks,
                 light_view: None,
                 metrics: None,
                 timings,
             },
-            light_masks,
             stats,
         })
     }

@@ -303,12 +303,12 @@ fn several_lights_add_up_each_with_exact_shadows() {
     };
     let both = render(&[sun, spot]);
     let (only_sun, only_spot, ambient) = (render(&[sun]), render(&[spot]), render(&[none]));
-    assert_eq!(both.light_masks.len(), 2);
+    assert_eq!(both.frame.light_masks.len(), 2);
     // Each light's mask is its own, and exact.
     for (k, (light, alone)) in [(sun, &only_sun), (spot, &only_spot)].iter().enumerate() {
-        assert_eq!(both.light_masks[k], alone.frame.mask, "light {k}");
+        assert_eq!(both.frame.light_masks[k], alone.frame.mask, "light {k}");
         let oracle = common::oracle(&scene, &camera, light, SIZE, SIZE);
-        let a = common::mask_agreement(&both.light_masks[k], &oracle, 0.1);
+        let a = common::mask_agreement(&both.frame.light_masks[k], &oracle, 0.1);
         println!(
             "light {k}: {:.3}% of {} pixels ({} shadowed)",
             100.0 * a.fraction(),
@@ -319,7 +319,10 @@ fn several_lights_add_up_each_with_exact_shadows() {
     }
     // The frame's mask: lit by either.
     for (i, m) in both.frame.mask.iter().enumerate() {
-        assert_eq!(*m, both.light_masks[0][i].max(both.light_masks[1][i]));
+        assert_eq!(
+            *m,
+            both.frame.light_masks[0][i].max(both.frame.light_masks[1][i])
+        );
     }
     // Light adds up: both = sun + spot - ambient, in linear colour, to 8-bit rounding.
     let mut off = 0;
@@ -336,8 +339,8 @@ fn several_lights_add_up_each_with_exact_shadows() {
             off += 1;
         }
         lit_by_both += usize::from(
-            both.light_masks[0][i / 4] == gnomon_render::MASK_LIT
-                && both.light_masks[1][i / 4] == gnomon_render::MASK_LIT,
+            both.frame.light_masks[0][i / 4] == gnomon_render::MASK_LIT
+                && both.frame.light_masks[1][i / 4] == gnomon_render::MASK_LIT,
         );
     }
     println!("colour channels off by more than 0.01: {off}; lit by both: {lit_by_both}");
