@@ -178,15 +178,20 @@ fn options_read_by(technique: &Technique) -> Vec<&'static str> {
         Technique::Psm(_) => vec!["--psm-slide-back"],
         Technique::Sppsm(s) => {
             let mut read = vec!["--sppsm-with", "--sppsm-iterations"];
-            read.extend(options_read_by(&match s.perspective {
-                PerspectiveMap::Psm(p) => Technique::Psm(p),
-                PerspectiveMap::Lispsm(p) => Technique::Lispsm(p),
-                PerspectiveMap::Tsm(p) => Technique::Tsm(p),
-                PerspectiveMap::Xpsm(p) => Technique::Xpsm(p),
-            }));
+            read.extend(options_read_by(&perspective_technique(s.perspective)));
             read
         }
         _ => Vec::new(),
+    }
+}
+
+/// SPPSM's perspective map as the technique on its own.
+fn perspective_technique(map: PerspectiveMap) -> Technique {
+    match map {
+        PerspectiveMap::Psm(p) => Technique::Psm(p),
+        PerspectiveMap::Lispsm(p) => Technique::Lispsm(p),
+        PerspectiveMap::Tsm(p) => Technique::Tsm(p),
+        PerspectiveMap::Xpsm(p) => Technique::Xpsm(p),
     }
 }
 
@@ -224,23 +229,13 @@ impl TechniqueParams {
 
     /// Refuses a parameter that none of `techniques` (with the parameters applied) reads.
     pub fn check_used_by(&self, techniques: &[Technique]) -> Result<(), CliError> {
-        let given = [
-            ("--lispsm-n", self.lispsm_n.is_some()),
-            ("--tsm-xi", self.tsm_xi.is_some()),
-            ("--tsm-focus", self.tsm_focus.is_some()),
-            ("--xpsm-coef", self.xpsm_coef.is_some()),
-            ("--xpsm-epsilon-w", self.xpsm_epsilon_w.is_some()),
-            ("--psm-slide-back", self.psm_slide_back.is_some()),
-            ("--sppsm-with", self.sppsm_with.is_some()),
-            ("--sppsm-iterations", self.sppsm_iterations.is_some()),
-        ];
         if self.tsm_xi.is_some() && self.tsm_focus.is_none() {
             return Err(CliError::usage(
                 "--tsm-xi places the focus line of --tsm-focus (the 80% rule); give both",
             ));
         }
         let read: Vec<&str> = techniques.iter().flat_map(options_read_by).collect();
-        if let Some((option, _)) = given.iter().find(|(o, g)| *g && !read.contains(o)) {
+        if let Some((option, _)) = self.flags().into_iter().find(|(o, _)| !read.contains(o)) {
             let names: Vec<&str> = techniques
                 .iter()
                 .map(gnomon::ShadowTechnique::name)
@@ -284,12 +279,7 @@ impl TechniqueParams {
                     };
                 }
                 // The perspective map's own parameters, as for the technique alone.
-                t.perspective = match self.apply(match t.perspective {
-                    PerspectiveMap::Psm(p) => Technique::Psm(p),
-                    PerspectiveMap::Lispsm(p) => Technique::Lispsm(p),
-                    PerspectiveMap::Tsm(p) => Technique::Tsm(p),
-                    PerspectiveMap::Xpsm(p) => Technique::Xpsm(p),
-                }) {
+                t.perspective = match self.apply(perspective_technique(t.perspective)) {
                     Technique::Psm(p) => PerspectiveMap::Psm(p),
                     Technique::Lispsm(p) => PerspectiveMap::Lispsm(p),
                     Technique::Tsm(p) => PerspectiveMap::Tsm(p),

@@ -398,12 +398,6 @@ fn run_volumes(
             "--light-view, --error-map and --json describe a shadow map; shadow volumes have none",
         ));
     }
-    let mut renderer = open_renderer(scene, args.size, None)?;
-    let settings = RenderSettings {
-        width: args.size.0,
-        height: args.size.1,
-        ..RenderSettings::default()
-    };
     // `--stencil` picks the counting for `volumes`; a `volumes-*` name already did.
     let mode = match (args.stencil, args.technique.name()) {
         (None, _) => named,
@@ -417,6 +411,12 @@ fn run_volumes(
                 "--technique {name} names the counting already; drop --stencil"
             )));
         }
+    };
+    let mut renderer = open_renderer(scene, args.size, None)?;
+    let settings = RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        ..RenderSettings::default()
     };
     let drawn = renderer.render_volumes(camera, light, &settings, mode)?;
     write_frame(&drawn.frame, &args.out, args.mask.as_deref(), None)?;

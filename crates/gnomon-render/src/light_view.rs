@@ -5,7 +5,8 @@ pub(crate) const MAX_LIGHT_VIEW: u32 = 2048;
 
 /// Draws the camera's view frustum in red over a map's light-view picture (`rgba`, `size`
 /// square, from the light-view pass: near dark, far light), as in the second row of the
-/// LiSPSM paper's Figure 9. The lines are three pixels wide so that they show in thumbnails.
+/// LiSPSM paper's Figure 9. The lines widen with the picture (one pixel below 1024, three
+/// from 1024, five from 2048) so that they show in thumbnails.
 pub(crate) fn draw_frustum(rgba: &mut [u8], size: u32, camera: &Camera, map: &ShadowMap) {
     let n = size as usize;
     let corners = camera.frustum_corners();
