@@ -112,15 +112,18 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let entries = args
         .techniques
         .iter()
-        .map(|t| Drawn::parse(t).map_err(CliError::usage))
-        .collect::<Result<Vec<_>, _>>()?;
+        .map(|t| match Drawn::parse(t).map_err(CliError::usage)? {
+            Drawn::Map(technique) => Ok(Drawn::Map(args.params.apply(technique))),
+            volumes => Ok(volumes),
+        })
+        .collect::<Result<Vec<_>, CliError>>()?;
     if entries.is_empty() {
         return Err(CliError::usage("--techniques names nothing to time"));
     }
     let maps: Vec<Technique> = entries
         .iter()
         .filter_map(|e| match e {
-            Drawn::Map(t) => Some(args.params.apply(*t)),
+            Drawn::Map(t) => Some(*t),
             Drawn::Volumes(_) => None,
         })
         .collect();
@@ -177,9 +180,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         |entry: &Entry, camera: &Camera, light: &Light| -> Result<(f64, Timings), CliError> {
             match entry {
                 Drawn::Map(technique) => {
-                    let technique = args.params.apply(*technique);
                     let (setup, setup_us) =
-                        timed_setup(&technique, camera, light, &bounds, args.shadow_map)?;
+                        timed_setup(technique, camera, light, &bounds, args.shadow_map)?;
                     let f = renderer.render(camera, light, &setup, &settings)?;
                     let t = f.timings;
                     Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))

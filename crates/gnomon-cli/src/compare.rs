@@ -120,8 +120,7 @@ fn techniques(args: &CompareArgs) -> Result<Vec<Entry>, CliError> {
     let applied: Vec<Technique> = named.iter().map(|t| args.params.apply(*t)).collect();
     args.params.check_used_by(&applied)?;
     let mut entries = Vec::new();
-    for technique in named {
-        let technique = args.params.apply(technique);
+    for technique in applied {
         entries.push(Entry {
             label: technique.name().to_string(),
             technique,
