@@ -241,16 +241,15 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         let exact_ms = exact.frame.timings.shadow_pass_ms + exact.frame.timings.main_pass_ms;
         progress.inc(1);
         // The grid: cells of the frame's size (the error map's legend lies over its bottom).
-        let cell_height = height;
         let grid_width = 3 * width;
-        let grid_height = cell_height * (techniques.len() as u32 + 1);
+        let grid_height = height * (techniques.len() as u32 + 1);
         let mut grid = vec![255u8; (grid_width * grid_height * 4) as usize];
-        let mut paste = |image: &[u8], w: u32, h: u32, column: u32, row: u32| {
-            for y in 0..h {
-                let from = (y * w * 4) as usize;
-                let to = (((row * cell_height + y) * grid_width + column * width) * 4) as usize;
-                grid[to..to + (w * 4) as usize]
-                    .copy_from_slice(&image[from..from + (w * 4) as usize]);
+        let mut paste = |image: &[u8], column: u32, row: u32| {
+            let line = (width * 4) as usize;
+            for y in 0..height {
+                let from = y as usize * line;
+                let to = (((row * height + y) * grid_width + column * width) * 4) as usize;
+                grid[to..to + line].copy_from_slice(&image[from..from + line]);
             }
         };
         let mut rows = Vec::new();
@@ -264,15 +263,9 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             let t = frame.timings;
             let frame_ms = setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms;
             let undersampling = heatmap::percentiles(metrics, &metrics.undersampling);
-            paste(&frame.color, width, height, 0, k as u32);
-            paste(&error_image, width, height, 1, k as u32);
-            paste(
-                &heatmap::draw(metrics, width, height),
-                width,
-                cell_height,
-                2,
-                k as u32,
-            );
+            paste(&frame.color, 0, k as u32);
+            paste(&error_image, 1, k as u32);
+            paste(&heatmap::draw(metrics, width, height), 2, k as u32);
             summary[k].1.push(errors.wrong_percent());
             summary[k]
                 .2
@@ -304,14 +297,14 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             progress.inc(1);
         }
         let row = techniques.len() as u32;
-        paste(&exact.frame.color, width, height, 0, row);
+        paste(&exact.frame.color, 0, row);
         let exact_mask: Vec<u8> = exact
             .frame
             .mask
             .iter()
             .flat_map(|&m| [m, m, m, 255])
             .collect();
-        paste(&exact_mask, width, height, 1, row);
+        paste(&exact_mask, 1, row);
         let grid_path = args.out.join(format!("{}.png", view.name));
         write_png(
             &grid_path,

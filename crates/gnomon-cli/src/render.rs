@@ -331,13 +331,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     let frame = renderer.render(&camera, &light, &setup, &settings)?;
     if let (Some(path), Some(metrics)) = (&args.error_map, &frame.metrics) {
-        let image = heatmap::draw(metrics, frame.width, frame.height);
         // The frame's size (the legend lies over its bottom strip).
-        let image_height = (image.len() / 4) as u32 / frame.width;
+        let image = heatmap::draw(metrics, frame.width, frame.height);
         write_png(
             path,
             frame.width,
-            image_height,
+            frame.height,
             image::ColorType::Rgba8,
             &image,
         )?;
