@@ -5,7 +5,7 @@
 mod common;
 
 use glam::{DMat4, DVec3};
-use gnomon::{Camera, DirectionalLight, Focused, Lens, Light, SpotLight, Technique, Uniform};
+use gnomon::{Camera, DirectionalLight, Focused, Light, SpotLight, Technique, Uniform};
 use gnomon_render::{Instance, MASK_EMPTY, MASK_UNLIT, RenderScene, RenderSettings};
 use gnomon_scene::Shape;
 
@@ -46,18 +46,7 @@ fn scene(with_box: bool) -> RenderScene {
 }
 
 fn camera(eye: DVec3, target: DVec3) -> Camera {
-    Camera::look_at(
-        eye,
-        target,
-        DVec3::Y,
-        Lens {
-            fov_y_degrees: 60.0,
-            aspect: 1.0,
-            near: 0.5,
-            far: 300.0,
-        },
-    )
-    .unwrap()
+    common::square_camera(eye, target, 0.5, 300.0)
 }
 
 #[test]

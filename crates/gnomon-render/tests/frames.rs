@@ -5,24 +5,14 @@ mod common;
 
 use glam::{DMat4, DVec3};
 use gnomon::{
-    Camera, DirectionalLight, Focused, Lens, Light, MapSettings, SpotLight, Sppsm, compute_setup,
+    Camera, DirectionalLight, Focused, Light, MapSettings, SpotLight, Sppsm, compute_setup,
 };
 use gnomon_render::{RenderScene, RenderSettings, ShadowedLight, StencilMode};
 
 const SIZE: u32 = 256;
 
 fn overview() -> (Camera, Light) {
-    let camera = Camera::look_at(
-        DVec3::new(230.0, 200.0, 230.0),
-        DVec3::ZERO,
-        DVec3::Y,
-        Lens {
-            aspect: 1.0,
-            far: 800.0,
-            ..Lens::default()
-        },
-    )
-    .unwrap();
+    let camera = common::square_camera(DVec3::new(230.0, 200.0, 230.0), DVec3::ZERO, 1.0, 800.0);
     let sun = Light::Directional(DirectionalLight::new(DVec3::new(0.5, -1.0, 0.3)).unwrap());
     (camera, sun)
 }
@@ -112,17 +102,12 @@ fn steady_state_frames_make_no_buffer_or_texture() {
 fn a_sun_and_a_spot_light_with_shadow_maps_in_one_frame_agree_with_the_oracle() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
     let mut renderer = common::renderer(&scene);
-    let camera = Camera::look_at(
+    let camera = common::square_camera(
         DVec3::new(-40.0, 150.0, 120.0),
         DVec3::new(-80.0, 0.0, -60.0),
-        DVec3::Y,
-        Lens {
-            aspect: 1.0,
-            far: 500.0,
-            ..Lens::default()
-        },
-    )
-    .unwrap();
+        1.0,
+        500.0,
+    );
     let sun = Light::Directional(DirectionalLight::new(DVec3::new(0.5, -1.0, 0.3)).unwrap());
     let spot = Light::Spot(
         SpotLight::new(
@@ -198,17 +183,7 @@ fn a_moved_instance_casts_its_shadow_where_it_now_stands() {
         DVec3::new(-8.0, 0.0, 0.0),
     );
     let mut renderer = common::renderer(&scene);
-    let camera = Camera::look_at(
-        DVec3::new(0.0, 30.0, 30.0),
-        DVec3::ZERO,
-        DVec3::Y,
-        Lens {
-            aspect: 1.0,
-            far: 200.0,
-            ..Lens::default()
-        },
-    )
-    .unwrap();
+    let camera = common::square_camera(DVec3::new(0.0, 30.0, 30.0), DVec3::ZERO, 1.0, 200.0);
     let light = Light::Directional(DirectionalLight::new(DVec3::new(0.6, -1.0, 0.2)).unwrap());
     let moved = DMat4::from_translation(DVec3::new(6.0, 4.0, 3.0));
     renderer.set_instance_transform(1, moved).unwrap();

@@ -10,26 +10,11 @@ mod common;
 use std::path::PathBuf;
 
 use glam::DVec3;
-use gnomon::{Camera, DirectionalLight, Lens, Light, SpotLight};
+use gnomon::{Camera, DirectionalLight, Light, SpotLight};
 use gnomon_render::{RenderScene, RenderSettings, Renderer, StencilMode};
 use gnomon_scene::Mesh;
 
 const SIZE: u32 = 256;
-
-fn camera(eye: DVec3, target: DVec3, near: f64, far: f64) -> Camera {
-    camera_up(eye, target, DVec3::Y, near, far)
-}
-
-/// A square 60 degree camera with its own up (one looking straight up or down needs one).
-fn camera_up(eye: DVec3, target: DVec3, up: DVec3, near: f64, far: f64) -> Camera {
-    let lens = Lens {
-        fov_y_degrees: 60.0,
-        aspect: 1.0,
-        near,
-        far,
-    };
-    Camera::look_at(eye, target, up, lens).unwrap()
-}
 
 /// A ground slab and a 40 m tower at the origin.
 fn tower_scene() -> RenderScene {
@@ -52,12 +37,12 @@ fn volumes_agree_with_exact_shadows() {
     let views = [
         (
             "overview, high sun",
-            camera(DVec3::new(230.0, 200.0, 230.0), DVec3::ZERO, 1.0, 800.0),
+            common::square_camera(DVec3::new(230.0, 200.0, 230.0), DVec3::ZERO, 1.0, 800.0),
             sun(0.5, -1.0, 0.3),
         ),
         (
             "city, spot light",
-            camera(
+            common::square_camera(
                 DVec3::new(-40.0, 150.0, 120.0),
                 DVec3::new(0.0, 0.0, -10.0),
                 1.0,
@@ -76,7 +61,7 @@ fn volumes_agree_with_exact_shadows() {
         (
             "camera inside a shadow volume",
             // Looking down across the shadow's edge, so that the view holds lit ground too.
-            camera(
+            common::square_camera(
                 eye_in_shadow,
                 eye_in_shadow + away.cross(DVec3::Y) * 16.0 - DVec3::Y * 6.0,
                 0.5,
@@ -190,7 +175,7 @@ fn real_meshes_agree_with_exact_shadows() {
         let views = [
             (
                 "oblique, sun",
-                camera(
+                common::square_camera(
                     DVec3::new(14.0, 12.0, 20.0),
                     DVec3::new(0.0, 3.0, 0.0),
                     1.0,
@@ -201,7 +186,7 @@ fn real_meshes_agree_with_exact_shadows() {
             ),
             (
                 "from above, spot light",
-                camera(
+                common::square_camera(
                     DVec3::new(-6.0, 25.0, 14.0),
                     DVec3::new(0.0, 2.0, -2.0),
                     1.0,
@@ -220,7 +205,7 @@ fn real_meshes_agree_with_exact_shadows() {
             ),
             (
                 "low sun toward the camera",
-                camera(
+                common::square_camera(
                     DVec3::new(-3.0, 4.0, 22.0),
                     DVec3::new(0.0, 2.0, 0.0),
                     1.0,
@@ -233,7 +218,7 @@ fn real_meshes_agree_with_exact_shadows() {
                 // The near plane (6 m ahead of the eye) cuts the mesh; the sun behind the
                 // camera casts the cut mesh's shadow ahead.
                 "near plane through the caster",
-                camera(
+                common::square_camera(
                     DVec3::new(5.0, 7.0, 7.0),
                     DVec3::new(-3.0, 0.0, -15.0),
                     6.0,
@@ -277,7 +262,7 @@ fn several_lights_add_up_each_with_exact_shadows() {
         height: SIZE,
         ..RenderSettings::default()
     };
-    let camera = camera(
+    let camera = common::square_camera(
         DVec3::new(14.0, 12.0, 20.0),
         DVec3::new(0.0, 3.0, 0.0),
         1.0,
@@ -367,7 +352,7 @@ fn volumes_shade_like_the_maps() {
             filter: gnomon_render::Filter::None,
             ..RenderSettings::default()
         };
-        let camera = camera(
+        let camera = common::square_camera(
             DVec3::new(14.0, 12.0, 20.0),
             DVec3::new(0.0, 3.0, 0.0),
             1.0,
@@ -411,7 +396,7 @@ fn volumes_shade_like_the_maps() {
 fn a_spot_light_inside_a_closed_caster_lights_its_walls() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
     let mut renderer = common::renderer(&scene);
-    let camera = camera(
+    let camera = common::square_camera(
         DVec3::new(-118.0, 20.0, -118.0),
         DVec3::new(-100.0, 10.0, -118.0),
         1.0,
@@ -459,7 +444,7 @@ fn a_spot_light_inside_a_closed_caster_lights_its_walls() {
 fn surfaces_facing_away_from_a_light_straight_down_read_not_lit() {
     let scene = RenderScene::from_layout(&gnomon_scene::demo());
     let mut renderer = common::renderer(&scene);
-    let camera = camera_up(
+    let camera = common::square_camera_up(
         DVec3::new(0.0, 5.0, 0.0),
         DVec3::new(0.0, 300.0, 0.0),
         DVec3::new(0.0, 0.0, -1.0),
@@ -513,7 +498,7 @@ fn per_caster_counts_add_up_where_z_fail_and_z_pass_shadows_overlap() {
         ],
     };
     let mut renderer = common::renderer(&scene);
-    let camera = camera(
+    let camera = common::square_camera(
         DVec3::new(0.0, 2.0, 5.0),
         DVec3::new(0.0, 0.0, -10.0),
         1.0,

@@ -18,6 +18,22 @@ pub fn renderer(scene: &RenderScene) -> Renderer {
     Renderer::new(gpu, scene).expect("renderer")
 }
 
+/// A square camera with a 60 degree field of view, up +Y.
+pub fn square_camera(eye: DVec3, target: DVec3, near: f64, far: f64) -> Camera {
+    square_camera_up(eye, target, DVec3::Y, near, far)
+}
+
+/// A square 60 degree camera with its own up (one looking straight up or down needs one).
+pub fn square_camera_up(eye: DVec3, target: DVec3, up: DVec3, near: f64, far: f64) -> Camera {
+    let lens = gnomon::Lens {
+        fov_y_degrees: 60.0,
+        aspect: 1.0,
+        near,
+        far,
+    };
+    Camera::look_at(eye, target, up, lens).expect("a valid camera")
+}
+
 fn vector(p: DVec3) -> Vector {
     Vector::new(p.x, p.y, p.z)
 }
