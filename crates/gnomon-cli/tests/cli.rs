@@ -12,6 +12,17 @@ fn gnomon(args: &[&str]) -> Output {
         .expect("the binary runs")
 }
 
+/// Runs the binary and fails the test, showing its standard error, unless it succeeds.
+fn gnomon_ok(args: &[&str]) -> Output {
+    let out = gnomon(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 const OVERVIEW: &[&str] = &[
     "setup",
     "--scene",
@@ -28,12 +39,7 @@ fn setup_json(extra: &[&str]) -> Value {
     let mut args = OVERVIEW.to_vec();
     args.extend_from_slice(extra);
     args.push("--json");
-    let out = gnomon(&args);
-    assert!(
-        out.status.success(),
-        "stderr: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = gnomon_ok(&args);
     serde_json::from_slice(&out.stdout).expect("valid JSON")
 }
 
@@ -116,7 +122,7 @@ fn focused_is_tighter_than_uniform_in_the_overview() {
 
 #[test]
 fn spot_light_gives_a_perspective_map() {
-    let out = gnomon(&[
+    let out = gnomon_ok(&[
         "setup",
         "--eye",
         "-150,20,150",
@@ -128,11 +134,6 @@ fn spot_light_gives_a_perspective_map() {
         "focused",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let json: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["maps"][0]["projection"], "perspective");
 }
@@ -278,7 +279,7 @@ fn bad_input_gives_one_line_and_exit_code_2() {
 #[test]
 fn demo_writes_every_view_and_technique() {
     let dir = std::env::temp_dir().join(format!("gnomon-demo-test-{}", std::process::id()));
-    let out = gnomon(&[
+    gnomon_ok(&[
         "demo",
         "--out",
         dir.to_str().unwrap(),
@@ -287,11 +288,6 @@ fn demo_writes_every_view_and_technique() {
         "--shadow-map",
         "512",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let json: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("setups.json")).unwrap()).unwrap();
     let entries = json.as_array().unwrap();
@@ -351,12 +347,7 @@ fn render_writes_frame_mask_and_light_view() {
         mask.to_str().unwrap(),
     ]);
     args.extend(["--light-view", light.to_str().unwrap()]);
-    let out = gnomon(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    gnomon_ok(&args);
     assert_eq!(image::image_dimensions(&frame).unwrap(), (160, 90));
     assert_eq!(image::image_dimensions(&light).unwrap(), (1024, 1024));
     let mask = image::open(&mask).unwrap().into_luma8();
@@ -394,12 +385,7 @@ fn filters_change_the_image_but_not_the_one_tap_mask() {
             "--mask",
             mask.to_str().unwrap(),
         ]);
-        let out = gnomon(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        gnomon_ok(&args);
         masks.push(image::open(&mask).unwrap().into_luma8().into_raw());
         frames.push(image::open(&frame).unwrap().into_rgba8().into_raw());
     }
@@ -504,12 +490,7 @@ fn render_with_shadow_volumes_writes_a_mask_like_the_maps() {
             "--pcf",
             "none",
         ]);
-        let out = gnomon(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        gnomon_ok(&args);
         image::open(&path).unwrap().into_luma8()
     };
     let (volumes, focused) = (mask("volumes"), mask("focused"));
@@ -620,7 +601,7 @@ fn render_a_mesh_file_with_shadow_volumes() {
 /// errors.
 #[test]
 fn bench_times_techniques_side_by_side() {
-    let out = gnomon(&[
+    let out = gnomon_ok(&[
         "bench",
         "--frames",
         "1",
@@ -632,11 +613,6 @@ fn bench_times_techniques_side_by_side() {
         "focused,volumes-per-caster",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let json: Value = serde_json::from_slice(&out.stdout).unwrap();
     let results = json["results"].as_array().unwrap();
     assert_eq!(results.len(), 2 * gnomon_scene::DEMO_VIEWS.len());
@@ -685,7 +661,7 @@ fn bench_times_techniques_side_by_side() {
 fn analyze_reproduces_the_papers() {
     let dir = temp_dir("analyze");
     let plot = dir.join("curves.svg");
-    let out = gnomon(&[
+    let out = gnomon_ok(&[
         "analyze",
         "--zn",
         "1",
@@ -695,11 +671,6 @@ fn analyze_reproduces_the_papers() {
         "--plot",
         plot.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let json: Value = serde_json::from_slice(&out.stdout).unwrap();
     let row = |name: &str| {
         json["techniques"]
@@ -793,12 +764,7 @@ fn render_writes_an_error_map_and_its_percentiles() {
             path.to_str().unwrap(),
             "--json",
         ]);
-        let out = gnomon(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let out = gnomon_ok(&args);
         let json: Value = serde_json::from_slice(&out.stdout).unwrap();
         let image = image::open(&path).unwrap().into_rgba8();
         (json, image)
@@ -853,7 +819,7 @@ fn run_compare(
     shadow_map: &str,
     size: &str,
 ) -> Value {
-    let out = gnomon(&[
+    gnomon_ok(&[
         "compare",
         "--views",
         views,
@@ -866,11 +832,6 @@ fn run_compare(
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
 }
 
@@ -955,12 +916,7 @@ fn sppsm_setup_and_render() {
         "--json",
     ];
     args.extend(view);
-    let out = gnomon(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = gnomon_ok(&args);
     let json: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["technique"], "sppsm");
     assert_eq!(json["maps"].as_array().unwrap().len(), 2);
@@ -1003,12 +959,7 @@ fn sppsm_setup_and_render() {
         if tint {
             args.push("--tint");
         }
-        let out = gnomon(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        gnomon_ok(&args);
         let frame = image::open(&frame).unwrap().into_rgb8();
         let red = frame
             .pixels()
@@ -1202,12 +1153,7 @@ fn the_aspect_follows_the_image_unless_given() {
             .collect();
         args.extend(["--out", path.to_str().unwrap()]);
         args.extend(extra);
-        let out = gnomon(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        gnomon_ok(&args);
         std::fs::read(path).unwrap()
     };
     let default = render("default.png", &[]);
