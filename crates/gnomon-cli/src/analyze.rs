@@ -50,16 +50,24 @@ struct Row {
 }
 
 /// The techniques analysed: every technique with its parameters, and PSM as in the papers
-/// (the virtual camera not slid back: n = z_n), which the LiSPSM paper's Figure 6 plots.
+/// (the virtual camera not slid back: n = z_n; no warp limit), which the LiSPSM paper's
+/// Figure 6 plots.
 fn techniques(params: &TechniqueParams) -> Vec<(String, Technique)> {
     let mut out = Vec::new();
     for technique in Technique::all() {
-        let technique = params.apply(technique);
+        // The papers' warps along the view axis: the warp limit judges a frame's pixels, and
+        // the ideal configuration's scene is the view frustum's box, which holds the eye.
+        let technique = TechniqueParams {
+            no_warp_limit: true,
+            ..*params
+        }
+        .apply(technique);
         if let Technique::Psm(_) = technique {
             out.push((
                 "psm-paper".to_string(),
                 Technique::Psm(Psm {
                     slide_back: Some(0.0),
+                    limit: false,
                 }),
             ));
         }

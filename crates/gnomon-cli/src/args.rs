@@ -4,7 +4,7 @@ use clap::{Args, ValueEnum};
 use glam::DVec3;
 use gnomon::{
     Camera, DirectionalLight, Lens, Light, MapSettings, PerspectiveMap, SceneBounds, ShadowSetup,
-    SpotLight, Technique, compute_setup,
+    SpotLight, Technique, ViewSamples, compute_setup, compute_setup_with_samples,
 };
 
 use crate::CliError;
@@ -127,6 +127,12 @@ pub struct TechniqueParams {
     /// PSM: how far the virtual camera slides back, in world units (default sqrt(z_n z_f)).
     #[arg(long, allow_hyphen_values = true)]
     pub psm_slide_back: Option<f64>,
+    /// PSM, LiSPSM, TSM, XPSM: keep the warp at the technique's full strength even where it
+    /// samples the view more coarsely than the focused map (by default the warp is weakened
+    /// there, or the focused map used, and the diagnostics say so). SPPSM's perspective map
+    /// never has the limit: SPPSM picks the finer map per point itself.
+    #[arg(long)]
+    pub no_warp_limit: bool,
     /// SPPSM: the perspective map next to the focused one (default psm); the parameters
     /// above apply to it.
     #[arg(long, value_enum)]
@@ -172,13 +178,17 @@ pub fn render_command(
 /// The technique parameters `technique` reads (SPPSM: its own and its perspective map's).
 fn options_read_by(technique: &Technique) -> Vec<&'static str> {
     match technique {
-        Technique::Lispsm(_) => vec!["--lispsm-n"],
-        Technique::Tsm(_) => vec!["--tsm-xi", "--tsm-focus"],
-        Technique::Xpsm(_) => vec!["--xpsm-coef", "--xpsm-epsilon-w"],
-        Technique::Psm(_) => vec!["--psm-slide-back"],
+        Technique::Lispsm(_) => vec!["--lispsm-n", "--no-warp-limit"],
+        Technique::Tsm(_) => vec!["--tsm-xi", "--tsm-focus", "--no-warp-limit"],
+        Technique::Xpsm(_) => vec!["--xpsm-coef", "--xpsm-epsilon-w", "--no-warp-limit"],
+        Technique::Psm(_) => vec!["--psm-slide-back", "--no-warp-limit"],
         Technique::Sppsm(s) => {
             let mut read = vec!["--sppsm-with", "--sppsm-iterations"];
-            read.extend(options_read_by(&perspective_technique(s.perspective)));
+            read.extend(
+                options_read_by(&perspective_technique(s.perspective))
+                    .into_iter()
+                    .filter(|o| *o != "--no-warp-limit"),
+            );
             read
         }
         _ => Vec::new(),
@@ -211,6 +221,9 @@ impl TechniqueParams {
         number("--xpsm-coef", self.xpsm_coef);
         number("--xpsm-epsilon-w", self.xpsm_epsilon_w);
         number("--psm-slide-back", self.psm_slide_back);
+        if self.no_warp_limit {
+            flags.push(("--no-warp-limit", "--no-warp-limit".to_string()));
+        }
         if let Some(with) = self.sppsm_with {
             flags.push((
                 "--sppsm-with",
@@ -250,23 +263,28 @@ impl TechniqueParams {
 
     /// `technique` with these parameters.
     pub fn apply(&self, technique: Technique) -> Technique {
+        let limit = !self.no_warp_limit;
         match technique {
             Technique::Lispsm(mut t) => {
                 t.n = self.lispsm_n.or(t.n);
+                t.limit &= limit;
                 Technique::Lispsm(t)
             }
             Technique::Tsm(mut t) => {
                 t.xi = self.tsm_xi.unwrap_or(t.xi);
                 t.focus = self.tsm_focus.or(t.focus);
+                t.limit &= limit;
                 Technique::Tsm(t)
             }
             Technique::Psm(mut t) => {
                 t.slide_back = self.psm_slide_back.or(t.slide_back);
+                t.limit &= limit;
                 Technique::Psm(t)
             }
             Technique::Xpsm(mut t) => {
                 t.coef = self.xpsm_coef.unwrap_or(t.coef);
                 t.epsilon_w = self.xpsm_epsilon_w.unwrap_or(t.epsilon_w);
+                t.limit &= limit;
                 Technique::Xpsm(t)
             }
             Technique::Sppsm(mut t) => {
@@ -327,22 +345,23 @@ pub fn scene_layout(name: &str) -> Result<gnomon_scene::SceneLayout, CliError> {
     })
 }
 
-/// Computes a setup and how long it took, in microseconds.
+/// Computes a setup and how long it took, in microseconds: with the renderer's view samples
+/// of the same camera and light where there are some (the warp limit then compares maps on
+/// the real surfaces), else with the core's own from the boxes.
 pub fn timed_setup(
     technique: &Technique,
     camera: &Camera,
     light: &Light,
     scene: &SceneBounds,
     resolution: u32,
+    samples: Option<&ViewSamples>,
 ) -> Result<(ShadowSetup, f64), CliError> {
     let start = std::time::Instant::now();
-    let setup = compute_setup(
-        technique,
-        camera,
-        light,
-        scene,
-        MapSettings::with_resolution(resolution),
-    )?;
+    let map = MapSettings::with_resolution(resolution);
+    let setup = match samples {
+        Some(samples) => compute_setup_with_samples(technique, camera, light, scene, map, samples)?,
+        None => compute_setup(technique, camera, light, scene, map)?,
+    };
     Ok((setup, start.elapsed().as_secs_f64() * 1e6))
 }
 

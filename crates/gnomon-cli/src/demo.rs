@@ -64,9 +64,17 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     for (v, view) in DEMO_VIEWS.iter().enumerate() {
         let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
         let mut cells = String::new();
+        // What the pixels see, once per view, shared by every technique.
+        let samples = renderer.view_samples(&camera, &light)?;
         for (t, technique) in techniques.iter().enumerate() {
-            let (setup, setup_us) =
-                timed_setup(technique, &camera, &light, &bounds, args.shadow_map)?;
+            let (setup, setup_us) = timed_setup(
+                technique,
+                &camera,
+                &light,
+                &bounds,
+                args.shadow_map,
+                Some(&samples),
+            )?;
             let frame = renderer.render(&camera, &light, &setup, &settings)?;
             let stem = format!("{}_{}", view.name, technique.name());
             let light_view = args.out.join(format!("{stem}_light.png"));

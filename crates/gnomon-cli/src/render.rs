@@ -306,14 +306,23 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     let technique = args.params.apply(technique);
     args.params.check_used_by(&[technique])?;
-    let (setup, setup_us) = timed_setup(&technique, &camera, &light, &bounds, args.shadow_map)?;
-    if args.tint && setup.maps.len() < 2 {
-        return Err(CliError::usage(format!(
-            "--tint colours the maps of a two-map technique (sppsm); {} has one map",
-            technique.name()
-        )));
+    // Before any work where the technique says (SPPSM may still fall back to one map).
+    if args.tint && !matches!(technique, gnomon::Technique::Sppsm(_)) {
+        return Err(tint_needs_two_maps(&technique));
     }
     let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
+    let samples = renderer.view_samples(&camera, &light)?;
+    let (setup, setup_us) = timed_setup(
+        &technique,
+        &camera,
+        &light,
+        &bounds,
+        args.shadow_map,
+        Some(&samples),
+    )?;
+    if args.tint && setup.maps.len() < 2 {
+        return Err(tint_needs_two_maps(&technique));
+    }
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,
@@ -466,4 +475,12 @@ pub fn export(args: &ExportArgs) -> Result<(), CliError> {
         layout.world_triangles().len()
     );
     Ok(())
+}
+
+/// `--tint` with a setup of one map.
+fn tint_needs_two_maps(technique: &gnomon::Technique) -> CliError {
+    CliError::usage(format!(
+        "--tint colours the maps of a two-map technique (sppsm); {} has one map",
+        technique.name()
+    ))
 }

@@ -44,6 +44,7 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
             "casters_clipped_by_light_near": d.casters_clipped_by_light_near,
             "focus_body_vertices": d.focus_body_vertices,
             "scene_box_grown": d.scene_box_grown,
+            "warp_strength": d.warp_strength,
             "casters_by_side": d.casters_by_side.map(|c| json!({
                 "focused_only": c.focused_only,
                 "perspective_only": c.perspective_only,
@@ -80,6 +81,12 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
         d.culled_casters,
         d.focus_body_vertices
     );
+    if let Some(strength) = d.warp_strength {
+        let _ = writeln!(
+            s,
+            "warp strength: {strength} of the technique's (the warp limit; 0: the focused map)"
+        );
+    }
     if let MapSelection::Plane { plane_world: p } = setup.selection {
         let _ = writeln!(
             s,

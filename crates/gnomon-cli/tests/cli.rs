@@ -1241,3 +1241,58 @@ fn compare_cells_are_reproduced_by_their_render_commands() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// The warp limit at compare's settings (640x360, 2048 maps, every named view): no warp's
+/// wrong-pixel share exceeds the focused map's by more than 20% plus 0.02 percentage points
+/// (and one pixel, for ties at shadow edges), and none has a 95th percentile of undersampling
+/// above the focused map's; where the limit fired the fallback says so. Without the limit
+/// XPSM breaks the rule in `light_behind` (it did before the limit).
+#[test]
+fn no_warp_samples_worse_than_the_focused_map() {
+    let dir = temp_dir("warp-limit");
+    let report = run_compare(
+        &dir,
+        "all",
+        "focused,psm,lispsm,tsm,xpsm",
+        "2048",
+        "640x360",
+    );
+    let mut limited = 0;
+    for view in report["views"].as_array().unwrap() {
+        let rows = view["techniques"].as_array().unwrap();
+        let row = |name: &str| rows.iter().find(|r| r["technique"] == name).unwrap();
+        let focused = row("focused");
+        let f_wrong = focused["wrong_percent"].as_f64().unwrap();
+        let f_p95 = focused["undersampling"]["p95"].as_f64().unwrap();
+        for name in ["psm", "lispsm", "tsm", "xpsm"] {
+            let r = row(name);
+            let pixel = 100.0 / r["compared_pixels"].as_f64().unwrap();
+            let wrong = r["wrong_percent"].as_f64().unwrap();
+            let p95 = r["undersampling"]["p95"].as_f64().unwrap();
+            let at = format!("{} {name}: {r}", view["view"]);
+            assert!(wrong <= 1.2 * f_wrong + 0.02 + pixel, "{at}");
+            assert!(p95 <= f_p95 * (1.0 + 1e-6), "{at} against {f_p95}");
+            if let Some(fallback) = r["fallback"].as_str() {
+                limited += usize::from(fallback.starts_with("warp_"));
+            }
+        }
+    }
+    assert!(limited >= 4, "the limit fired in {limited} cells");
+    // Without the limit the rule breaks.
+    gnomon_ok(&[
+        "compare",
+        "--views",
+        "light_behind",
+        "--techniques",
+        "focused,xpsm",
+        "--no-warp-limit",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let rows = &report["views"][0]["techniques"];
+    let p95 = |k: usize| rows[k]["undersampling"]["p95"].as_f64().unwrap();
+    assert!(p95(1) > 2.0 * p95(0), "{rows}");
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -31,6 +31,7 @@ mod readback;
 mod records;
 mod renderer;
 mod resources;
+mod samples;
 mod scene;
 mod timing;
 mod volumes;

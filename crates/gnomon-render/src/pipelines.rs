@@ -42,6 +42,8 @@ pub(crate) struct Pipelines {
     /// The main pass into a caller's target, by format, sample count and number of lights.
     color: HashMap<(wgpu::TextureFormat, u32, u32), wgpu::RenderPipeline>,
     pub light_view: wgpu::RenderPipeline,
+    /// The view samples pass (position and normal per pixel), on first use.
+    samples: Option<wgpu::RenderPipeline>,
     fs_color: String,
     fs_measured: String,
 }
@@ -155,6 +157,7 @@ impl Pipelines {
             depth_layout,
             depth: HashMap::new(),
             color: HashMap::new(),
+            samples: None,
         };
         pipelines.depth(device, std::mem::size_of::<Vertex>() as u64);
         pipelines
@@ -243,6 +246,30 @@ impl Pipelines {
                         ("METRICS", if metrics { 1.0 } else { 0.0 }),
                         ("LIGHT_COUNT", lights as f64),
                     ],
+                    depth: Some(camera_depth()),
+                    samples: 1,
+                },
+            )
+        })
+    }
+
+    /// The view samples pass: position and geometric normal per pixel, two targets of
+    /// [`METRICS_FORMAT`].
+    pub fn samples(&mut self, device: &wgpu::Device) -> &wgpu::RenderPipeline {
+        let (shader, layout) = (&self.shader, &self.layout);
+        let fragment = fragment_entry("fs_samples", self.fragment_depth);
+        self.samples.get_or_insert_with(|| {
+            build(
+                device,
+                shader,
+                layout,
+                &PipelineSpec {
+                    label: "view samples",
+                    vertex: "vs_main",
+                    buffers: &scene_buffers(),
+                    fragment: Some(&fragment),
+                    targets: &[Some(METRICS_FORMAT.into()), Some(METRICS_FORMAT.into())],
+                    constants: &[],
                     depth: Some(camera_depth()),
                     samples: 1,
                 },

@@ -164,6 +164,8 @@ pub struct Renderer {
     /// Time headless frames by the wall clock even where timestamps exist.
     pub(crate) wall_clock: bool,
     pub(crate) headless: Option<crate::headless::Targets>,
+    /// The view samples pass's targets (made on first use).
+    pub(crate) sample_targets: Option<crate::samples::SampleTargets>,
 }
 
 impl Renderer {
@@ -275,6 +277,7 @@ impl Renderer {
             timer,
             wall_clock: false,
             headless: None,
+            sample_targets: None,
             resources,
             gpu,
         };

@@ -100,13 +100,20 @@ fn custom_views_agree_with_exact_shadows() {
         };
         let camera = Camera::look_at(view.eye, view.target, DVec3::Y, lens).unwrap();
         let oracle = common::oracle(&scene, &camera, &view.light, SIZE, SIZE);
-        // Spot lights: also the warps that take the spot through its own perspective, and
-        // SPPSM with them (two maps, the plane through the light).
+        // Spot lights: also the warps that take the spot through its own perspective (at full
+        // strength: the warp itself is judged, not the limit), and SPPSM with them (two maps,
+        // the plane through the light).
         let techniques = match view.light {
             Light::Spot(_) => vec![
                 Technique::Focused(Focused),
-                Technique::Lispsm(Lispsm::default()),
-                Technique::Psm(Psm::default()),
+                Technique::Lispsm(Lispsm {
+                    limit: false,
+                    ..Lispsm::default()
+                }),
+                Technique::Psm(Psm {
+                    limit: false,
+                    ..Psm::default()
+                }),
                 Technique::Sppsm(Sppsm::default()),
                 Technique::Sppsm(Sppsm {
                     perspective: PerspectiveMap::Lispsm(Lispsm::default()),

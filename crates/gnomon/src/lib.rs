@@ -42,6 +42,7 @@ mod focus;
 pub mod geometry;
 mod light;
 mod light_space;
+mod samples;
 mod setup;
 pub mod techniques;
 pub mod volumes;
@@ -51,10 +52,11 @@ pub use bounds::{Aabb, SceneBounds};
 pub use camera::{Camera, Lens};
 pub use error::SetupError;
 pub use light::{DirectionalLight, Light, SPOT_NEAR_FRACTION, SpotLight};
+pub use samples::{ViewSample, ViewSamples, undersampling};
 pub use setup::{
     CastersBySide, Diagnostics, Fallback, LightFrameKind, MAX_RESOLUTION, MIN_RESOLUTION,
     MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
-    Technique, UnknownTechnique, compute_setup,
+    Technique, UnknownTechnique, compute_setup, compute_setup_with_samples,
 };
 pub use techniques::{Focused, Lispsm, PerspectiveMap, Psm, Sppsm, Tsm, Uniform, Xpsm};
 

@@ -9,6 +9,7 @@ use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::error::SetupError;
 use crate::light::Light;
+use crate::samples::ViewSamples;
 use crate::techniques::{Focused, Lispsm, Psm, Sppsm, Tsm, Uniform, Xpsm};
 
 /// Smallest supported shadow-map resolution, in texels.
@@ -202,6 +203,14 @@ pub enum Fallback {
     /// map alone is used), or one map is finer by the same factor everywhere (it alone is
     /// used).
     NoSeparatingPlane,
+    /// The warp at the technique's strength would sample the visible lit receivers more
+    /// coarsely than the focused map it starts from (the 95th percentile of pixels per texel
+    /// over [`crate::ViewSamples`]); it was weakened until it does not
+    /// ([`Diagnostics::warp_strength`] says how far).
+    WarpLimited,
+    /// Even a weakened warp samples the visible lit receivers more coarsely than the focused
+    /// map; the focused map is used.
+    WarpCoarserThanFocused,
 }
 
 impl Fallback {
@@ -216,6 +225,8 @@ impl Fallback {
             Fallback::DegenerateFocusBody => "degenerate_focus_body",
             Fallback::SpotLightNotWarped => "spot_light_not_warped",
             Fallback::NoSeparatingPlane => "no_separating_plane",
+            Fallback::WarpLimited => "warp_limited",
+            Fallback::WarpCoarserThanFocused => "warp_coarser_than_focused",
         }
     }
 
@@ -245,6 +256,12 @@ impl Fallback {
             }
             Fallback::NoSeparatingPlane => {
                 "the separating plane is undefined: the perspective map fell back (the focused map alone is used) or one map is finer by the same factor everywhere (it alone is used)"
+            }
+            Fallback::WarpLimited => {
+                "at full strength the warp would sample the visible receivers more coarsely than the focused map; it was weakened"
+            }
+            Fallback::WarpCoarserThanFocused => {
+                "even weakened, the warp samples the visible receivers more coarsely than the focused map; the focused map is used"
             }
         }
     }
@@ -303,6 +320,10 @@ pub struct Diagnostics {
     pub scene_box_grown: bool,
     /// Two-map setups (SPPSM): how the caster boxes fall on the plane.
     pub casters_by_side: Option<CastersBySide>,
+    /// Warps with the limit on: the fraction of the technique's warp strength used (1: the
+    /// full warp; less: weakened, [`Fallback::WarpLimited`]; 0: the focused map,
+    /// [`Fallback::WarpCoarserThanFocused`]). `None` where no limit ran.
+    pub warp_strength: Option<f64>,
 }
 
 impl Diagnostics {
@@ -319,6 +340,7 @@ impl Diagnostics {
             focus_body_vertices: 0,
             scene_box_grown: scene.scene_box_grown(),
             casters_by_side: None,
+            warp_strength: None,
         }
     }
 }
@@ -354,6 +376,10 @@ pub struct SetupInput<'a> {
     pub scene: &'a SceneBounds,
     /// The map size.
     pub map: MapSettings,
+    /// What the pixels see of the lit receivers, when the caller has them for this frame
+    /// (the warp limit compares maps on them); `None`: a technique that needs them casts
+    /// them itself.
+    pub samples: Option<&'a ViewSamples>,
 }
 
 /// A shadow-map technique: camera, light and scene bounds in, shadow maps out.
@@ -465,13 +491,47 @@ pub fn compute_setup(
     scene: &SceneBounds,
     map: MapSettings,
 ) -> Result<ShadowSetup, SetupError> {
-    map.validate()?;
-    let setup = technique.setup(&SetupInput {
-        camera,
-        light,
-        scene,
-        map,
-    })?;
+    checked_setup(
+        technique,
+        &SetupInput {
+            camera,
+            light,
+            scene,
+            map,
+            samples: None,
+        },
+    )
+}
+
+/// [`compute_setup`] with the frame's [`ViewSamples`]: what the renderer's pixels see (its
+/// real surfaces, where the core knows only boxes), or samples shared by several setups of one
+/// frame. The warp limit compares maps on them.
+pub fn compute_setup_with_samples(
+    technique: &dyn ShadowTechnique,
+    camera: &Camera,
+    light: &Light,
+    scene: &SceneBounds,
+    map: MapSettings,
+    samples: &ViewSamples,
+) -> Result<ShadowSetup, SetupError> {
+    checked_setup(
+        technique,
+        &SetupInput {
+            camera,
+            light,
+            scene,
+            map,
+            samples: Some(samples),
+        },
+    )
+}
+
+fn checked_setup(
+    technique: &dyn ShadowTechnique,
+    input: &SetupInput<'_>,
+) -> Result<ShadowSetup, SetupError> {
+    input.map.validate()?;
+    let setup = technique.setup(input)?;
     if setup.maps.iter().all(ShadowMap::is_finite) {
         Ok(setup)
     } else {

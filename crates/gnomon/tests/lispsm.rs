@@ -44,7 +44,10 @@ fn optimal_n_equalises_the_error_at_near_and_far_at_9_9() {
 
 #[test]
 fn very_large_n_gives_the_uniform_curve() {
-    let map = ideal_map(&Lispsm { n: Some(1e9) });
+    let map = ideal_map(&Lispsm {
+        n: Some(1e9),
+        limit: false,
+    });
     for (z, value) in curve(&map) {
         let expected = (Z_F - Z_N) * Z_N / z;
         assert!(
@@ -56,7 +59,10 @@ fn very_large_n_gives_the_uniform_curve() {
 
 #[test]
 fn n_at_the_near_plane_gives_the_psm_line() {
-    let map = ideal_map(&Lispsm { n: Some(Z_N) });
+    let map = ideal_map(&Lispsm {
+        n: Some(Z_N),
+        limit: false,
+    });
     for (z, value) in curve(&map) {
         let expected = z * (Z_F - Z_N) / Z_F;
         assert!(
@@ -75,7 +81,10 @@ fn bad_n_is_a_typed_error() {
     let light = Light::Directional(DirectionalLight::new(-DVec3::Y).unwrap());
     for n in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         let result = compute_setup(
-            &Lispsm { n: Some(n) },
+            &Lispsm {
+                n: Some(n),
+                limit: false,
+            },
             &camera,
             &light,
             &scene,
@@ -223,7 +232,18 @@ fn a_distant_view_of_the_scene_is_not_over_warped() {
         assert_eq!(setup.fallback(), None);
         setup.maps[0]
     };
-    let (lispsm, unwarped) = (map(&Lispsm::default()), map(&Lispsm { n: Some(1e9) }));
+    // The paper's n (the warp limit, which judges the frame's pixels, is tested on its own).
+    let paper = Lispsm {
+        limit: false,
+        ..Lispsm::default()
+    };
+    let (lispsm, unwarped) = (
+        map(&paper),
+        map(&Lispsm {
+            n: Some(1e9),
+            limit: false,
+        }),
+    );
     // Visible ground points: a grid over the ground inside the view frustum, nearest first.
     let planes = camera.frustum_planes();
     let mut points: Vec<DVec3> = (0..=40)

@@ -16,6 +16,7 @@ use gnomon::{
 fn no_slide_gives_the_psm_line() {
     let map = ideal_map(&Psm {
         slide_back: Some(0.0),
+        limit: false,
     });
     for i in 0..=100 {
         let z = Z_N * (Z_F / Z_N).powf(i as f64 / 100.0);
@@ -58,6 +59,7 @@ fn bad_slide_is_a_typed_error() {
         let r = compute_setup(
             &Psm {
                 slide_back: Some(s),
+                limit: false,
             },
             &camera,
             &light,

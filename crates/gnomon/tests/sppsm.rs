@@ -449,7 +449,14 @@ fn reads_the_better_technique_everywhere(iterations: u32) {
         let (both, focused, psm) = (
             setup_with(&cfg, &one),
             setup_with(&cfg, &gnomon::Focused),
-            setup_with(&cfg, &Psm::default()),
+            // SPPSM's perspective map runs without the warp limit.
+            setup_with(
+                &cfg,
+                &Psm {
+                    limit: false,
+                    ..Psm::default()
+                },
+            ),
         );
         if both.maps.len() < 2 {
             continue;
@@ -507,11 +514,12 @@ fn refocused_maps_are_no_coarser_than_the_techniques_alone() {
                     iterations: 10,
                 },
             );
+            // SPPSM's perspective map runs without the warp limit.
             let alone = match perspective {
-                PerspectiveMap::Psm(t) => setup_with(&cfg, &t),
-                PerspectiveMap::Lispsm(t) => setup_with(&cfg, &t),
-                PerspectiveMap::Tsm(t) => setup_with(&cfg, &t),
-                PerspectiveMap::Xpsm(t) => setup_with(&cfg, &t),
+                PerspectiveMap::Psm(t) => setup_with(&cfg, &Psm { limit: false, ..t }),
+                PerspectiveMap::Lispsm(t) => setup_with(&cfg, &Lispsm { limit: false, ..t }),
+                PerspectiveMap::Tsm(t) => setup_with(&cfg, &Tsm { limit: false, ..t }),
+                PerspectiveMap::Xpsm(t) => setup_with(&cfg, &Xpsm { limit: false, ..t }),
             };
             let focused = setup_with(&cfg, &gnomon::Focused);
             if both.maps.len() < 2 {
@@ -565,6 +573,7 @@ fn affine_pairs_use_the_finer_map_alone() {
     let rule = Tsm {
         xi: -0.6,
         focus: Some(0.8),
+        limit: false,
     };
     let (mut focused_chosen, mut tsm_chosen) = (0, 0);
     for seed in 0..200u64 {

@@ -45,6 +45,7 @@ fn focus_point_lands_at_xi_and_the_near_plane_on_top() {
         let tsm = Tsm {
             xi,
             focus: Some(0.8),
+            limit: false,
         };
         let setup = compute_setup(
             &tsm,
@@ -135,6 +136,7 @@ fn the_default_projection_point_balances_the_ideal_configuration() {
     let rule = ideal_map(&Tsm {
         xi: -0.6,
         focus: Some(0.8),
+        limit: false,
     });
     let rule_near = dp_ds(&rule, Z_N);
     assert!(

@@ -395,3 +395,35 @@ fn fs_light_view(in: FullscreenOut) -> @location(0) vec4<f32> {
     let v = (40.0 + 215.0 * clamp(d, 0.0, 1.0)) / 255.0;
     return vec4<f32>(v, v, v, 1.0);
 }
+
+// The view samples pass: per pixel, the camera-relative position and the geometric normal
+// (turned toward the camera) as the bits of f32, w = 1 where there is geometry.
+struct SamplesOut {
+    @location(0) position: vec4<u32>,
+    @location(1) normal: vec4<u32>,
+};
+
+fn view_samples(in: MainOut) -> SamplesOut {
+    let s = surface(in, dpdx(in.camera), dpdy(in.camera));
+    return SamplesOut(
+        bitcast<vec4<u32>>(vec4<f32>(s.p, 1.0)),
+        bitcast<vec4<u32>>(vec4<f32>(s.n_geo, 1.0)),
+    );
+}
+
+@fragment
+fn fs_samples(in: MainOut) -> SamplesOut {
+    return view_samples(in);
+}
+
+struct SamplesDepthOut {
+    @location(0) position: vec4<u32>,
+    @location(1) normal: vec4<u32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+@fragment
+fn fs_samples_frag_depth(in: MainOut) -> SamplesDepthOut {
+    let s = view_samples(in);
+    return SamplesDepthOut(s.position, s.normal, in.depth.x / in.depth.y);
+}

@@ -54,16 +54,30 @@
 use crate::error::SetupError;
 use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
+use crate::techniques::warp_limit::limit_warp;
 
 /// Light space perspective shadow map (LiSPSM, Wimmer et al. 2004): a perspective warp in
 /// light space along the view direction, with the paper's optimal warp strength n, then
 /// unit cube clipping. See the module documentation for the construction and each
 /// degenerate case.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lispsm {
     /// The distance n of the projection reference point from B's near side, in world units.
     /// `None`: the paper's n_opt / sin(gamma) with the section 4.4 refinement.
     pub n: Option<f64>,
+    /// Whether the warp is weakened where it would sample the view more coarsely than the
+    /// focused map (see [`crate::Fallback::WarpLimited`]; 1 / n is scaled by the strength).
+    pub limit: bool,
+}
+
+impl Default for Lispsm {
+    /// n_opt, with the warp limit.
+    fn default() -> Self {
+        Self {
+            n: None,
+            limit: true,
+        }
+    }
 }
 
 impl Lispsm {
@@ -76,15 +90,9 @@ impl Lispsm {
             _ => Ok(()),
         }
     }
-}
 
-impl ShadowTechnique for Lispsm {
-    fn name(&self) -> &'static str {
-        "lispsm"
-    }
-
-    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        self.validate()?;
+    /// The setup with 1 / n scaled by `strength` (1: the paper's).
+    fn setup_at(&self, input: &SetupInput<'_>, strength: f64) -> Result<ShadowSetup, SetupError> {
         view_warp_setup(input, self.name(), true, |c| {
             // P's near plane at B's nearest Y; the projection reference point n before it.
             // The formula is in world units; for a spot light, light space's Y is in tangent
@@ -102,12 +110,25 @@ impl ShadowTechnique for Lispsm {
                     c.sin_gamma / (z_n + (z_n * (z_n + c.depth_world * c.sin_gamma)).sqrt())
                 }
             };
-            let inv_n = inv_n_world * c.depth_world / depth_along_view;
+            let inv_n = strength * inv_n_world * c.depth_world / depth_along_view;
             WarpChoice {
                 y_origin: c.body_light.min.y,
                 inv_n,
                 k: 1.0 / depth_along_view + inv_n,
             }
+        })
+    }
+}
+
+impl ShadowTechnique for Lispsm {
+    fn name(&self) -> &'static str {
+        "lispsm"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        self.validate()?;
+        limit_warp(input, self.name(), self.limit, |strength| {
+            self.setup_at(input, strength)
         })
     }
 }

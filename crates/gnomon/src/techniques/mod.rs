@@ -7,6 +7,7 @@ mod sppsm;
 mod tsm;
 mod uniform;
 mod view_warp;
+mod warp_limit;
 mod xpsm;
 
 pub use focused::Focused;

@@ -56,16 +56,31 @@ use crate::setup::{
 };
 use crate::techniques::focused::Focused;
 use crate::techniques::view_warp::{WarpBasis, warp_basis};
+use crate::techniques::warp_limit::limit_warp;
 use crate::techniques::{ANGULAR_PADDING, with_fallback};
 
 /// Perspective shadow map (PSM, Stamminger and Drettakis 2002, with Kozlov's fixes): a map
 /// built in the post-perspective space of a virtual camera slid back from the real one. See
 /// the module documentation for the cases and how casters are kept.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Psm {
     /// How far the virtual camera slides back, in world units. `None`: sqrt(z_n z_f) (the
     /// virtual eye at LiSPSM's n_opt). Raised when B reaches behind the virtual camera.
     pub slide_back: Option<f64>,
+    /// Whether the warp is weakened where it would sample the view more coarsely than the
+    /// focused map (see [`crate::Fallback::WarpLimited`]; the virtual eye's distance from
+    /// B's near side is divided by the strength).
+    pub limit: bool,
+}
+
+impl Default for Psm {
+    /// The slide of sqrt(z_n z_f), with the warp limit.
+    fn default() -> Self {
+        Self {
+            slide_back: None,
+            limit: true,
+        }
+    }
 }
 
 impl Psm {
@@ -80,16 +95,9 @@ impl Psm {
             _ => Ok(()),
         }
     }
-}
 
-impl ShadowTechnique for Psm {
-    fn name(&self) -> &'static str {
-        "psm"
-    }
-
-    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        input.map.validate()?;
-        self.validate()?;
+    /// The setup with the virtual eye's distance from B's near side divided by `strength`.
+    fn setup_at(&self, input: &SetupInput<'_>, strength: f64) -> Result<ShadowSetup, SetupError> {
         let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
             Ok(with_fallback(Focused.setup(input)?, "psm", fallback))
         };
@@ -119,7 +127,7 @@ impl ShadowTechnique for Psm {
         let requested = self
             .slide_back
             .unwrap_or_else(|| (near * b1.max(near)).sqrt());
-        let slide = requested.max(near - b0);
+        let slide = (b0 + requested.max(near - b0)) / strength - b0;
         let virtual_camera = Camera::look_at(
             eye - forward * slide,
             eye - forward * slide + forward,
@@ -279,6 +287,20 @@ impl ShadowTechnique for Psm {
             maps: vec![map],
             selection: MapSelection::Single,
             diagnostics,
+        })
+    }
+}
+
+impl ShadowTechnique for Psm {
+    fn name(&self) -> &'static str {
+        "psm"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        self.validate()?;
+        limit_warp(input, self.name(), self.limit, |strength| {
+            self.setup_at(input, strength)
         })
     }
 }

@@ -109,6 +109,16 @@ impl PerspectiveMap {
     pub fn name(&self) -> &'static str {
         self.as_dyn().name()
     }
+
+    /// The same map without the warp limit: SPPSM picks the finer map per point itself.
+    fn without_limit(self) -> Self {
+        match self {
+            Self::Psm(t) => Self::Psm(Psm { limit: false, ..t }),
+            Self::Lispsm(t) => Self::Lispsm(Lispsm { limit: false, ..t }),
+            Self::Tsm(t) => Self::Tsm(Tsm { limit: false, ..t }),
+            Self::Xpsm(t) => Self::Xpsm(Xpsm { limit: false, ..t }),
+        }
+    }
 }
 
 /// Separating-plane perspective shadow maps (Mikkelsen 2007): the focused map and a
@@ -383,7 +393,8 @@ impl ShadowTechnique for Sppsm {
             technique.setup(&SetupInput { scene, ..*input })
         };
         let focused = on(input.scene, &Focused)?;
-        let perspective = on(input.scene, self.perspective.as_dyn())?;
+        let perspective_map = self.perspective.without_limit();
+        let perspective = on(input.scene, perspective_map.as_dyn())?;
         let single = |mut setup: ShadowSetup, fallback: Option<Fallback>| {
             setup.technique = self.name();
             if let Some(f) = fallback {

@@ -53,6 +53,7 @@ use crate::geometry::convex_hull_2d;
 use crate::light::Light;
 use crate::setup::{Fallback, MapProjection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
 use crate::techniques::focused::Focused;
+use crate::techniques::warp_limit::limit_warp;
 use crate::techniques::{tolerance, with_fallback};
 
 /// Trapezoidal shadow map (TSM, Martin and Tan 2004) over the focused map. See the module
@@ -67,14 +68,19 @@ pub struct Tsm {
     /// to the far end of the view body, in [0, 1] (the 80% rule); `None`: the projection
     /// point that balances the aliasing at both ends of the view.
     pub focus: Option<f64>,
+    /// Whether the warp is weakened where it would sample the view more coarsely than the
+    /// focused map (see [`crate::Fallback::WarpLimited`]; eta is divided by the strength).
+    pub limit: bool,
 }
 
 impl Default for Tsm {
-    /// xi = -0.6; the projection point that balances the aliasing at z_n and z_f.
+    /// xi = -0.6; the projection point that balances the aliasing at z_n and z_f; the warp
+    /// limit.
     fn default() -> Self {
         Self {
             xi: -0.6,
             focus: None,
+            limit: true,
         }
     }
 }
@@ -95,16 +101,9 @@ impl Tsm {
         }
         Ok(())
     }
-}
 
-impl ShadowTechnique for Tsm {
-    fn name(&self) -> &'static str {
-        "tsm"
-    }
-
-    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        input.map.validate()?;
-        self.validate()?;
+    /// The setup with eta divided by `strength` (the projection point moved away).
+    fn setup_at(&self, input: &SetupInput<'_>, strength: f64) -> Result<ShadowSetup, SetupError> {
         let mut setup = Focused.setup(input)?;
         setup.technique = self.name();
         let fallback_setup = setup.clone();
@@ -187,6 +186,7 @@ impl ShadowTechnique for Tsm {
                 (root_f > root_n * (1.0 + 1e-9)).then(|| lambda * root_n / (root_f - root_n))
             }
         };
+        let eta = eta.map(|eta| eta / strength);
         let centre_lateral = near_center.dot(side);
         let rows = trapezoid_rows(
             &focused,
@@ -203,6 +203,20 @@ impl ShadowTechnique for Tsm {
         };
         setup.maps[0] = map;
         Ok(setup)
+    }
+}
+
+impl ShadowTechnique for Tsm {
+    fn name(&self) -> &'static str {
+        "tsm"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        self.validate()?;
+        limit_warp(input, self.name(), self.limit, |strength| {
+            self.setup_at(input, strength)
+        })
     }
 }
 

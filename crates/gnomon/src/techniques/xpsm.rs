@@ -28,6 +28,7 @@
 use crate::error::SetupError;
 use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
+use crate::techniques::warp_limit::limit_warp;
 
 /// Extended perspective shadow map (XPSM, after Gussev): a perspective warp centred at the eye
 /// along the view direction projected onto the map, with the back-projection clamp. See the
@@ -39,14 +40,18 @@ pub struct Xpsm {
     pub coef: f64,
     /// The smallest w allowed over the focus region, in (0, 1).
     pub epsilon_w: f64,
+    /// Whether the warp is weakened where it would sample the view more coarsely than the
+    /// focused map (see [`crate::Fallback::WarpLimited`]; len is scaled by the strength).
+    pub limit: bool,
 }
 
 impl Default for Xpsm {
-    /// coef 0.05, epsilon_W 0.085 (the chapter's values).
+    /// coef 0.05, epsilon_W 0.085 (the chapter's values), with the warp limit.
     fn default() -> Self {
         Self {
             coef: 0.05,
             epsilon_w: 0.085,
+            limit: true,
         }
     }
 }
@@ -67,15 +72,9 @@ impl Xpsm {
         }
         Ok(())
     }
-}
 
-impl ShadowTechnique for Xpsm {
-    fn name(&self) -> &'static str {
-        "xpsm"
-    }
-
-    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        self.validate()?;
+    /// The setup with len scaled by `strength` (1: the chapter's, clamped).
+    fn setup_at(&self, input: &SetupInput<'_>, strength: f64) -> Result<ShadowSetup, SetupError> {
         view_warp_setup(input, self.name(), false, |c| {
             // |V.xy| is sin(gamma); the frame exists, so it is at least 1e-3.
             let mut len = self.coef / c.sin_gamma;
@@ -85,9 +84,22 @@ impl ShadowTechnique for Xpsm {
             }
             WarpChoice {
                 y_origin: c.eye_light.y,
-                inv_n: len,
+                inv_n: len * strength,
                 k: 1.0,
             }
+        })
+    }
+}
+
+impl ShadowTechnique for Xpsm {
+    fn name(&self) -> &'static str {
+        "xpsm"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        self.validate()?;
+        limit_warp(input, self.name(), self.limit, |strength| {
+            self.setup_at(input, strength)
         })
     }
 }

@@ -1,0 +1,103 @@
+//! The view samples pass: what the camera's pixels see of the real surfaces, for the core's
+//! warp limit ([`gnomon::ViewSamples`], which from boxes alone can only estimate it).
+
+use glam::DVec3;
+use gnomon::{Camera, Light, ViewSamples};
+
+use crate::error::RenderError;
+use crate::headless::color_target;
+use crate::pipelines::{CAMERA_DEPTH_FORMAT, METRICS_FORMAT};
+use crate::renderer::{RenderSettings, Renderer, cleared_camera_depth};
+
+/// The kept targets of the samples pass: position and normal per pixel, and depth.
+pub(crate) struct SampleTargets {
+    position: (wgpu::Texture, wgpu::TextureView),
+    normal: (wgpu::Texture, wgpu::TextureView),
+    depth: wgpu::TextureView,
+}
+
+impl Renderer {
+    /// What `camera`'s pixels see of the scene, lit by `light`, as the core's samples: the
+    /// scene drawn once into a grid of [`ViewSamples::grid`] pixels (about
+    /// [`ViewSamples::RAYS`]), each pixel's surface point and geometric normal read back (one
+    /// wait on the GPU). Give them to [`gnomon::compute_setup_with_samples`] for the same
+    /// camera and light, so that the warp limit compares maps on the real surfaces. It
+    /// writes the frame's records for `camera`: call it before [`Renderer::prepare`]. (An
+    /// engine would take them from its last frame's depth and normals instead.)
+    pub fn view_samples(
+        &mut self,
+        camera: &Camera,
+        light: &Light,
+    ) -> Result<ViewSamples, RenderError> {
+        let (cols, rows) = ViewSamples::grid(camera.lens().aspect);
+        self.prepare_lights(camera, &[*light], &RenderSettings::default())?;
+        if self
+            .sample_targets
+            .as_ref()
+            .is_none_or(|t| (t.position.0.width(), t.position.0.height()) != (cols, rows))
+        {
+            let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+            let r = &self.resources;
+            self.sample_targets = Some(SampleTargets {
+                position: r.target("sample positions", (cols, rows), 1, METRICS_FORMAT, usage),
+                normal: r.target("sample normals", (cols, rows), 1, METRICS_FORMAT, usage),
+                depth: r
+                    .target(
+                        "sample depth",
+                        (cols, rows),
+                        1,
+                        CAMERA_DEPTH_FORMAT,
+                        wgpu::TextureUsages::RENDER_ATTACHMENT,
+                    )
+                    .1,
+            });
+        }
+        self.pipelines.samples(&self.gpu.device);
+        let targets = self.sample_targets.as_ref().expect("made above");
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("view samples"),
+                color_attachments: &[
+                    color_target(&targets.position.1, Some(wgpu::Color::TRANSPARENT)),
+                    color_target(&targets.normal.1, Some(wgpu::Color::TRANSPARENT)),
+                ],
+                depth_stencil_attachment: Some(cleared_camera_depth(&targets.depth)),
+                ..Default::default()
+            });
+            pass.set_pipeline(self.pipelines.samples(&self.gpu.device));
+            self.bind_frame(&mut pass);
+            self.scene.bind(&mut pass);
+            self.scene.draw_all(&mut pass);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        let targets = self.sample_targets.as_ref().expect("made above");
+        let positions =
+            self.readback
+                .read(&self.gpu, &self.resources, &targets.position.0, 16, 0)?;
+        let normals = self
+            .readback
+            .read(&self.gpu, &self.resources, &targets.normal.0, 16, 0)?;
+        // Camera-relative view space back to the world, in f64.
+        let world_from_view = camera.view_from_world().inverse();
+        let floats = |texel: &[u8]| {
+            let f = |k: usize| {
+                f32::from_le_bytes([texel[k], texel[k + 1], texel[k + 2], texel[k + 3]]) as f64
+            };
+            (DVec3::new(f(0), f(4), f(8)), f(12))
+        };
+        let points = positions
+            .chunks_exact(16)
+            .zip(normals.chunks_exact(16))
+            .filter_map(|(p, n)| {
+                let ((p, geometry), (n, _)) = (floats(p), floats(n));
+                (geometry > 0.5).then(|| {
+                    (
+                        world_from_view.transform_point3(p),
+                        world_from_view.transform_vector3(n).normalize_or_zero(),
+                    )
+                })
+            });
+        Ok(ViewSamples::from_surface_points(camera, light, points))
+    }
+}

@@ -1,0 +1,414 @@
+//! What the camera's pixels see of the lit receivers: a fact of the frame, computed once and
+//! shared by every technique (and every cascade) that measures a map against another.
+//!
+//! Rays through a grid of pixels (about [`ViewSamples::RAYS`], spread over the image with its
+//! aspect) are cast against the receiver boxes; the nearest hit inside the view frustum, on a
+//! face that the light reaches (N.L > 0.1, as the renderer's metrics count; for a spot light
+//! inside its cone and range), is a sample: the point, the face's normal and the world
+//! footprint of one pixel there. The rays are binned per box by the box's image, so a box
+//! costs its eight corners and the rays that can hit it.
+//!
+//! A map's undersampling at a sample is what the renderer measures per pixel: pixels per
+//! texel along the worst direction, `1 / sigma_min` of the Jacobian from pixels to texels.
+//! Only ratios between maps of one frame mean anything: the footprint is that of a pixel of
+//! an image [`ViewSamples::REFERENCE_ROWS`] rows tall.
+//!
+//! Boxes stand for the receivers' shapes: a sphere's box is hit where the sphere is not, with
+//! the normal of a face (the top of a torus's box, lit at grazing incidence, can rule the
+//! statistics of every map), and casters that do not receive do not hide what lies behind
+//! them. A renderer knows the real surfaces: [`ViewSamples::from_surface_points`] builds the
+//! samples from what its pixels see (gnomon's renderer draws them in a small pass; an engine
+//! can take them from its last frame's depth and normals, as sample distribution shadow maps
+//! do), and a setup given them ([`crate::SetupInput::samples`]) uses them.
+
+use glam::DVec3;
+
+use crate::bounds::{Aabb, SceneBounds};
+use crate::camera::Camera;
+use crate::light::Light;
+use crate::setup::ShadowMap;
+
+/// A visible, lit receiver point as one pixel sees it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewSample {
+    /// The point, world space.
+    pub position: DVec3,
+    /// The unit normal of the box face it lies on, toward the camera.
+    pub normal: DVec3,
+    /// The world step across the surface for one pixel to the right.
+    pub dp_dx: DVec3,
+    /// The world step across the surface for one pixel up.
+    pub dp_dy: DVec3,
+    /// The distance along the view direction.
+    pub view_depth: f64,
+}
+
+/// The samples of one frame; see the module documentation.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ViewSamples {
+    samples: Vec<ViewSample>,
+}
+
+impl ViewSamples {
+    /// About how many rays are cast.
+    pub const RAYS: usize = 384;
+    /// The footprints are those of a pixel of an image this many rows tall.
+    pub const REFERENCE_ROWS: f64 = 1000.0;
+
+    /// The grid of rays for an image of `aspect` (width over height): (columns, rows), about
+    /// [`ViewSamples::RAYS`] cells.
+    pub fn grid(aspect: f64) -> (u32, u32) {
+        let rows = ((Self::RAYS as f64 / aspect).sqrt().round() as u32).clamp(4, 64);
+        let cols = ((rows as f64 * aspect).round() as u32).clamp(4, 64);
+        (cols, rows)
+    }
+
+    /// The samples of `camera`'s view of `scene`'s receiver boxes lit by `light`: rays through
+    /// the cells of [`ViewSamples::grid`] against the boxes (see the module documentation).
+    pub fn new(camera: &Camera, light: &Light, scene: &SceneBounds) -> Self {
+        let lens = camera.lens();
+        let (cols, rows) = Self::grid(lens.aspect);
+        let (cols, rows) = (cols as usize, rows as usize);
+        let tan_y = (0.5 * lens.fov_y_degrees.to_radians()).tan();
+        let tan_x = tan_y * lens.aspect;
+        let (eye, forward, right, up) =
+            (camera.eye(), camera.forward(), camera.right(), camera.up());
+        // The ray through cell (i, j): eye + t d, with t the view depth (forward . d = 1).
+        let ndc = |i: usize, n: usize| (2.0 * i as f64 + 1.0) / n as f64 - 1.0;
+        let direction = |i: usize, j: usize| {
+            forward + right * (ndc(i, cols) * tan_x) + up * (ndc(j, rows) * tan_y)
+        };
+        // Nearest hit per cell: (t, face axis).
+        let mut nearest = vec![(f64::INFINITY, usize::MAX); rows * cols];
+        for aabb in scene.receivers() {
+            let Some((i0, i1, j0, j1)) = cells_covered(aabb, camera, (tan_x, tan_y), (cols, rows))
+            else {
+                continue;
+            };
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    if let Some((t, axis)) = ray_box(eye, direction(i, j), aabb)
+                        && t >= lens.near
+                        && t <= lens.far
+                        && t < nearest[j * cols + i].0
+                    {
+                        nearest[j * cols + i] = (t, axis);
+                    }
+                }
+            }
+        }
+        let hits = (0..rows * cols).filter_map(|k| {
+            let (t, axis) = nearest[k];
+            (axis != usize::MAX).then(|| {
+                let d = direction(k % cols, k / cols);
+                let mut normal = DVec3::ZERO;
+                normal[axis] = -d[axis].signum();
+                (eye + d * t, normal)
+            })
+        });
+        Self::from_surface_points(camera, light, hits)
+    }
+
+    /// The samples from surface points that pixels see: (position, unit normal), world space,
+    /// one per pixel of an image of `camera`'s aspect, about [`ViewSamples::RAYS`] of them
+    /// (fewer or more only weight the statistics differently). Points the light does not reach,
+    /// or outside the view's depth range, are left out; normals are turned toward the camera.
+    pub fn from_surface_points(
+        camera: &Camera,
+        light: &Light,
+        points: impl IntoIterator<Item = (DVec3, DVec3)>,
+    ) -> Self {
+        let lens = camera.lens();
+        let (eye, forward) = (camera.eye(), camera.forward());
+        let pixel = 2.0 * (0.5 * lens.fov_y_degrees.to_radians()).tan() / Self::REFERENCE_ROWS;
+        let (step_x, step_y) = (camera.right() * pixel, camera.up() * pixel);
+        let samples = points
+            .into_iter()
+            .filter_map(|(p, normal)| {
+                let t = (p - eye).dot(forward);
+                if !(t >= lens.near && t <= lens.far && normal.is_finite()) {
+                    return None;
+                }
+                // The ray through the point with forward . d = 1, so that p = eye + t d.
+                let d = (p - eye) / t;
+                let normal = if normal.dot(d) > 0.0 { -normal } else { normal };
+                let n_dot_d = normal.dot(d);
+                if !lit_facing(light, p, normal) || n_dot_d >= 0.0 {
+                    return None;
+                }
+                // p(d) = e + d (n . (p0 - e)) / (n . d): dp = t (dd - d (n . dd) / (n . d)).
+                let footprint = |dd: DVec3| t * (dd - d * (normal.dot(dd) / n_dot_d));
+                Some(ViewSample {
+                    position: p,
+                    normal,
+                    dp_dx: footprint(step_x),
+                    dp_dy: footprint(step_y),
+                    view_depth: t,
+                })
+            })
+            .collect();
+        Self { samples }
+    }
+
+    /// The samples.
+    pub fn samples(&self) -> &[ViewSample] {
+        &self.samples
+    }
+
+    /// How many samples.
+    pub fn len(&self) -> usize {
+        self.samples.len()
+    }
+
+    /// Whether no pixel sees a lit receiver.
+    pub fn is_empty(&self) -> bool {
+        self.samples.is_empty()
+    }
+
+    /// The samples whose view depth lies in [near, far] (a cascade's slice).
+    pub fn within_depth(&self, near: f64, far: f64) -> ViewSamples {
+        Self {
+            samples: self
+                .samples
+                .iter()
+                .filter(|s| (near..=far).contains(&s.view_depth))
+                .copied()
+                .collect(),
+        }
+    }
+
+    /// The `q` quantile (0 to 1, nearest rank) of `map`'s undersampling over the samples;
+    /// `None` when there are none.
+    pub fn undersampling_quantile(&self, map: &ShadowMap, q: f64) -> Option<f64> {
+        let mut values: Vec<f64> = self.samples.iter().map(|s| undersampling(map, s)).collect();
+        if values.is_empty() {
+            return None;
+        }
+        values.sort_by(f64::total_cmp);
+        let at = (q.clamp(0.0, 1.0) * (values.len() - 1) as f64).round() as usize;
+        Some(values[at.min(values.len() - 1)])
+    }
+}
+
+/// Pixels per texel along the worst direction at `sample` in `map` (`1 / sigma_min` of the
+/// Jacobian from pixels to texels, as the renderer measures it); infinite where the map does
+/// not see the point (w <= 0) or does not resolve it.
+pub fn undersampling(map: &ShadowMap, sample: &ViewSample) -> f64 {
+    let m = map.clip_from_world;
+    let clip = m * sample.position.extend(1.0);
+    if clip.w.is_nan() || clip.w <= 0.0 {
+        return f64::INFINITY;
+    }
+    let row = |k: usize| m.row(k).truncate();
+    let (x, y) = (clip.x / clip.w, clip.y / clip.w);
+    let gx = (row(0) - row(3) * x) / clip.w;
+    let gy = (row(1) - row(3) * y) / clip.w;
+    let scale = 0.5 * map.resolution as f64;
+    let (jx0, jx1) = (scale * gx.dot(sample.dp_dx), scale * gy.dot(sample.dp_dx));
+    let (jy0, jy1) = (scale * gx.dot(sample.dp_dy), scale * gy.dot(sample.dp_dy));
+    // J^T J = [[a, b], [b, c]]: its eigenvalues are the squared singular values.
+    let a = jx0 * jx0 + jx1 * jx1;
+    let b = jx0 * jy0 + jx1 * jy1;
+    let c = jy0 * jy0 + jy1 * jy1;
+    let root = (0.25 * (a - c) * (a - c) + b * b).max(0.0).sqrt();
+    let sigma_min = (0.5 * (a + c) - root).max(0.0).sqrt();
+    if sigma_min > 0.0 {
+        1.0 / sigma_min
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Whether the light reaches a surface at `p` with normal `n` (N.L > 0.1; a spot light also
+/// needs `p` inside its cone and range).
+fn lit_facing(light: &Light, p: DVec3, n: DVec3) -> bool {
+    match light {
+        Light::Directional(l) => n.dot(-l.direction()) > 0.1,
+        Light::Spot(s) => {
+            let to_light = s.position() - p;
+            let distance = to_light.length();
+            let along = -to_light.dot(s.direction());
+            distance > 0.0
+                && n.dot(to_light / distance) > 0.1
+                && along >= s.near()
+                && distance <= s.range()
+                && along >= distance * s.half_angle().cos()
+        }
+    }
+}
+
+/// The grid cells (i0, i1, j0, j1) whose rays can hit `aabb`, or `None` when it lies wholly
+/// behind the near plane or beside the view. A box reaching behind the eye covers every cell.
+fn cells_covered(
+    aabb: &Aabb,
+    camera: &Camera,
+    (tan_x, tan_y): (f64, f64),
+    (cols, rows): (usize, usize),
+) -> Option<(usize, usize, usize, usize)> {
+    let (eye, forward, right, up) = (camera.eye(), camera.forward(), camera.right(), camera.up());
+    let near = camera.lens().near;
+    let mut lo = (f64::INFINITY, f64::INFINITY);
+    let mut hi = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+    let mut behind = 0;
+    let mut crosses_eye_plane = false;
+    for c in aabb.corners() {
+        let q = c - eye;
+        let z = q.dot(forward);
+        if z < near {
+            behind += 1;
+        }
+        if z <= 0.5 * near {
+            crosses_eye_plane = true;
+            continue;
+        }
+        let (x, y) = (q.dot(right) / (z * tan_x), q.dot(up) / (z * tan_y));
+        lo = (lo.0.min(x), lo.1.min(y));
+        hi = (hi.0.max(x), hi.1.max(y));
+    }
+    if behind == 8 {
+        return None;
+    }
+    if crosses_eye_plane {
+        return Some((0, cols - 1, 0, rows - 1));
+    }
+    // Cell i's centre is at (2 i + 1) / n - 1: the cells whose centres lie in [lo, hi].
+    let range = |lo: f64, hi: f64, n: usize| {
+        let first = ((lo + 1.0) * 0.5 * n as f64 - 0.5).ceil().max(0.0);
+        let last = ((hi + 1.0) * 0.5 * n as f64 - 0.5)
+            .floor()
+            .min(n as f64 - 1.0);
+        (first <= last).then_some((first as usize, last as usize))
+    };
+    let (i0, i1) = range(lo.0, hi.0, cols)?;
+    let (j0, j1) = range(lo.1, hi.1, rows)?;
+    Some((i0, i1, j0, j1))
+}
+
+/// Where the ray `origin + t d` (t >= 0) enters `aabb`, and the axis of the face it enters
+/// through; `None` when it misses or starts inside.
+fn ray_box(origin: DVec3, d: DVec3, aabb: &Aabb) -> Option<(f64, usize)> {
+    let (mut t_enter, mut t_exit, mut axis) = (0.0f64, f64::INFINITY, usize::MAX);
+    for k in 0..3 {
+        let (lo, hi) = (aabb.min()[k], aabb.max()[k]);
+        if d[k] == 0.0 {
+            if origin[k] < lo || origin[k] > hi {
+                return None;
+            }
+            continue;
+        }
+        let inv = 1.0 / d[k];
+        let (t0, t1) = {
+            let (a, b) = ((lo - origin[k]) * inv, (hi - origin[k]) * inv);
+            (a.min(b), a.max(b))
+        };
+        if t0 > t_enter {
+            t_enter = t0;
+            axis = k;
+        }
+        t_exit = t_exit.min(t1);
+    }
+    (axis != usize::MAX && t_enter <= t_exit).then_some((t_enter, axis))
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DMat4;
+
+    use super::*;
+    use crate::camera::Lens;
+    use crate::light::DirectionalLight;
+    use crate::setup::MapProjection;
+
+    fn ground_scene() -> SceneBounds {
+        let ground = Aabb::new(
+            DVec3::new(-100.0, -1.0, -100.0),
+            DVec3::new(100.0, 0.0, 100.0),
+        );
+        SceneBounds::new(vec![], vec![ground.unwrap()], None).unwrap()
+    }
+
+    #[test]
+    fn a_camera_over_the_ground_sees_it_lit_from_above() {
+        let camera = Camera::look_at(
+            DVec3::new(0.0, 10.0, 0.0),
+            DVec3::new(0.0, 0.0, -20.0),
+            DVec3::Y,
+            Lens::default(),
+        )
+        .unwrap();
+        let sun = Light::Directional(DirectionalLight::new(DVec3::new(0.2, -1.0, 0.1)).unwrap());
+        let samples = ViewSamples::new(&camera, &sun, &ground_scene());
+        // The lower part of the image sees the ground, the upper part the sky.
+        assert!(samples.len() > ViewSamples::RAYS / 4, "{}", samples.len());
+        assert!(samples.len() < ViewSamples::RAYS, "{}", samples.len());
+        for s in samples.samples() {
+            assert!(s.position.y.abs() < 1e-9 && s.normal == DVec3::Y);
+            assert!(
+                (s.view_depth - (s.position - camera.eye()).dot(camera.forward())).abs() < 1e-9
+            );
+            // A pixel's footprint lies in the ground plane.
+            assert!(s.dp_dx.y.abs() < 1e-12 && s.dp_dy.y.abs() < 1e-12);
+        }
+        // Lit from below: nothing.
+        let under = Light::Directional(DirectionalLight::new(DVec3::Y).unwrap());
+        assert!(ViewSamples::new(&camera, &under, &ground_scene()).is_empty());
+        // A slice keeps what lies in it.
+        let slice = samples.within_depth(10.0, 30.0);
+        assert!(!slice.is_empty() && slice.len() < samples.len());
+        assert!(
+            slice
+                .samples()
+                .iter()
+                .all(|s| (10.0..=30.0).contains(&s.view_depth))
+        );
+    }
+
+    #[test]
+    fn undersampling_of_a_map_looking_straight_down() {
+        // A camera straight above the ground at height h, a map over [-50, 50]^2 of 1000
+        // texels: a texel is 0.1 m; a pixel of the reference image at the centre is
+        // h 2 tan(fov/2) / rows.
+        let h = 20.0;
+        let lens = Lens {
+            fov_y_degrees: 60.0,
+            aspect: 1.0,
+            near: 1.0,
+            far: 100.0,
+        };
+        let camera =
+            Camera::look_at(DVec3::new(0.0, h, 0.0), DVec3::ZERO, DVec3::NEG_Z, lens).unwrap();
+        let sun = Light::Directional(DirectionalLight::new(-DVec3::Y).unwrap());
+        let samples = ViewSamples::new(&camera, &sun, &ground_scene());
+        // x = X / 50, y = -Z / 50 (looking down with -Z up in the map).
+        let clip_from_world = DMat4::from_cols_array(&[
+            0.02, 0.0, 0.0, 0.0, //
+            0.0, 0.0, 0.0, 0.0, //
+            0.0, -0.02, 0.0, 0.0, //
+            0.0, 0.0, 0.5, 1.0,
+        ]);
+        let map = ShadowMap {
+            clip_from_world,
+            depth_from_world: glam::DVec4::ZERO,
+            resolution: 1000,
+            viewport_inset: 1,
+            projection: MapProjection::Orthographic,
+        };
+        let centre = samples
+            .samples()
+            .iter()
+            .min_by(|a, b| a.position.length().total_cmp(&b.position.length()))
+            .unwrap();
+        let pixel = h * 2.0 * (30.0f64).to_radians().tan() / ViewSamples::REFERENCE_ROWS;
+        let expected = 0.1 / pixel;
+        let got = undersampling(&map, centre);
+        assert!((got / expected - 1.0).abs() < 0.05, "{got} vs {expected}");
+        // Twice the texels: half the undersampling, everywhere.
+        let finer = ShadowMap {
+            resolution: 2000,
+            ..map
+        };
+        let q = samples.undersampling_quantile(&map, 0.95).unwrap();
+        let q_finer = samples.undersampling_quantile(&finer, 0.95).unwrap();
+        assert!((q / q_finer - 2.0).abs() < 1e-9);
+    }
+}
