@@ -47,7 +47,8 @@ enum Command {
     /// side in an HTML page.
     Demo(demo::DemoArgs),
     /// Perspective aliasing dp/ds along the view axis of every technique, measured from its
-    /// matrices in the LiSPSM paper's ideal configuration (table, JSON, plot).
+    /// matrices in the LiSPSM paper's ideal configuration (table, JSON, plot); the papers'
+    /// warps, without the warp limit.
     Analyze(Box<analyze::AnalyzeArgs>),
     /// Every technique against the exact shadow volumes over named views: image grids, wrong
     /// pixels, sampling error percentiles and times (Markdown and JSON).

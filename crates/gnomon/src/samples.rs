@@ -180,13 +180,22 @@ impl ViewSamples {
     /// The `q` quantile (0 to 1, nearest rank) of `map`'s undersampling over the samples;
     /// `None` when there are none.
     pub fn undersampling_quantile(&self, map: &ShadowMap, q: f64) -> Option<f64> {
+        self.undersampling_quantiles(map, [q]).map(|[v]| v)
+    }
+
+    /// Several quantiles of `map`'s undersampling at once (each sample measured once).
+    pub fn undersampling_quantiles<const N: usize>(
+        &self,
+        map: &ShadowMap,
+        qs: [f64; N],
+    ) -> Option<[f64; N]> {
         let mut values: Vec<f64> = self.samples.iter().map(|s| undersampling(map, s)).collect();
         if values.is_empty() {
             return None;
         }
-        values.sort_by(f64::total_cmp);
-        let at = (q.clamp(0.0, 1.0) * (values.len() - 1) as f64).round() as usize;
-        Some(values[at.min(values.len() - 1)])
+        values.sort_unstable_by(f64::total_cmp);
+        let last = values.len() - 1;
+        Some(qs.map(|q| values[((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last)]))
     }
 }
 

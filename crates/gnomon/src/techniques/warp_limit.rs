@@ -60,11 +60,9 @@ pub(crate) fn limit_warp(
     let focused = Focused.setup(input)?;
     // The 95th percentile and the worst sample.
     let measure = |s: &ShadowSetup| {
-        [QUANTILE, 1.0].map(|q| {
-            samples
-                .undersampling_quantile(&s.maps[0], q)
-                .unwrap_or(f64::INFINITY)
-        })
+        samples
+            .undersampling_quantiles(&s.maps[0], [QUANTILE, 1.0])
+            .unwrap_or([f64::INFINITY; 2])
     };
     let reference = measure(&focused);
     let mut strength = 1.0;
