@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use gnomon::analysis::{AliasingCurve, IdealConfiguration, setup_view_axis_aliasing};
+use gnomon::analysis::{AliasingCurve, IdealConfiguration, setup_view_axis_aliasing_in_texels};
 use gnomon::{MapSettings, Psm, ShadowTechnique, Technique, compute_setup};
 use serde_json::json;
 
@@ -62,6 +62,11 @@ fn techniques(params: &TechniqueParams) -> Vec<(String, Technique)> {
             ..*params
         }
         .apply(technique);
+        // Cascades measured with no blend band.
+        let technique = match technique {
+            Technique::Cascades(c) => Technique::Cascades(gnomon::Cascades { blend: 0.0, ..c }),
+            other => other,
+        };
         if let Technique::Psm(_) = technique {
             out.push((
                 "psm-paper".to_string(),
@@ -98,8 +103,10 @@ pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
             &scene,
             MapSettings::with_resolution(args.shadow_map),
         )?;
+        // In the texels of one --shadow-map map (cascades with --equal-texels share them).
         let curve =
-            setup_view_axis_aliasing(&setup, &config, args.samples).map_err(|e| e.to_string());
+            setup_view_axis_aliasing_in_texels(&setup, &config, args.samples, args.shadow_map)
+                .map_err(|e| e.to_string());
         rows.push(Row {
             label,
             fallback: setup.fallback().map(|f| f.name()),

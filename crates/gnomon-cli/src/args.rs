@@ -3,8 +3,9 @@
 use clap::{Args, ValueEnum};
 use glam::DVec3;
 use gnomon::{
-    Camera, DirectionalLight, Lens, Light, MapSettings, PerspectiveMap, SceneBounds, ShadowSetup,
-    SpotLight, Technique, ViewSamples, compute_setup, compute_setup_with_samples,
+    Camera, CascadeFit, CascadeSplit, DirectionalLight, Lens, Light, MapSettings, PerspectiveMap,
+    SceneBounds, ShadowSetup, SpotLight, Technique, ViewSamples, compute_setup,
+    compute_setup_with_samples,
 };
 
 use crate::CliError;
@@ -88,6 +89,60 @@ impl LightArgs {
     }
 }
 
+/// How `--cascade-split` cuts the view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CascadeSplitArg {
+    /// Zhang's practical split (with `--cascade-lambda`).
+    Practical,
+    /// Logarithmic.
+    Log,
+    /// Uniform.
+    Uniform,
+    /// The K - 1 view depths between the slices.
+    Distances(usize, [f64; gnomon::MAX_CASCADES - 1]),
+}
+
+/// Parses `--cascade-split`: practical, log, uniform, or D1,D2,... (increasing, at most 7).
+pub fn cascade_split_arg(s: &str) -> Result<CascadeSplitArg, String> {
+    match s.trim() {
+        "practical" => Ok(CascadeSplitArg::Practical),
+        "log" => Ok(CascadeSplitArg::Log),
+        "uniform" => Ok(CascadeSplitArg::Uniform),
+        list => {
+            let mut depths = [0.0; gnomon::MAX_CASCADES - 1];
+            let parts: Vec<&str> = list.split(',').map(str::trim).collect();
+            if parts.len() > depths.len() {
+                return Err(format!(
+                    "at most {} split distances (for {} cascades)",
+                    depths.len(),
+                    gnomon::MAX_CASCADES
+                ));
+            }
+            for (slot, part) in depths.iter_mut().zip(&parts) {
+                *slot = part.parse::<f64>().map_err(|_| {
+                    format!("'{list}' is not practical, log, uniform or distances D1,D2,...")
+                })?;
+            }
+            Ok(CascadeSplitArg::Distances(parts.len(), depths))
+        }
+    }
+}
+
+/// The single-map technique fitting each cascade on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CascadeFitArg {
+    /// The focused map.
+    Focused,
+    /// Light space perspective shadow maps.
+    Lispsm,
+    /// Trapezoidal shadow maps.
+    Tsm,
+    /// Extended perspective shadow maps.
+    Xpsm,
+    /// Perspective shadow maps.
+    Psm,
+}
+
 /// The perspective map of SPPSM on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum SppsmWithArg {
@@ -140,6 +195,38 @@ pub struct TechniqueParams {
     /// SPPSM: focusing iterations, 1 to 20 (default 10).
     #[arg(long)]
     pub sppsm_iterations: Option<u32>,
+    /// Cascades: the number of slices of the view, 1 to 8 (default 4).
+    #[arg(long)]
+    pub cascades: Option<usize>,
+    /// Cascades: how the view is cut: practical (Zhang's blend of log and uniform, with
+    /// --cascade-lambda), log, uniform, or the K - 1 view depths D1,D2,... between the slices
+    /// (default practical).
+    #[arg(long, value_parser = cascade_split_arg, allow_hyphen_values = true)]
+    pub cascade_split: Option<CascadeSplitArg>,
+    /// Cascades: the practical split's weight of the log split, 0 to 1 (default 0.5).
+    #[arg(long, allow_hyphen_values = true)]
+    pub cascade_lambda: Option<f64>,
+    /// Cascades: the view depth beyond which nothing is shadowed, with a fade over its last
+    /// 10% (default: the camera's far plane).
+    #[arg(long, allow_hyphen_values = true)]
+    pub shadow_distance: Option<f64>,
+    /// Cascades: the technique fitting each slice (default lispsm); its parameters above
+    /// apply to it.
+    #[arg(long, value_enum)]
+    pub cascade_fit: Option<CascadeFitArg>,
+    /// Cascades: the blend band between neighbours, as a fraction of the slice, 0 to 0.5
+    /// (default 0.1).
+    #[arg(long, allow_hyphen_values = true)]
+    pub cascade_blend: Option<f64>,
+    /// Cascades: stable cascades (directional lights): slices bounded by spheres in the
+    /// light's fixed frame, snapped to whole texels, so that the texel grid stays put while
+    /// the camera moves; --cascade-fit is not used.
+    #[arg(long)]
+    pub stable: bool,
+    /// Cascades: the K maps share the texels of one --shadow-map map (each
+    /// shadow-map / sqrt(K) on a side) instead of each having that size.
+    #[arg(long)]
+    pub equal_texels: bool,
 }
 
 /// The `gnomon render` command that draws named view `view` as a report's cell: `technique`
@@ -182,6 +269,22 @@ fn options_read_by(technique: &Technique) -> Vec<&'static str> {
         Technique::Tsm(_) => vec!["--tsm-xi", "--tsm-focus", "--no-warp-limit"],
         Technique::Xpsm(_) => vec!["--xpsm-coef", "--xpsm-epsilon-w", "--no-warp-limit"],
         Technique::Psm(_) => vec!["--psm-slide-back", "--no-warp-limit"],
+        Technique::Cascades(c) => {
+            let mut read = vec![
+                "--cascades",
+                "--cascade-split",
+                "--cascade-lambda",
+                "--shadow-distance",
+                "--cascade-fit",
+                "--cascade-blend",
+                "--stable",
+                "--equal-texels",
+            ];
+            if let Some(fit) = fit_technique(c.fit) {
+                read.extend(options_read_by(&fit));
+            }
+            read
+        }
         Technique::Sppsm(s) => {
             let mut read = vec!["--sppsm-with", "--sppsm-iterations"];
             read.extend(
@@ -192,6 +295,18 @@ fn options_read_by(technique: &Technique) -> Vec<&'static str> {
             read
         }
         _ => Vec::new(),
+    }
+}
+
+/// A cascade's fit as the technique on its own (`None`: the focused map, which reads no
+/// parameter).
+fn fit_technique(fit: CascadeFit) -> Option<Technique> {
+    match fit {
+        CascadeFit::Focused => None,
+        CascadeFit::Lispsm(t) => Some(Technique::Lispsm(t)),
+        CascadeFit::Tsm(t) => Some(Technique::Tsm(t)),
+        CascadeFit::Xpsm(t) => Some(Technique::Xpsm(t)),
+        CascadeFit::Psm(t) => Some(Technique::Psm(t)),
     }
 }
 
@@ -221,6 +336,9 @@ impl TechniqueParams {
         number("--xpsm-coef", self.xpsm_coef);
         number("--xpsm-epsilon-w", self.xpsm_epsilon_w);
         number("--psm-slide-back", self.psm_slide_back);
+        number("--cascade-lambda", self.cascade_lambda);
+        number("--shadow-distance", self.shadow_distance);
+        number("--cascade-blend", self.cascade_blend);
         if self.no_warp_limit {
             flags.push(("--no-warp-limit", "--no-warp-limit".to_string()));
         }
@@ -236,6 +354,38 @@ impl TechniqueParams {
         }
         if let Some(n) = self.sppsm_iterations {
             flags.push(("--sppsm-iterations", format!("--sppsm-iterations {n}")));
+        }
+        if let Some(k) = self.cascades {
+            flags.push(("--cascades", format!("--cascades {k}")));
+        }
+        if let Some(split) = self.cascade_split {
+            let value = match split {
+                CascadeSplitArg::Practical => "practical".to_string(),
+                CascadeSplitArg::Log => "log".to_string(),
+                CascadeSplitArg::Uniform => "uniform".to_string(),
+                CascadeSplitArg::Distances(n, d) => d[..n]
+                    .iter()
+                    .map(|v| v.to_string())
+                    .collect::<Vec<_>>()
+                    .join(","),
+            };
+            flags.push(("--cascade-split", format!("--cascade-split {value}")));
+        }
+        if let Some(fit) = self.cascade_fit {
+            flags.push((
+                "--cascade-fit",
+                format!(
+                    "--cascade-fit {}",
+                    fit.to_possible_value()
+                        .map_or("lispsm".into(), |v| v.get_name().to_string())
+                ),
+            ));
+        }
+        if self.stable {
+            flags.push(("--stable", "--stable".to_string()));
+        }
+        if self.equal_texels {
+            flags.push(("--equal-texels", "--equal-texels".to_string()));
         }
         flags
     }
@@ -306,6 +456,48 @@ impl TechniqueParams {
                 };
                 t.iterations = self.sppsm_iterations.unwrap_or(t.iterations);
                 Technique::Sppsm(t)
+            }
+            Technique::Cascades(mut t) => {
+                t.count = self.cascades.unwrap_or(t.count);
+                let lambda = match t.split {
+                    CascadeSplit::Practical { lambda } => lambda,
+                    _ => 0.5,
+                };
+                let lambda = self.cascade_lambda.unwrap_or(lambda);
+                t.split = match self.cascade_split {
+                    None => match t.split {
+                        CascadeSplit::Practical { .. } => CascadeSplit::Practical { lambda },
+                        other => other,
+                    },
+                    Some(CascadeSplitArg::Practical) => CascadeSplit::Practical { lambda },
+                    Some(CascadeSplitArg::Log) => CascadeSplit::Log,
+                    Some(CascadeSplitArg::Uniform) => CascadeSplit::Uniform,
+                    Some(CascadeSplitArg::Distances(count, depths)) => {
+                        CascadeSplit::Distances { count, depths }
+                    }
+                };
+                t.shadow_distance = self.shadow_distance.or(t.shadow_distance);
+                if let Some(fit) = self.cascade_fit {
+                    t.fit = match fit {
+                        CascadeFitArg::Focused => CascadeFit::Focused,
+                        CascadeFitArg::Lispsm => CascadeFit::Lispsm(Default::default()),
+                        CascadeFitArg::Tsm => CascadeFit::Tsm(Default::default()),
+                        CascadeFitArg::Xpsm => CascadeFit::Xpsm(Default::default()),
+                        CascadeFitArg::Psm => CascadeFit::Psm(Default::default()),
+                    };
+                }
+                // The fit's own parameters, as for the technique alone.
+                t.fit = match fit_technique(t.fit).map(|f| self.apply(f)) {
+                    Some(Technique::Lispsm(f)) => CascadeFit::Lispsm(f),
+                    Some(Technique::Tsm(f)) => CascadeFit::Tsm(f),
+                    Some(Technique::Xpsm(f)) => CascadeFit::Xpsm(f),
+                    Some(Technique::Psm(f)) => CascadeFit::Psm(f),
+                    _ => t.fit,
+                };
+                t.blend = self.cascade_blend.unwrap_or(t.blend);
+                t.stable |= self.stable;
+                t.equal_texels |= self.equal_texels;
+                Technique::Cascades(t)
             }
             other => other,
         }

@@ -45,7 +45,7 @@ enum Command {
     Export(render::ExportArgs),
     /// Render the built-in demo scene from its named views with every technique, side by
     /// side in an HTML page.
-    Demo(demo::DemoArgs),
+    Demo(Box<demo::DemoArgs>),
     /// Perspective aliasing dp/ds along the view axis of every technique, measured from its
     /// matrices in the LiSPSM paper's ideal configuration (table, JSON, plot); the papers'
     /// warps, without the warp limit.

@@ -307,7 +307,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let technique = args.params.apply(technique);
     args.params.check_used_by(&[technique])?;
     // Before any work where the technique says (SPPSM may still fall back to one map).
-    if args.tint && !matches!(technique, gnomon::Technique::Sppsm(_)) {
+    if args.tint
+        && !matches!(
+            technique,
+            gnomon::Technique::Sppsm(_) | gnomon::Technique::Cascades(_)
+        )
+    {
         return Err(tint_needs_two_maps(&technique));
     }
     let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
@@ -480,7 +485,7 @@ pub fn export(args: &ExportArgs) -> Result<(), CliError> {
 /// `--tint` with a setup of one map.
 fn tint_needs_two_maps(technique: &gnomon::Technique) -> CliError {
     CliError::usage(format!(
-        "--tint colours the maps of a two-map technique (sppsm); {} has one map",
+        "--tint colours the maps of a technique with several (sppsm, cascades); {} has one map",
         technique.name()
     ))
 }

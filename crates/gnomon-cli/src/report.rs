@@ -33,6 +33,12 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
                 "kind": "plane",
                 "plane_world": plane_world.to_array(),
             }),
+            MapSelection::Cascades(c) => json!({
+                "kind": "cascades",
+                "view_depths": c.depths(),
+                "blend": c.blend,
+                "fade_start": c.fade_start,
+            }),
         },
         "diagnostics": {
             "fallbacks": d.fallbacks.iter().map(|f| json!({"name": f.name(), "reason": f.reason()})).collect::<Vec<_>>(),
@@ -85,6 +91,16 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
         let _ = writeln!(
             s,
             "warp strength: {strength} of the technique's (the warp limit; 0: the focused map)"
+        );
+    }
+    if let MapSelection::Cascades(c) = setup.selection {
+        let depths: Vec<String> = c.depths().iter().map(|d| format!("{d:.3}")).collect();
+        let _ = writeln!(
+            s,
+            "selection: cascades over view depths {} (map i from z_i to z_i+1), blend {} of a slice, fade from {:.3}",
+            depths.join(", "),
+            c.blend,
+            c.fade_start
         );
     }
     if let MapSelection::Plane { plane_world: p } = setup.selection {

@@ -20,6 +20,7 @@ pub(crate) const LIGHT_SPOT: u32 = 1;
 /// `GnomonLight.info.y`.
 pub(crate) const SELECT_SINGLE: u32 = 0;
 pub(crate) const SELECT_PLANE: u32 = 1;
+pub(crate) const SELECT_CASCADES: u32 = 2;
 /// `GnomonMap.info.y`.
 pub(crate) const MAP_PERSPECTIVE: u32 = 1;
 
@@ -42,7 +43,7 @@ pub(crate) struct GpuLight {
     pub spot: [f32; 4],
     pub range: [f32; 4],
     pub info: [u32; 4],
-    pub params: [[f32; 4]; 3],
+    pub params: [[f32; 4]; 4],
 }
 
 /// `GnomonShadows`: every light and map of a frame.
@@ -188,7 +189,7 @@ pub(crate) fn light_record(
             LIGHT_SPOT,
         ),
     };
-    let mut params = [[0.0f32; 4]; 3];
+    let mut params = [[0.0f32; 4]; 4];
     let selection = match setup.map(|s| (s, s.selection, s.maps.len())) {
         None | Some((_, MapSelection::Single, 1)) => SELECT_SINGLE,
         Some((_, MapSelection::Plane { plane_world }, 2)) => {
@@ -196,6 +197,19 @@ pub(crate) fn light_record(
                 .as_vec4()
                 .to_array();
             SELECT_PLANE
+        }
+        Some((_, MapSelection::Cascades(c), n)) if n == c.count => {
+            // z_0 ..= z_K in params[0].x to params[2].x, then the blend and the fade's start;
+            // params[3] the view-depth row in camera space.
+            for (j, depth) in c.depths().iter().enumerate() {
+                params[j / 4][j % 4] = *depth as f32;
+            }
+            params[2][1] = c.blend as f32;
+            params[2][2] = c.fade_start as f32;
+            params[3] = row_in_camera(c.depth_row_world, world_from_camera)
+                .as_vec4()
+                .to_array();
+            SELECT_CASCADES
         }
         Some((setup, selection, n)) => {
             return Err(RenderError::Invalid(format!(

@@ -154,6 +154,40 @@ pub fn setup_view_axis_dp_ds(
     view_axis_dp_ds_of(&setup.maps, setup.selection, config, z)
 }
 
+/// [`setup_view_axis_dp_ds`] in the texels of one map of `reference_resolution`: the value
+/// of the map read times `reference_resolution` over its resolution, so that K cascades of
+/// resolution R / sqrt(K) (the texels of one map of R) compare with one map of R.
+pub fn setup_view_axis_dp_ds_in_texels(
+    setup: &ShadowSetup,
+    config: &IdealConfiguration,
+    z: f64,
+    reference_resolution: u32,
+) -> Result<f64, SetupError> {
+    let p = DVec3::new(
+        0.0,
+        0.0,
+        -check_scalar("z", z)?.clamp(config.z_near, config.z_far),
+    );
+    let resolution = setup
+        .maps
+        .get(setup.selection.map_for(p))
+        .map_or(reference_resolution, |m| m.resolution);
+    Ok(setup_view_axis_dp_ds(setup, config, z)? * reference_resolution as f64 / resolution as f64)
+}
+
+/// [`setup_view_axis_aliasing`] in the texels of one map of `reference_resolution` (see
+/// [`setup_view_axis_dp_ds_in_texels`]).
+pub fn setup_view_axis_aliasing_in_texels(
+    setup: &ShadowSetup,
+    config: &IdealConfiguration,
+    samples: usize,
+    reference_resolution: u32,
+) -> Result<AliasingCurve, SetupError> {
+    aliasing_curve(config, samples, |z| {
+        setup_view_axis_dp_ds_in_texels(setup, config, z, reference_resolution)
+    })
+}
+
 fn view_axis_dp_ds_of(
     maps: &[ShadowMap],
     selection: MapSelection,

@@ -54,11 +54,15 @@ pub use error::SetupError;
 pub use light::{DirectionalLight, Light, SPOT_NEAR_FRACTION, SpotLight};
 pub use samples::{ViewSample, ViewSamples, undersampling};
 pub use setup::{
-    CastersBySide, Diagnostics, Fallback, LightFrameKind, MAX_RESOLUTION, MIN_RESOLUTION,
-    MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
-    Technique, UnknownTechnique, compute_setup, compute_setup_with_samples,
+    CascadeSlices, CastersBySide, Diagnostics, Fallback, LightFrameKind, MAX_CASCADES,
+    MAX_RESOLUTION, MIN_RESOLUTION, MapProjection, MapSelection, MapSettings, SetupInput,
+    ShadowMap, ShadowSetup, ShadowTechnique, Technique, UnknownTechnique, compute_setup,
+    compute_setup_with_samples,
 };
-pub use techniques::{Focused, Lispsm, PerspectiveMap, Psm, Sppsm, Tsm, Uniform, Xpsm};
+pub use techniques::{
+    CascadeFit, CascadeSplit, Cascades, Focused, Lispsm, PerspectiveMap, Psm, Sppsm, Tsm, Uniform,
+    Xpsm,
+};
 
 /// Largest magnitude accepted for positions and distances (world units). Beyond it `f32`
 /// GPU matrices lose all precision; inputs above it are rejected with

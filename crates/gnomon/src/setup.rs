@@ -10,7 +10,7 @@ use crate::camera::Camera;
 use crate::error::SetupError;
 use crate::light::Light;
 use crate::samples::ViewSamples;
-use crate::techniques::{Focused, Lispsm, Psm, Sppsm, Tsm, Uniform, Xpsm};
+use crate::techniques::{Cascades, Focused, Lispsm, Psm, Sppsm, Tsm, Uniform, Xpsm};
 
 /// Smallest supported shadow-map resolution, in texels.
 pub const MIN_RESOLUTION: u32 = 8;
@@ -143,6 +143,48 @@ pub enum MapSelection {
         /// The plane, world space.
         plane_world: DVec4,
     },
+    /// One map per slice of the view by depth along the camera's forward axis (cascades).
+    Cascades(CascadeSlices),
+}
+
+/// The most cascades a setup has.
+pub const MAX_CASCADES: usize = 8;
+
+/// How cascaded maps split the view: map i covers view depth (distance along the camera's
+/// forward axis) from `view_depths[i]` to `view_depths[i + 1]`; in the last `blend` fraction of
+/// a slice the next map is blended in; from `fade_start` to the last depth (the shadow
+/// distance) shadows fade out, and beyond it nothing is shadowed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CascadeSlices {
+    /// The number of slices (maps), 1 to [`MAX_CASCADES`].
+    pub count: usize,
+    /// z_0 < z_1 < ... < z_count (entries after `count` are unused).
+    pub view_depths: [f64; MAX_CASCADES + 1],
+    /// The blend band, as a fraction of each slice (0 to 0.5).
+    pub blend: f64,
+    /// Where the fade to unshadowed begins (z_count when there is no fade).
+    pub fade_start: f64,
+    /// The world row whose dot with (p, 1) is p's view depth (the camera's forward axis).
+    pub depth_row_world: DVec4,
+}
+
+impl CascadeSlices {
+    /// The view depths z_0 ..= z_count.
+    pub fn depths(&self) -> &[f64] {
+        &self.view_depths[..=self.count]
+    }
+
+    /// The shadow distance: the last view depth.
+    pub fn shadow_distance(&self) -> f64 {
+        self.view_depths[self.count]
+    }
+
+    /// The slice of view depth `depth` (the first below z_0, the last beyond the end).
+    pub fn slice_of(&self, depth: f64) -> usize {
+        (1..self.count)
+            .take_while(|&i| depth >= self.view_depths[i])
+            .count()
+    }
 }
 
 impl MapSelection {
@@ -151,6 +193,7 @@ impl MapSelection {
         match self {
             MapSelection::Single => "single",
             MapSelection::Plane { .. } => "plane",
+            MapSelection::Cascades(_) => "cascades",
         }
     }
 
@@ -160,6 +203,9 @@ impl MapSelection {
             MapSelection::Single => 0,
             MapSelection::Plane { plane_world } => {
                 usize::from(plane_world.truncate().dot(p) + plane_world.w > 0.0)
+            }
+            MapSelection::Cascades(slices) => {
+                slices.slice_of(slices.depth_row_world.dot(p.extend(1.0)))
             }
         }
     }
@@ -211,6 +257,9 @@ pub enum Fallback {
     /// Even a weakened warp samples the visible lit receivers more coarsely than the focused
     /// map; the focused map is used.
     WarpCoarserThanFocused,
+    /// Stable cascades snap a directional light's texel grid to the world; a spot light's
+    /// cascades are fitted like unstable ones.
+    StableNeedsDirectionalLight,
 }
 
 impl Fallback {
@@ -227,6 +276,7 @@ impl Fallback {
             Fallback::NoSeparatingPlane => "no_separating_plane",
             Fallback::WarpLimited => "warp_limited",
             Fallback::WarpCoarserThanFocused => "warp_coarser_than_focused",
+            Fallback::StableNeedsDirectionalLight => "stable_needs_directional_light",
         }
     }
 
@@ -262,6 +312,9 @@ impl Fallback {
             }
             Fallback::WarpCoarserThanFocused => {
                 "even weakened, the warp samples the visible receivers more coarsely than the focused map; the focused map is used"
+            }
+            Fallback::StableNeedsDirectionalLight => {
+                "stable cascades snap a directional light's texel grid; the spot light's cascades are fitted like unstable ones"
             }
         }
     }
@@ -409,12 +462,15 @@ pub enum Technique {
     /// Separating-plane perspective shadow maps (SPPSM): the focused map and a perspective
     /// one.
     Sppsm(Sppsm),
+    /// Cascaded shadow maps: a map per slice of the view, each fitted by a single-map
+    /// technique, or stable cascades.
+    Cascades(Cascades),
 }
 
 impl Technique {
     /// The names [`Technique::from_str`] accepts.
     pub const NAMES: &'static [&'static str] = &[
-        "uniform", "focused", "psm", "lispsm", "tsm", "xpsm", "sppsm",
+        "uniform", "focused", "psm", "lispsm", "tsm", "xpsm", "sppsm", "cascades",
     ];
 
     /// Each technique with default parameters.
@@ -434,6 +490,7 @@ impl Technique {
             Technique::Xpsm(t) => t,
             Technique::Psm(t) => t,
             Technique::Sppsm(t) => t,
+            Technique::Cascades(t) => t,
         }
     }
 }
@@ -477,6 +534,7 @@ impl FromStr for Technique {
             "xpsm" => Ok(Technique::Xpsm(Xpsm::default())),
             "psm" => Ok(Technique::Psm(Psm::default())),
             "sppsm" => Ok(Technique::Sppsm(Sppsm::default())),
+            "cascades" | "csm" => Ok(Technique::Cascades(Cascades::default())),
             _ => Err(UnknownTechnique(s.to_string())),
         }
     }

@@ -17,12 +17,15 @@
 //! - the focused map covers the visible receivers at least as tightly as the uniform map
 //!   (its inset square's footprint in the map plane is no larger);
 //! - SPPSM (two maps and a plane): the same, for the map each receiver point's side of the
-//!   plane picks, with its shadowing caster points in that same map.
+//!   plane picks, with its shadowing caster points in that same map;
+//! - cascades (LiSPSM and focused fits, stable, equal texels): the same for the map of the
+//!   point's slice and, in a blend band, the next slice's map too.
 
 use glam::{DVec3, DVec4};
 use gnomon::{
-    Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, Psm, SceneBounds,
-    ShadowMap, ShadowSetup, SpotLight, Sppsm, Technique, Tsm, Uniform, Xpsm, compute_setup,
+    Aabb, Camera, CascadeFit, Cascades, DirectionalLight, Focused, Lens, Light, Lispsm,
+    MapSelection, MapSettings, Psm, SceneBounds, ShadowMap, ShadowSetup, SpotLight, Sppsm,
+    Technique, Tsm, Uniform, Xpsm, compute_setup,
 };
 use proptest::prelude::*;
 use proptest::test_runner::TestRng;
@@ -428,12 +431,36 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
     let xpsm = setup(Technique::Xpsm(Xpsm::default()))?;
     let psm = setup(Technique::Psm(Psm::default()))?;
     let sppsm = setup(Technique::Sppsm(Sppsm::default()))?;
+    let cascades = setup(Technique::Cascades(Cascades::default()))?;
+    let focused_cascades = setup(Technique::Cascades(Cascades {
+        fit: CascadeFit::Focused,
+        count: 3,
+        blend: 0.3,
+        equal_texels: true,
+        ..Cascades::default()
+    }))?;
+    let stable = setup(Technique::Cascades(Cascades {
+        stable: true,
+        count: 5,
+        ..Cascades::default()
+    }))?;
     let mut rng = TestRng::from_seed(
         proptest::test_runner::RngAlgorithm::ChaCha,
         &[seed as u8; 32],
     );
     let points = visible_receiver_points(cfg, &mut rng);
-    for setup in [&uniform, &focused, &lispsm, &tsm, &xpsm, &psm, &sppsm] {
+    for setup in [
+        &uniform,
+        &focused,
+        &lispsm,
+        &tsm,
+        &xpsm,
+        &psm,
+        &sppsm,
+        &cascades,
+        &focused_cascades,
+        &stable,
+    ] {
         for map in &setup.maps {
             if !(map.clip_from_world.is_finite() && map.depth_from_world.is_finite()) {
                 return Err(format!("{}: non-finite matrix", setup.technique));
@@ -442,30 +469,10 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
         for &r in &points {
             // Two-map setups: the receiver reads the map its side of the plane picks, and the
             // casters shadowing it (on the same light ray, so on the same side) must be there.
-            let map = &setup.maps[setup.selection.map_for(r)];
-            let ctx = |e: String| {
-                format!(
-                    "{} ({:?}): receiver: {e}",
-                    setup.technique, setup.diagnostics.fallbacks
-                )
-            };
+            // Cascades: the map of its slice, and the next one in a blend band.
             let casters = shadowing_caster_points(cfg, r);
-            if setup.technique == "uniform" || !casters.is_empty() {
-                lands_inside(map, r).map_err(ctx)?;
-            } else if let Some(ndc) = map.project(r) {
-                // Not shadowable: it may fall outside the focus region, but never beyond the
-                // far plane, where it would compare as shadowed.
-                if ndc.z > 1.0 + EPS && ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 {
-                    return Err(ctx(format!("{r} lands beyond the far plane at {ndc}")));
-                }
-            }
-            for q in casters {
-                lands_inside(map, q).map_err(|e| {
-                    format!(
-                        "{} ({:?}): caster point shadowing {r}: {e}",
-                        setup.technique, setup.diagnostics.fallbacks
-                    )
-                })?;
+            for k in maps_read(setup, r) {
+                check_map(setup, &setup.maps[k], r, &casters)?;
             }
         }
     }
@@ -477,6 +484,60 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
         return Err(format!(
             "focused footprint {ff} exceeds the uniform footprint {fu}"
         ));
+    }
+    Ok(())
+}
+
+/// The maps a receiver point reads: the one its selection picks and, in a cascade's blend
+/// band, the next; none beyond a cascade's shadow distance.
+fn maps_read(setup: &ShadowSetup, r: DVec3) -> Vec<usize> {
+    let k = setup.selection.map_for(r);
+    let MapSelection::Cascades(c) = setup.selection else {
+        return vec![k];
+    };
+    let depth = c.depth_row_world.dot(r.extend(1.0));
+    let z = c.depths();
+    if depth >= c.shadow_distance() {
+        return Vec::new();
+    }
+    let band = c.blend * (z[k + 1] - z[k]);
+    if k + 1 < c.count && depth > z[k + 1] - band {
+        vec![k, k + 1]
+    } else {
+        vec![k]
+    }
+}
+
+/// One map read by receiver point `r` (with the caster points shadowing it): see the module
+/// documentation.
+fn check_map(
+    setup: &ShadowSetup,
+    map: &ShadowMap,
+    r: DVec3,
+    casters: &[DVec3],
+) -> Result<(), String> {
+    let ctx = |e: String| {
+        format!(
+            "{} ({:?}): receiver: {e}",
+            setup.technique, setup.diagnostics.fallbacks
+        )
+    };
+    if setup.technique == "uniform" || !casters.is_empty() {
+        lands_inside(map, r).map_err(ctx)?;
+    } else if let Some(ndc) = map.project(r) {
+        // Not shadowable: it may fall outside the focus region, but never beyond the far
+        // plane, where it would compare as shadowed.
+        if ndc.z > 1.0 + EPS && ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 {
+            return Err(ctx(format!("{r} lands beyond the far plane at {ndc}")));
+        }
+    }
+    for &q in casters {
+        lands_inside(map, q).map_err(|e| {
+            format!(
+                "{} ({:?}): caster point shadowing {r}: {e}",
+                setup.technique, setup.diagnostics.fallbacks
+            )
+        })?;
     }
     Ok(())
 }

@@ -22,6 +22,11 @@ const GNOMON_LIGHT_SPOT: u32 = 1u;
 const GNOMON_SELECT_SINGLE: u32 = 0u;
 // params[0] is a plane (view space): points on its positive side read the second map (SPPSM).
 const GNOMON_SELECT_PLANE: u32 = 1u;
+// Cascades: params[0].x to params[2].x hold the view depths z_0 ..= z_K (K = the number of
+// maps; map i covers z_i to z_i+1), params[2].y the blend band as a fraction of a slice,
+// params[2].z where shadows begin to fade (nothing is shadowed beyond z_K), params[3] the
+// view-depth row (view space).
+const GNOMON_SELECT_CASCADES: u32 = 2u;
 // GnomonShadows.info.y: the filter.
 const GNOMON_FILTER_ONE_TAP: u32 = 0u;
 const GNOMON_FILTER_HARDWARE_2X2: u32 = 1u;
@@ -53,7 +58,7 @@ struct GnomonLight {
     // x: kind, y: selection, z: first map, w: number of maps.
     info: vec4<u32>,
     // The selection's parameters (see GNOMON_SELECT_*).
-    params: array<vec4<f32>, 3>,
+    params: array<vec4<f32>, 4>,
 };
 
 struct GnomonShadows {
@@ -71,15 +76,67 @@ struct GnomonShadows {
 @group(GNOMON_GROUP) @binding(3) var gnomon_raw: texture_2d_array<f32>;
 @group(GNOMON_GROUP) @binding(4) var gnomon_nearest: sampler;
 
-// The map of `light` that point `p` reads.
-fn gnomon_map_index(light: u32, p: vec3<f32>) -> u32 {
+// Cascade view depth z_i of the depths z_0..z_3 (z_a), z_4..z_7 (z_b) and z_8, picked by
+// comparing indices.
+fn gnomon_pick_depth(z_a: vec4<f32>, z_b: vec4<f32>, z_8: f32, i: u32) -> f32 {
+    let ones = vec4<f32>(1.0);
+    let a = dot(select(vec4<f32>(0.0), z_a, vec4<u32>(0u, 1u, 2u, 3u) == vec4<u32>(i)), ones);
+    let b = dot(select(vec4<f32>(0.0), z_b, vec4<u32>(4u, 5u, 6u, 7u) == vec4<u32>(i)), ones);
+    return select(a + b, z_8, i == 8u);
+}
+
+// How a point reads `light`'s maps: `map` (an index into the maps), the weight of the next
+// map in a cascade's blend band, and how far shadows have faded (1: nothing shadowed).
+struct GnomonSelection {
+    map: u32,
+    next_weight: f32,
+    fade: f32,
+};
+
+fn gnomon_select(light: u32, p: vec3<f32>) -> GnomonSelection {
     let info = gnomon_shadows.lights[light].info;
-    var k = 0u;
+    let count = max(info.w, 1u);
+    var out = GnomonSelection(info.z, 0.0, 0.0);
     if (info.y == GNOMON_SELECT_PLANE) {
         let plane = gnomon_shadows.lights[light].params[0];
-        k = select(0u, 1u, dot(plane.xyz, p) + plane.w > 0.0);
+        out.map = info.z + min(select(0u, 1u, dot(plane.xyz, p) + plane.w > 0.0), count - 1u);
+    } else if (info.y == GNOMON_SELECT_CASCADES) {
+        // Without indexing by a computed value (a gather per fragment on a CPU rasteriser):
+        // z_0..z_3, z_4..z_7 and z_8 as vectors, their indices beside them.
+        let z_a = gnomon_shadows.lights[light].params[0];
+        let z_b = gnomon_shadows.lights[light].params[1];
+        let extra = gnomon_shadows.lights[light].params[2];
+        let depth = dot(gnomon_shadows.lights[light].params[3], vec4<f32>(p, 1.0));
+        let i_a = vec4<u32>(0u, 1u, 2u, 3u);
+        let i_b = vec4<u32>(4u, 5u, 6u, 7u);
+        let d = vec4<f32>(depth);
+        // k: the inner boundaries z_1 .. z_(K-1) passed.
+        let passed_a = (d >= z_a) & (i_a >= vec4<u32>(1u)) & (i_a < vec4<u32>(count));
+        let passed_b = (d >= z_b) & (i_b < vec4<u32>(count));
+        let ones = vec4<u32>(1u);
+        let zeros = vec4<u32>(0u);
+        let k = dot(select(zeros, ones, passed_a), ones) + dot(select(zeros, ones, passed_b), ones);
+        out.map = info.z + k;
+        let z0 = gnomon_pick_depth(z_a, z_b, extra.x, k);
+        let z1 = gnomon_pick_depth(z_a, z_b, extra.x, k + 1u);
+        let end = gnomon_pick_depth(z_a, z_b, extra.x, count);
+        let band = extra.y * (z1 - z0);
+        if (k + 1u < count && band > 0.0) {
+            out.next_weight = clamp((depth - (z1 - band)) / band, 0.0, 1.0);
+        }
+        let fade_start = extra.z;
+        if (depth >= end) {
+            out.fade = 1.0;
+        } else if (end > fade_start) {
+            out.fade = clamp((depth - fade_start) / (end - fade_start), 0.0, 1.0);
+        }
     }
-    return info.z + min(k, max(info.w, 1u) - 1u);
+    return out;
+}
+
+// The map of `light` that point `p` reads (in a cascade's blend band, the nearer one).
+fn gnomon_map_index(light: u32, p: vec3<f32>) -> u32 {
+    return gnomon_select(light, p).map;
 }
 
 struct GnomonIncidence {
@@ -212,9 +269,30 @@ fn gnomon_offset_point(view: GnomonMapView, p: vec3<f32>, n_geo: vec3<f32>, n_do
     return p + n_geo * view.normal_offset * size * clamp(1.0 - n_dot_l, 0.0, 1.0);
 }
 
+// One map's lookup at the surface point p (its normal offset applied).
+fn gnomon_lookup_surface(map: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32, filter_mode: u32) -> f32 {
+    let view = gnomon_map_view(map);
+    return gnomon_lookup_view(view, gnomon_offset_point(view, p, n_geo, n_dot_l), filter_mode);
+}
+
+// The shadow factor of `light` at the surface point p (1 lit, 0 shadowed) with `filter_mode`:
+// the selected map, blended with the next cascade in its band, faded toward the shadow
+// distance.
+fn gnomon_shadow_filtered(light: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32, filter_mode: u32) -> f32 {
+    let s = gnomon_select(light, p);
+    if (s.fade >= 1.0) {
+        return 1.0;
+    }
+    var shadow = gnomon_lookup_surface(s.map, p, n_geo, n_dot_l, filter_mode);
+    if (s.next_weight > 0.0) {
+        let next = gnomon_lookup_surface(s.map + 1u, p, n_geo, n_dot_l, filter_mode);
+        shadow = mix(shadow, next, s.next_weight);
+    }
+    return mix(shadow, 1.0, s.fade);
+}
+
 // The shadow factor of `light` at the surface point p (1 lit, 0 shadowed), with the frame's
 // filter.
 fn gnomon_shadow(light: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32) -> f32 {
-    let view = gnomon_map_view(gnomon_map_index(light, p));
-    return gnomon_lookup_view(view, gnomon_offset_point(view, p, n_geo, n_dot_l), gnomon_shadows.info.y);
+    return gnomon_shadow_filtered(light, p, n_geo, n_dot_l, gnomon_shadows.info.y);
 }

@@ -161,10 +161,23 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
         var one_tap = 1.0;
         var shadow = 1.0;
         if (s.receives) {
-            let view = gnomon_map_view(gnomon_map_index(light, s.p));
-            let lookup = gnomon_offset_point(view, s.p, s.n_geo, n_dot_l_geo);
-            one_tap = gnomon_lookup_view(view, lookup, GNOMON_FILTER_ONE_TAP);
-            shadow = gnomon_lookup_view(view, lookup, gnomon_shadows.info.y);
+            let selected = gnomon_select(light, s.p);
+            if (selected.fade < 1.0) {
+                let view = gnomon_map_view(selected.map);
+                let lookup = gnomon_offset_point(view, s.p, s.n_geo, n_dot_l_geo);
+                one_tap = gnomon_lookup_view(view, lookup, GNOMON_FILTER_ONE_TAP);
+                shadow = gnomon_lookup_view(view, lookup, gnomon_shadows.info.y);
+                // A cascade's blend band mixes in the next map; the mask keeps the nearer one.
+                if (selected.next_weight > 0.0) {
+                    let next = gnomon_lookup_surface(
+                        selected.map + 1u, s.p, s.n_geo, n_dot_l_geo, gnomon_shadows.info.y);
+                    shadow = mix(shadow, next, selected.next_weight);
+                }
+                shadow = mix(shadow, 1.0, selected.fade);
+                if (selected.fade > 0.5) {
+                    one_tap = 1.0;
+                }
+            }
         }
         if (incidence.in_light) {
             direct += max(dot(s.n, incidence.to_light), 0.0) * incidence.cone * shadow;
@@ -174,9 +187,14 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
         }
     }
     var tint = vec3<f32>(1.0);
-    if (frame.shading.y > 0.5 && gnomon_shadows.info.x > 0u && gnomon_shadows.lights[0].info.w == 2u) {
-        let second = gnomon_map_index(0u, s.p) != gnomon_shadows.lights[0].info.z;
-        tint = select(vec3<f32>(0.55, 0.7, 1.0), vec3<f32>(1.0, 0.55, 0.5), second);
+    if (frame.shading.y > 0.5 && gnomon_shadows.info.x > 0u && gnomon_shadows.lights[0].info.w >= 2u) {
+        // Light 0's maps: the first blue, the second red (SPPSM's two), then the cascades'.
+        let palette = array<vec3<f32>, 8>(
+            vec3<f32>(0.55, 0.7, 1.0), vec3<f32>(1.0, 0.55, 0.5), vec3<f32>(0.55, 1.0, 0.55),
+            vec3<f32>(1.0, 0.9, 0.45), vec3<f32>(0.85, 0.55, 1.0), vec3<f32>(0.45, 1.0, 1.0),
+            vec3<f32>(1.0, 0.7, 0.3), vec3<f32>(0.75, 0.75, 0.75));
+        let k = gnomon_map_index(0u, s.p) - gnomon_shadows.lights[0].info.z;
+        tint = palette[min(k, 7u)];
     }
     out.color = albedo * (ambient + (1.0 - ambient) * direct) * tint;
     return out;

@@ -1,5 +1,6 @@
 //! The shadow-map techniques, one file each, all behind [`crate::ShadowTechnique`].
 
+mod cascades;
 mod focused;
 mod lispsm;
 mod psm;
@@ -10,6 +11,7 @@ mod view_warp;
 mod warp_limit;
 mod xpsm;
 
+pub use cascades::{CascadeFit, CascadeSplit, Cascades};
 pub use focused::Focused;
 pub use lispsm::Lispsm;
 pub use psm::Psm;

@@ -1,0 +1,419 @@
+//! Cascaded shadow maps: the view cut into slices by view depth, one map per slice, each
+//! fitted by a single-map technique (a warp per cascade), or stable cascades.
+//!
+//! z-partitioning: Zhang et al., "Parallel-split shadow maps" (2006; the practical split
+//! z_i = lambda z_n (z_f / z_n)^(i/K) + (1 - lambda) (z_n + (z_f - z_n) i / K)); Lloyd et
+//! al. 2006 (z-partitioning with a warp per slice gives the lowest maximum error). Each slice
+//! is a camera with the same eye, orientation and field of view and the slice's near and far
+//! planes, so a slice's map is its technique's map for that camera: unit cube clipping over
+//! the casters that can shadow the slice's visible receivers, casters outside the slice
+//! included (a caster between the light and the slice is in the light's column over it,
+//! which the technique's focusing keeps), and the warp limit on the slice's share of the
+//! frame's view samples.
+//!
+//! The slices run from where the visible scene begins (the least view depth of P, the view
+//! frustum clipped by the scene box, at least the near plane) to where it ends or the shadow
+//! distance, whichever is nearer: a slice spent on empty space before or after the scene would
+//! waste its texels. Explicit split distances are used as given, from the near plane to the
+//! shadow distance. Where the shadow distance cuts the visible scene, shadows fade out over
+//! its last 10%, and nothing beyond it is shadowed.
+//!
+//! Blending: map i + 1 also covers the last `blend` fraction of slice i, where a pixel mixes
+//! both (the renderer's blend band), so its slice camera starts there.
+//!
+//! Stable cascades (directional lights): each slice is bounded by the sphere around its eight
+//! frustum corners, whose radius depends on the lens and the split depths only, not on where
+//! the camera is or looks; the map is a square of that size in texels, in the frame fixed by
+//! the light alone, with its centre snapped to whole texels and its depth range the scene
+//! box's along the light. The texel grid then stays put in the world while the camera
+//! translates or turns, which is what engines ship (Bevy, Godot, Unity, three.js, Filament's
+//! stable mode), at the cost of the texels outside the receivers (a sphere's square holds the
+//! slice with room to spare, and does not shrink to what is visible).
+
+use glam::{DMat4, DVec3, DVec4};
+
+use crate::camera::{Camera, Lens};
+use crate::error::SetupError;
+use crate::focus::VisibleScene;
+use crate::light::Light;
+use crate::light_space::LightFrame;
+use crate::samples::ViewSamples;
+use crate::setup::{
+    CascadeSlices, Diagnostics, Fallback, LightFrameKind, MAX_CASCADES, MIN_RESOLUTION,
+    MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
+};
+use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm, tolerance};
+
+/// How the view is cut into slices.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CascadeSplit {
+    /// Zhang et al.'s practical split: lambda times the logarithmic split plus (1 - lambda)
+    /// times the uniform one (lambda in [0, 1]; three.js uses 0.5).
+    Practical {
+        /// The weight of the logarithmic split.
+        lambda: f64,
+    },
+    /// z_i = z_n (z_f / z_n)^(i / K): the same ratio of depths per slice.
+    Log,
+    /// z_i = z_n + (z_f - z_n) i / K.
+    Uniform,
+    /// The K - 1 view depths between the slices, increasing, between the near plane and the
+    /// shadow distance.
+    Distances {
+        /// How many of `depths` are used (K - 1).
+        count: usize,
+        /// The depths.
+        depths: [f64; MAX_CASCADES - 1],
+    },
+}
+
+/// The single-map technique that fits each slice.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CascadeFit {
+    /// The focused map.
+    Focused,
+    /// LiSPSM (Filament's choice inside its cascades).
+    Lispsm(Lispsm),
+    /// TSM.
+    Tsm(Tsm),
+    /// XPSM.
+    Xpsm(Xpsm),
+    /// PSM.
+    Psm(Psm),
+}
+
+impl CascadeFit {
+    /// The names [`CascadeFit::from_name`] accepts.
+    pub const NAMES: &'static [&'static str] = &["focused", "lispsm", "tsm", "xpsm", "psm"];
+
+    /// The technique with default parameters by name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name.to_ascii_lowercase().as_str() {
+            "focused" => Self::Focused,
+            "lispsm" => Self::Lispsm(Lispsm::default()),
+            "tsm" => Self::Tsm(Tsm::default()),
+            "xpsm" => Self::Xpsm(Xpsm::default()),
+            "psm" => Self::Psm(Psm::default()),
+            _ => return None,
+        })
+    }
+
+    fn as_dyn(&self) -> &dyn ShadowTechnique {
+        match self {
+            Self::Focused => &Focused,
+            Self::Lispsm(t) => t,
+            Self::Tsm(t) => t,
+            Self::Xpsm(t) => t,
+            Self::Psm(t) => t,
+        }
+    }
+
+    /// The technique's name.
+    pub fn name(&self) -> &'static str {
+        self.as_dyn().name()
+    }
+}
+
+/// Cascaded shadow maps: see the module documentation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cascades {
+    /// The number of slices K, 1 to [`MAX_CASCADES`].
+    pub count: usize,
+    /// How the view is cut.
+    pub split: CascadeSplit,
+    /// Beyond this view depth nothing is shadowed (`None`: the camera's far plane).
+    pub shadow_distance: Option<f64>,
+    /// The technique fitting each slice.
+    pub fit: CascadeFit,
+    /// The blend band between neighbours, as a fraction of the slice (0 to 0.5).
+    pub blend: f64,
+    /// Stable cascades (directional lights): a texel grid fixed in the world.
+    pub stable: bool,
+    /// The K maps share the texels of one map of the setup's resolution (each is
+    /// resolution / sqrt(K) on a side) instead of each having that resolution.
+    pub equal_texels: bool,
+}
+
+impl Default for Cascades {
+    /// Four LiSPSM cascades, the practical split with lambda 0.5, blend 0.1, not stable.
+    fn default() -> Self {
+        Self {
+            count: 4,
+            split: CascadeSplit::Practical { lambda: 0.5 },
+            shadow_distance: None,
+            fit: CascadeFit::Lispsm(Lispsm::default()),
+            blend: 0.1,
+            stable: false,
+            equal_texels: false,
+        }
+    }
+}
+
+impl Cascades {
+    fn validate(&self, lens: &Lens) -> Result<(), SetupError> {
+        let invalid = |name: &'static str, value: f64| SetupError::InvalidParameter { name, value };
+        if !(1..=MAX_CASCADES).contains(&self.count) {
+            return Err(invalid("cascade count (1 to 8)", self.count as f64));
+        }
+        if !(0.0..=0.5).contains(&self.blend) {
+            return Err(invalid("cascade blend (0 to 0.5)", self.blend));
+        }
+        if let Some(d) = self.shadow_distance
+            && !(d.is_finite() && d > lens.near)
+        {
+            return Err(invalid("shadow distance (beyond the near plane)", d));
+        }
+        match self.split {
+            CascadeSplit::Practical { lambda } if !(0.0..=1.0).contains(&lambda) => {
+                Err(invalid("cascade lambda (0 to 1)", lambda))
+            }
+            CascadeSplit::Distances { count, depths } => {
+                if count + 1 != self.count {
+                    return Err(invalid(
+                        "cascade split distances (one fewer than the cascades)",
+                        count as f64,
+                    ));
+                }
+                let end = self.shadow_distance.unwrap_or(lens.far).min(lens.far);
+                let mut last = lens.near;
+                for &d in &depths[..count] {
+                    if !(d.is_finite() && d > last && d < end) {
+                        return Err(invalid(
+                            "cascade split distance (increasing, between the near plane and the shadow distance)",
+                            d,
+                        ));
+                    }
+                    last = d;
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// The slices' view depths and where the fade begins, for `camera` over `scene`; `None`
+    /// when the view frustum does not meet the scene box.
+    fn slices(&self, camera: &Camera, visible: &VisibleScene) -> Option<CascadeSlices> {
+        let lens = camera.lens();
+        let k = self.count;
+        let distance = self.shadow_distance.unwrap_or(lens.far).min(lens.far);
+        let (eye, forward) = (camera.eye(), camera.forward());
+        let (p0, p1) = visible
+            .view_body
+            .faces()
+            .flatten()
+            .map(|p| (*p - eye).dot(forward))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
+                (a.min(d), b.max(d))
+            });
+        if p0.is_nan() || p1.is_nan() || p0 > p1 {
+            return None;
+        }
+        let mut depths = [0.0; MAX_CASCADES + 1];
+        let (z0, zk) = match self.split {
+            CascadeSplit::Distances { .. } => (lens.near, distance),
+            _ => (p0.max(lens.near), p1.min(distance)),
+        };
+        if zk.is_nan() || zk <= z0 * (1.0 + 1e-9) {
+            return None;
+        }
+        for (i, depth) in depths.iter_mut().enumerate().take(k + 1) {
+            let t = i as f64 / k as f64;
+            let log = z0 * (zk / z0).powf(t);
+            let uniform = z0 + (zk - z0) * t;
+            *depth = match self.split {
+                CascadeSplit::Practical { lambda } => lambda * log + (1.0 - lambda) * uniform,
+                CascadeSplit::Log => log,
+                CascadeSplit::Uniform => uniform,
+                CascadeSplit::Distances { depths: given, .. } => {
+                    if i == 0 {
+                        z0
+                    } else if i == k {
+                        zk
+                    } else {
+                        given[i - 1]
+                    }
+                }
+            };
+        }
+        depths[0] = z0;
+        depths[k] = zk;
+        // The fade only where the shadow distance cuts what the camera sees.
+        let fade_start = if distance < p1 {
+            (0.9 * distance).max(depths[k - 1])
+        } else {
+            zk
+        };
+        Some(CascadeSlices {
+            count: k,
+            view_depths: depths,
+            blend: self.blend,
+            fade_start,
+            depth_row_world: forward.extend(-forward.dot(eye)),
+        })
+    }
+}
+
+impl ShadowTechnique for Cascades {
+    fn name(&self) -> &'static str {
+        "cascades"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        let lens = input.camera.lens();
+        self.validate(&lens)?;
+        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
+        let visible = VisibleScene::new(input.camera, input.scene, None, tolerance);
+        let Some(slices) = self.slices(input.camera, &visible) else {
+            // The view does not reach the scene: one map, as the fit gives it.
+            let mut setup = self.fit.as_dyn().setup(input)?;
+            setup.technique = self.name();
+            return Ok(setup);
+        };
+        let k = slices.count;
+        let settings = MapSettings {
+            resolution: if self.equal_texels {
+                ((input.map.resolution as f64 / (k as f64).sqrt()).floor() as u32)
+                    .max(MIN_RESOLUTION)
+            } else {
+                input.map.resolution
+            },
+            ..input.map
+        };
+        settings.validate()?;
+        let stable_sun = match input.light {
+            Light::Directional(d) if self.stable => Some(d.direction()),
+            _ => None,
+        };
+        // The frame's samples, cut per slice, for the warps' limit.
+        let cast;
+        let frame_samples = match (input.samples, stable_sun, self.fit) {
+            (Some(samples), _, _) => Some(samples),
+            (None, None, fit) if fit != CascadeFit::Focused => {
+                cast = ViewSamples::new(input.camera, input.light, input.scene);
+                Some(&cast)
+            }
+            _ => None,
+        };
+        let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
+        if self.stable && stable_sun.is_none() {
+            diagnostics
+                .fallbacks
+                .push(Fallback::StableNeedsDirectionalLight);
+        }
+        let depths = slices.view_depths;
+        let mut maps = Vec::with_capacity(k);
+        for i in 0..k {
+            // Map i also covers the blend band at the end of slice i - 1.
+            let near = if i == 0 {
+                depths[0]
+            } else {
+                depths[i] - self.blend * (depths[i] - depths[i - 1])
+            };
+            let far = depths[i + 1];
+            let slice_lens = Lens { near, far, ..lens };
+            let camera = Camera::from_view_from_world(input.camera.view_from_world(), slice_lens)?;
+            if let Some(direction) = stable_sun {
+                maps.push(stable_map(&camera, direction, input.scene, settings));
+                diagnostics.light_frame = LightFrameKind::Fixed;
+                continue;
+            }
+            let slice_samples = frame_samples.map(|s| s.within_depth(near, far));
+            let setup = self.fit.as_dyn().setup(&SetupInput {
+                camera: &camera,
+                map: settings,
+                samples: slice_samples.as_ref(),
+                ..*input
+            })?;
+            merge(&mut diagnostics, &setup.diagnostics, i == 0);
+            maps.push(setup.maps[0]);
+        }
+        Ok(ShadowSetup {
+            technique: self.name(),
+            maps,
+            selection: MapSelection::Cascades(slices),
+            diagnostics,
+        })
+    }
+}
+
+/// Adds a slice's diagnostics: its fallbacks (each named once), the largest counts, the
+/// weakest warp.
+fn merge(into: &mut Diagnostics, slice: &Diagnostics, first: bool) {
+    for f in &slice.fallbacks {
+        if !into.fallbacks.contains(f) {
+            into.fallbacks.push(*f);
+        }
+    }
+    if first {
+        into.light_frame = slice.light_frame;
+    }
+    into.visible_receivers = into.visible_receivers.max(slice.visible_receivers);
+    into.relevant_casters = into.relevant_casters.max(slice.relevant_casters);
+    into.culled_casters = into.culled_casters.max(slice.culled_casters);
+    into.casters_clipped_by_light_near = into
+        .casters_clipped_by_light_near
+        .max(slice.casters_clipped_by_light_near);
+    into.focus_body_vertices = into.focus_body_vertices.max(slice.focus_body_vertices);
+    into.warp_strength = match (into.warp_strength, slice.warp_strength) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+}
+
+/// A stable cascade's map: the square around the slice's bounding sphere, in the light's
+/// fixed frame, its centre snapped to whole texels (see the module documentation).
+fn stable_map(
+    slice: &Camera,
+    direction: DVec3,
+    scene: &crate::bounds::SceneBounds,
+    settings: MapSettings,
+) -> ShadowMap {
+    let lens = slice.lens();
+    let tan_y = (0.5 * lens.fov_y_degrees.to_radians()).tan();
+    let spread = (tan_y * tan_y * (1.0 + lens.aspect * lens.aspect)).sqrt();
+    // The rings of the near and far corners (radii a, b), length l apart along the axis; the
+    // sphere through both has its centre x beyond the near plane with a^2 + x^2 =
+    // b^2 + (l - x)^2, kept on the slice's axis.
+    let (a, b, l) = (lens.near * spread, lens.far * spread, lens.far - lens.near);
+    let x = ((b * b - a * a + l * l) / (2.0 * l)).clamp(0.0, l);
+    let radius = (a * a + x * x)
+        .sqrt()
+        .max((b * b + (l - x) * (l - x)).sqrt());
+    let centre = slice.eye() + slice.forward() * (lens.near + x);
+    let frame = LightFrame::fixed(direction);
+    // n texels inside the inset; the sphere's square of 2 r plus two texels of room for the
+    // snap: texel t = 2 r / (n - 2), half size h = n t / 2.
+    let n = (settings.resolution - 2 * settings.viewport_inset) as f64;
+    let texel = 2.0 * radius / (n - 2.0);
+    let half = 0.5 * n * texel;
+    let snap = |v: f64| (v / texel).round() * texel;
+    let (cx, cy) = (snap(frame.right.dot(centre)), snap(frame.up.dot(centre)));
+    // Depth: the scene box along the light, so that no caster is left out.
+    let (z0, z1) = scene
+        .scene_box()
+        .corners()
+        .iter()
+        .map(|c| frame.forward.dot(*c))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), z| {
+            (lo.min(z), hi.max(z))
+        });
+    let margin = 1e-6 * (z1 - z0);
+    let (z0, z1) = (z0 - margin, z1 + margin);
+    let s = settings.inset_ndc();
+    let depth = (frame.forward / (z1 - z0)).extend(-z0 / (z1 - z0));
+    let rows = [
+        (frame.right * (s / half)).extend(-cx * s / half),
+        (frame.up * (s / half)).extend(-cy * s / half),
+        depth,
+        DVec4::W,
+    ];
+    ShadowMap {
+        clip_from_world: DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose(),
+        depth_from_world: depth,
+        resolution: settings.resolution,
+        viewport_inset: settings.viewport_inset,
+        projection: MapProjection::Orthographic,
+    }
+}
