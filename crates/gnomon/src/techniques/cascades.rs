@@ -14,8 +14,8 @@
 //! The slices run from where the visible scene begins (the least view depth of P, the view
 //! frustum clipped by the scene box, at least the near plane) to where it ends or the shadow
 //! distance, whichever is nearer: a slice spent on empty space before or after the scene would
-//! waste its texels. Explicit split distances are used as given, from the near plane to the
-//! shadow distance. Where the shadow distance cuts the visible scene, shadows fade out over
+//! waste its texels. Explicit split distances, and stable cascades (whose slices must not
+//! change with the view), run from the near plane to the shadow distance. Where the shadow distance cuts the visible scene, shadows fade out over
 //! its last 10%, and nothing beyond it is shadowed.
 //!
 //! Blending: map i + 1 also covers the last `blend` fraction of slice i, where a pixel mixes
@@ -210,7 +210,10 @@ impl Cascades {
             return None;
         }
         let mut depths = [0.0; MAX_CASCADES + 1];
+        // Stable cascades keep their slices (so their spheres) whatever the view: from the
+        // near plane to the shadow distance.
         let (z0, zk) = match self.split {
+            _ if self.stable => (lens.near, distance),
             CascadeSplit::Distances { .. } => (lens.near, distance),
             _ => (p0.max(lens.near), p1.min(distance)),
         };

@@ -1,0 +1,266 @@
+//! Cascades from their matrices: the split rules, the shadow distance and its fade, equal
+//! texels, bad parameters, and stable cascades whose texel grid stays fixed in the world while
+//! the camera dollies, pans and turns.
+
+use glam::{DMat3, DVec3};
+use gnomon::{
+    Aabb, Camera, CascadeFit, CascadeSlices, CascadeSplit, Cascades, DirectionalLight, Lens, Light,
+    MapSelection, MapSettings, SceneBounds, SetupError, ShadowMap, ShadowSetup, compute_setup,
+};
+
+/// A 2 km ground with a few buildings: a camera at street level sees it from its near plane
+/// to its far plane.
+fn city() -> SceneBounds {
+    let ground = Aabb::new(
+        DVec3::new(-1000.0, -1.0, -1000.0),
+        DVec3::new(1000.0, 0.0, 1000.0),
+    )
+    .unwrap();
+    let mut casters = Vec::new();
+    for i in 0..10 {
+        let min = DVec3::new(-200.0 + 40.0 * i as f64, 0.0, -60.0 - 25.0 * i as f64);
+        casters.push(Aabb::new(min, min + DVec3::new(12.0, 20.0 + 5.0 * i as f64, 12.0)).unwrap());
+    }
+    let mut receivers = casters.clone();
+    receivers.push(ground);
+    SceneBounds::new(casters, receivers, None).unwrap()
+}
+
+fn street_camera(eye: DVec3, forward: DVec3) -> Camera {
+    let lens = Lens {
+        fov_y_degrees: 60.0,
+        aspect: 16.0 / 9.0,
+        near: 0.5,
+        far: 400.0,
+    };
+    Camera::look_at(eye, eye + forward, DVec3::Y, lens).unwrap()
+}
+
+fn sun() -> Light {
+    Light::Directional(DirectionalLight::new(DVec3::new(0.4, -0.8, -0.3)).unwrap())
+}
+
+fn setup(cascades: Cascades, camera: &Camera) -> ShadowSetup {
+    compute_setup(
+        &cascades,
+        camera,
+        &sun(),
+        &city(),
+        MapSettings::with_resolution(1024),
+    )
+    .unwrap()
+}
+
+fn slices(setup: &ShadowSetup) -> CascadeSlices {
+    match setup.selection {
+        MapSelection::Cascades(c) => c,
+        other => panic!("not cascades: {other:?}"),
+    }
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * b.abs().max(1.0)
+}
+
+#[test]
+fn the_split_rules_cut_the_view_as_their_formulas_say() {
+    let camera = street_camera(DVec3::new(0.0, 2.0, 0.0), DVec3::new(0.0, -0.05, -1.0));
+    let (n, f) = (0.5f64, 400.0f64);
+    let k = 4;
+    let log = |i: usize| n * (f / n).powf(i as f64 / k as f64);
+    let uniform = |i: usize| n + (f - n) * i as f64 / k as f64;
+    for (split, expected) in [
+        (CascadeSplit::Log, (0..=k).map(log).collect::<Vec<_>>()),
+        (CascadeSplit::Uniform, (0..=k).map(uniform).collect()),
+        (
+            CascadeSplit::Practical { lambda: 0.5 },
+            (0..=k).map(|i| 0.5 * log(i) + 0.5 * uniform(i)).collect(),
+        ),
+    ] {
+        let s = setup(
+            Cascades {
+                split,
+                count: k,
+                ..Cascades::default()
+            },
+            &camera,
+        );
+        assert_eq!(s.maps.len(), k);
+        let depths = slices(&s).depths().to_vec();
+        assert!(
+            depths.iter().zip(&expected).all(|(a, b)| close(*a, *b)),
+            "{split:?}: {depths:?} vs {expected:?}"
+        );
+        // Each view depth's map is its slice's.
+        for (i, window) in depths.windows(2).enumerate() {
+            let p = camera.eye() + camera.forward() * (0.5 * (window[0] + window[1]));
+            assert_eq!(s.selection.map_for(p), i);
+        }
+    }
+    // Explicit distances, a shadow distance that cuts the view (and fades over its last 10%),
+    // equal texels.
+    let mut depths = [0.0; 7];
+    depths[..2].copy_from_slice(&[10.0, 40.0]);
+    let s = setup(
+        Cascades {
+            count: 3,
+            split: CascadeSplit::Distances { count: 2, depths },
+            shadow_distance: Some(150.0),
+            equal_texels: true,
+            fit: CascadeFit::Focused,
+            ..Cascades::default()
+        },
+        &camera,
+    );
+    let c = slices(&s);
+    assert_eq!(c.depths(), &[0.5, 10.0, 40.0, 150.0]);
+    assert!(close(c.fade_start, 135.0), "{}", c.fade_start);
+    assert!(
+        s.maps.iter().all(|m| m.resolution == 591),
+        "{:?}",
+        s.maps[0].resolution
+    );
+}
+
+#[test]
+fn a_distant_view_cuts_only_the_visible_scene() {
+    // From 2 km away the scene begins about 1 km along the view: the slices start there.
+    let camera = street_camera(DVec3::new(0.0, 300.0, 2200.0), DVec3::new(0.0, -0.1, -1.0));
+    let camera = Camera::from_view_from_world(
+        camera.view_from_world(),
+        Lens {
+            far: 4000.0,
+            ..camera.lens()
+        },
+    )
+    .unwrap();
+    let c = slices(&setup(Cascades::default(), &camera));
+    assert!(c.depths()[0] > 1000.0, "{:?}", c.depths());
+    assert!(c.shadow_distance() < 3500.0, "{:?}", c.depths());
+}
+
+#[test]
+fn bad_cascade_parameters_are_typed_errors() {
+    let camera = street_camera(DVec3::new(0.0, 2.0, 0.0), DVec3::NEG_Z);
+    let mut three = [0.0; 7];
+    three[..3].copy_from_slice(&[5.0, 3.0, 50.0]);
+    let bad = [
+        Cascades {
+            count: 0,
+            ..Cascades::default()
+        },
+        Cascades {
+            count: 9,
+            ..Cascades::default()
+        },
+        Cascades {
+            blend: 0.6,
+            ..Cascades::default()
+        },
+        Cascades {
+            split: CascadeSplit::Practical { lambda: 1.5 },
+            ..Cascades::default()
+        },
+        Cascades {
+            shadow_distance: Some(0.1),
+            ..Cascades::default()
+        },
+        Cascades {
+            shadow_distance: Some(f64::NAN),
+            ..Cascades::default()
+        },
+        // Decreasing distances, and a count that does not match.
+        Cascades {
+            split: CascadeSplit::Distances {
+                count: 3,
+                depths: three,
+            },
+            ..Cascades::default()
+        },
+        Cascades {
+            count: 3,
+            split: CascadeSplit::Distances {
+                count: 3,
+                depths: three,
+            },
+            ..Cascades::default()
+        },
+    ];
+    for cascades in bad {
+        let result = compute_setup(&cascades, &camera, &sun(), &city(), MapSettings::default());
+        assert!(
+            matches!(result, Err(SetupError::InvalidParameter { .. })),
+            "{cascades:?}: {result:?}"
+        );
+    }
+}
+
+/// The world-to-texel map of a cascade: its linear part (texels per world unit along x and y)
+/// and where the world origin lands, in texels.
+fn texel_map(map: &ShadowMap) -> (DMat3, [f64; 2]) {
+    let m = map.clip_from_world;
+    let scale = 0.5 * map.resolution as f64;
+    let linear = DMat3::from_cols(
+        m.row(0).truncate() * scale,
+        m.row(1).truncate() * scale,
+        DVec3::ZERO,
+    );
+    (linear, [m.row(0).w * scale, m.row(1).w * scale])
+}
+
+#[test]
+fn stable_cascades_keep_their_texel_grid_in_the_world() {
+    let stable = Cascades {
+        stable: true,
+        count: 4,
+        ..Cascades::default()
+    };
+    let start = DVec3::new(-30.0, 2.0, 20.0);
+    let forward = DVec3::new(0.2, -0.05, -1.0).normalize();
+    let paths: [(&str, Box<dyn Fn(usize) -> Camera>); 3] = [
+        (
+            "dolly",
+            Box::new(move |t| street_camera(start + forward * (0.37 * t as f64), forward)),
+        ),
+        (
+            "pan",
+            Box::new(move |t| {
+                let right = forward.cross(DVec3::Y).normalize();
+                street_camera(start + right * (0.29 * t as f64), forward)
+            }),
+        ),
+        (
+            "turn",
+            Box::new(move |t| {
+                let turn = glam::DQuat::from_rotation_y(0.013 * t as f64);
+                street_camera(start, turn * forward)
+            }),
+        ),
+    ];
+    for (name, camera_at) in paths {
+        let first = setup(stable, &camera_at(0));
+        assert_eq!(first.fallback(), None, "{name}");
+        let mut moved = 0;
+        for t in 1..40 {
+            let s = setup(stable, &camera_at(t));
+            assert_eq!(slices(&s).depths(), slices(&first).depths(), "{name}");
+            for (i, (a, b)) in first.maps.iter().zip(&s.maps).enumerate() {
+                let ((la, oa), (lb, ob)) = (texel_map(a), texel_map(b));
+                assert!(
+                    la.abs_diff_eq(lb, 1e-12 * la.x_axis.length()),
+                    "{name}, frame {t}, cascade {i}: the texel grid turned or scaled"
+                );
+                for axis in 0..2 {
+                    let shift = ob[axis] - oa[axis];
+                    assert!(
+                        (shift - shift.round()).abs() < 1e-6,
+                        "{name}, frame {t}, cascade {i}: moved by {shift} texels"
+                    );
+                    moved += usize::from(shift.round() != 0.0);
+                }
+            }
+        }
+        // The maps do follow the camera (by whole texels).
+        assert!(moved > 10, "{name}: {moved}");
+    }
+}
