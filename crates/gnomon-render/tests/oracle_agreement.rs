@@ -6,8 +6,8 @@ mod common;
 
 use glam::DVec3;
 use gnomon::{
-    Camera, DirectionalLight, Focused, Lens, Light, Lispsm, PerspectiveMap, Psm, SpotLight, Sppsm,
-    Technique,
+    Camera, CascadeFit, Cascades, DirectionalLight, Focused, Lens, Light, Lispsm, PerspectiveMap,
+    Psm, SpotLight, Sppsm, Technique,
 };
 use gnomon_render::{RenderScene, RenderSettings};
 
@@ -119,6 +119,13 @@ fn custom_views_agree_with_exact_shadows() {
                     perspective: PerspectiveMap::Lispsm(Lispsm::default()),
                     iterations: 10,
                 }),
+                Technique::Cascades(Cascades {
+                    fit: CascadeFit::Lispsm(Lispsm {
+                        limit: false,
+                        ..Lispsm::default()
+                    }),
+                    ..Cascades::default()
+                }),
             ],
             Light::Directional(_) => vec![Technique::Focused(Focused)],
         };
@@ -154,7 +161,8 @@ fn custom_views_agree_with_exact_shadows() {
                 view.name,
                 a.shadowed
             );
-            if setup.technique != "focused" {
+            // (A cascade's slice that the spot cannot see names SpotLightMissesView.)
+            if setup.technique != "focused" && setup.technique != "cascades" {
                 assert_eq!(
                     setup.fallback(),
                     None,
@@ -192,7 +200,19 @@ fn named_views_report() {
     for view in gnomon_scene::DEMO_VIEWS {
         let (camera, light) = view.camera_and_light(width as f64 / height as f64).unwrap();
         let oracle = common::oracle(&scene, &camera, &light, width, height);
-        for technique in gnomon::Technique::all() {
+        // Every technique, and the cascades stable and with focused maps sharing one map's
+        // texels.
+        let mut techniques = gnomon::Technique::all();
+        techniques.push(Technique::Cascades(Cascades {
+            stable: true,
+            ..Cascades::default()
+        }));
+        techniques.push(Technique::Cascades(Cascades {
+            fit: CascadeFit::Focused,
+            equal_texels: true,
+            ..Cascades::default()
+        }));
+        for technique in techniques {
             let (_, frame) = common::render(
                 &mut renderer,
                 &scene,
@@ -206,7 +226,7 @@ fn named_views_report() {
             println!(
                 "{:<15} {:<8} {:.3}% of {} pixels agree ({} shadowed)",
                 view.name,
-                gnomon::ShadowTechnique::name(&technique),
+                describe(&technique),
                 100.0 * a.fraction(),
                 a.compared,
                 a.shadowed
@@ -226,5 +246,14 @@ fn named_views_report() {
                 a.shadowed
             );
         }
+    }
+}
+
+/// A technique's name, with the cascades' fit and whether stable.
+fn describe(technique: &Technique) -> String {
+    match technique {
+        Technique::Cascades(c) if c.stable => "cascades (stable)".to_string(),
+        Technique::Cascades(c) => format!("cascades ({})", c.fit.name()),
+        other => gnomon::ShadowTechnique::name(other).to_string(),
     }
 }

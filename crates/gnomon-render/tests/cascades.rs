@@ -1,0 +1,111 @@
+//! Cascades in the renderer: shadows end at the shadow distance (nothing beyond it is
+//! shadowed; before its last 10% the mask agrees with the oracle), and each pixel reads the
+//! map of its slice (the tinted image changes colour at the slices' view depths).
+
+mod common;
+
+use glam::DVec3;
+use gnomon::{CascadeFit, Cascades, DirectionalLight, Light, MapSelection, Technique};
+use gnomon_render::{MASK_LIT, MASK_UNLIT, RenderScene, RenderSettings};
+
+/// A long ground and a row of 12 m posts along the view, every 10 m from 10 to 190 m.
+fn street() -> RenderScene {
+    let mut meshes = vec![common::cuboid(DVec3::new(40.0, 0.5, 200.0))];
+    let mut instances = vec![common::placed(
+        "ground",
+        0,
+        DVec3::new(0.0, -0.5, -100.0),
+        false,
+    )];
+    meshes.push(common::cuboid(DVec3::new(1.0, 6.0, 1.0)));
+    for k in 1..20 {
+        let at = DVec3::new(3.0, 6.0, -10.0 * k as f64);
+        instances.push(common::placed(&format!("post {k}"), 1, at, true));
+    }
+    RenderScene { meshes, instances }
+}
+
+#[test]
+fn nothing_is_shadowed_beyond_the_shadow_distance() {
+    let scene = street();
+    let mut renderer = common::renderer(&scene);
+    let (width, height) = (320, 240);
+    let camera = gnomon::Camera::look_at(
+        DVec3::new(0.0, 15.0, 5.0),
+        DVec3::new(0.0, 0.0, -100.0),
+        DVec3::Y,
+        gnomon::Lens {
+            fov_y_degrees: 50.0,
+            aspect: width as f64 / height as f64,
+            near: 0.5,
+            far: 300.0,
+        },
+    )
+    .unwrap();
+    // The sun from the right: the posts' shadows fall across the street toward -x.
+    let light = Light::Directional(DirectionalLight::new(DVec3::new(-1.0, -0.7, 0.1)).unwrap());
+    let settings = RenderSettings {
+        width,
+        height,
+        ..RenderSettings::default()
+    };
+    let distance = 50.0;
+    let technique = Technique::Cascades(Cascades {
+        shadow_distance: Some(distance),
+        fit: CascadeFit::Focused,
+        ..Cascades::default()
+    });
+    let (setup, frame) = common::render(
+        &mut renderer,
+        &scene,
+        &technique,
+        &camera,
+        &light,
+        2048,
+        &settings,
+    );
+    let MapSelection::Cascades(slices) = setup.selection else {
+        panic!("{:?}", setup.selection);
+    };
+    assert_eq!(slices.shadow_distance(), distance);
+    let oracle = common::oracle(&scene, &camera, &light, width, height);
+    // Each ground pixel's view depth, from the ray through its centre.
+    let tan_y = (25.0f64).to_radians().tan();
+    let (mut near_shadowed, mut near_agree, mut far_shadowed, mut far_lit) = (0, 0, 0, 0);
+    for y in 0..height {
+        for x in 0..width {
+            let i = (y * width + x) as usize;
+            let ndc_x = (2.0 * x as f64 + 1.0) / width as f64 - 1.0;
+            let ndc_y = 1.0 - (2.0 * y as f64 + 1.0) / height as f64;
+            let d = camera.forward()
+                + camera.right() * (ndc_x * tan_y * camera.lens().aspect)
+                + camera.up() * (ndc_y * tan_y);
+            // Shadowed in the oracle, on a surface facing the light (the ground: the posts'
+            // faces the camera sees face away from the sun).
+            if d.y >= 0.0 || oracle.mask[i] != 0 || oracle.n_dot_l[i] <= 0.1 {
+                continue;
+            }
+            // On the ground (y = 0) at view depth t (forward . d = 1).
+            let t = -camera.eye().y / d.y;
+            if t < 0.85 * distance {
+                near_shadowed += 1;
+                near_agree += usize::from(frame.mask[i] == MASK_UNLIT);
+            } else if t > 1.02 * distance {
+                far_shadowed += 1;
+                far_lit += usize::from(frame.mask[i] == MASK_LIT);
+            }
+        }
+    }
+    println!(
+        "near: {near_agree} of {near_shadowed} shadowed; far: {far_lit} of {far_shadowed} lit"
+    );
+    assert!(
+        near_shadowed > 200 && far_shadowed > 50,
+        "{near_shadowed} {far_shadowed}"
+    );
+    assert!(
+        near_agree * 100 >= near_shadowed * 97,
+        "{near_agree} of {near_shadowed}"
+    );
+    assert_eq!(far_lit, far_shadowed);
+}
