@@ -195,6 +195,9 @@ fn bad_cascade_parameters_are_typed_errors() {
     }
 }
 
+/// A camera at each frame of a path.
+type CameraPath = Box<dyn Fn(usize) -> Camera>;
+
 /// The world-to-texel map of a cascade: its linear part (texels per world unit along x and y)
 /// and where the world origin lands, in texels.
 fn texel_map(map: &ShadowMap) -> (DMat3, [f64; 2]) {
@@ -217,7 +220,7 @@ fn stable_cascades_keep_their_texel_grid_in_the_world() {
     };
     let start = DVec3::new(-30.0, 2.0, 20.0);
     let forward = DVec3::new(0.2, -0.05, -1.0).normalize();
-    let paths: [(&str, Box<dyn Fn(usize) -> Camera>); 3] = [
+    let paths: [(&str, CameraPath); 3] = [
         (
             "dolly",
             Box::new(move |t| street_camera(start + forward * (0.37 * t as f64), forward)),
