@@ -98,16 +98,26 @@ pub enum CascadeSplitArg {
     Log,
     /// Uniform.
     Uniform,
+    /// The first slice up to a depth, then logarithmic (Bevy's rule).
+    FirstThenLog(f64),
     /// The K - 1 view depths between the slices.
     Distances(usize, [f64; gnomon::MAX_CASCADES - 1]),
 }
 
-/// Parses `--cascade-split`: practical, log, uniform, or D1,D2,... (increasing, at most 7).
+/// Parses `--cascade-split`: practical, log, uniform, first-log:D, or D1,D2,... (increasing,
+/// at most 7).
 pub fn cascade_split_arg(s: &str) -> Result<CascadeSplitArg, String> {
     match s.trim() {
         "practical" => Ok(CascadeSplitArg::Practical),
         "log" => Ok(CascadeSplitArg::Log),
         "uniform" => Ok(CascadeSplitArg::Uniform),
+        first if first.starts_with("first-log:") => first["first-log:".len()..]
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|d| d.is_finite() && *d > 0.0)
+            .map(CascadeSplitArg::FirstThenLog)
+            .ok_or_else(|| format!("'{first}': first-log:D needs a positive depth D")),
         list => {
             let mut depths = [0.0; gnomon::MAX_CASCADES - 1];
             let parts: Vec<&str> = list.split(',').map(str::trim).collect();
@@ -120,7 +130,9 @@ pub fn cascade_split_arg(s: &str) -> Result<CascadeSplitArg, String> {
             }
             for (slot, part) in depths.iter_mut().zip(&parts) {
                 *slot = part.parse::<f64>().map_err(|_| {
-                    format!("'{list}' is not practical, log, uniform or distances D1,D2,...")
+                    format!(
+                        "'{list}' is not practical, log, uniform, first-log:D or distances D1,D2,..."
+                    )
                 })?;
             }
             Ok(CascadeSplitArg::Distances(parts.len(), depths))
@@ -199,8 +211,9 @@ pub struct TechniqueParams {
     #[arg(long)]
     pub cascades: Option<usize>,
     /// Cascades: how the view is cut: practical (Zhang's blend of log and uniform, with
-    /// --cascade-lambda), log, uniform, or the K - 1 view depths D1,D2,... between the slices
-    /// (default practical).
+    /// --cascade-lambda), log, uniform, first-log:D (the first slice to depth D, then log:
+    /// Bevy's rule), or the K - 1 view depths D1,D2,... between the slices (default
+    /// practical).
     #[arg(long, value_parser = cascade_split_arg, allow_hyphen_values = true)]
     pub cascade_split: Option<CascadeSplitArg>,
     /// Cascades: the practical split's weight of the log split, 0 to 1 (default 0.5).
@@ -363,6 +376,7 @@ impl TechniqueParams {
                 CascadeSplitArg::Practical => "practical".to_string(),
                 CascadeSplitArg::Log => "log".to_string(),
                 CascadeSplitArg::Uniform => "uniform".to_string(),
+                CascadeSplitArg::FirstThenLog(d) => format!("first-log:{d}"),
                 CascadeSplitArg::Distances(n, d) => d[..n]
                     .iter()
                     .map(|v| v.to_string())
@@ -472,6 +486,9 @@ impl TechniqueParams {
                     Some(CascadeSplitArg::Practical) => CascadeSplit::Practical { lambda },
                     Some(CascadeSplitArg::Log) => CascadeSplit::Log,
                     Some(CascadeSplitArg::Uniform) => CascadeSplit::Uniform,
+                    Some(CascadeSplitArg::FirstThenLog(first)) => {
+                        CascadeSplit::FirstThenLog { first }
+                    }
                     Some(CascadeSplitArg::Distances(count, depths)) => {
                         CascadeSplit::Distances { count, depths }
                     }

@@ -15,6 +15,31 @@ pub const VOLUMES: [(&str, StencilMode); 3] = [
 /// `compare`'s row of SPPSM with two maps of half the area each (the texels of one map).
 pub const SPPSM_SAME_TEXELS: &str = "sppsm-same-texels";
 
+/// `compare`'s cascade rows, each four cascades sharing the texels of one map (what the
+/// engines ship, and ours), with the options that give them:
+/// - `cascades-stable`: stable focused cascades, the first slice to 10 m then logarithmic to
+///   the far plane, a blend band of 0.2 (Bevy's defaults, as Godot and Unity fit them);
+/// - `cascades-lispsm`: LiSPSM in each cascade, the practical split with lambda 0.5, a band
+///   of 0.1 (Filament's way);
+/// - `cascades-best`: gnomon's best measured configuration on the demo's named views:
+///   LiSPSM in each cascade (with the warp limit), the practical split with lambda 0.5, no
+///   blend band (within noise of `cascades-lispsm`; log splits, lambda 0.3 to 0.8, 3, 5 or 8
+///   cascades, and TSM, XPSM, PSM or focused fits all measured worse).
+pub const CASCADE_ROWS: [(&str, &str); 3] = [
+    (
+        "cascades-stable",
+        "--cascades 4 --stable --cascade-split first-log:10 --cascade-blend 0.2 --equal-texels",
+    ),
+    (
+        "cascades-lispsm",
+        "--cascades 4 --cascade-fit lispsm --cascade-split practical --cascade-lambda 0.5 --cascade-blend 0.1 --equal-texels",
+    ),
+    (
+        "cascades-best",
+        "--cascades 4 --cascade-fit lispsm --cascade-split practical --cascade-lambda 0.5 --cascade-blend 0 --equal-texels",
+    ),
+];
+
 /// Something a command draws: a shadow-map technique or the exact volumes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Drawn {

@@ -315,6 +315,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     {
         return Err(tint_needs_two_maps(&technique));
     }
+    // Bad technique parameters are refused before the GPU opens: the setup once from the
+    // boxes alone (microseconds), then again with what the renderer's pixels see.
+    timed_setup(&technique, &camera, &light, &bounds, args.shadow_map, None)?;
     let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
     let samples = renderer.view_samples(&camera, &light)?;
     let (setup, setup_us) = timed_setup(

@@ -1296,3 +1296,108 @@ fn no_warp_samples_worse_than_the_focused_map() {
     assert!(p95(1) > 2.0 * p95(0), "{rows}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Cascades on the command line: `analyze` reproduces the table from the matrices
+/// (four log slices sharing one map's texels: focused about 4.33, LiSPSM at most 2.5), the
+/// setup JSON names the slices, render tints them, and bad cascade options are one line and
+/// exit code 2.
+#[test]
+fn cascades_on_the_command_line() {
+    let analyze = |fit: &str| -> f64 {
+        let out = gnomon_ok(&[
+            "analyze",
+            "--zn",
+            "1",
+            "--zf",
+            "100",
+            "--cascades",
+            "4",
+            "--cascade-split",
+            "log",
+            "--equal-texels",
+            "--cascade-fit",
+            fit,
+            "--json",
+        ]);
+        let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+        json["techniques"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|t| t["technique"] == "cascades")
+            .unwrap()["max"]
+            .as_f64()
+            .unwrap()
+    };
+    let (focused, lispsm) = (analyze("focused"), analyze("lispsm"));
+    assert!((focused / 4.33 - 1.0).abs() < 0.02, "{focused}");
+    assert!(lispsm <= 2.5 && lispsm > 2.3, "{lispsm}");
+
+    let view = [
+        "--eye",
+        "-190,14,58",
+        "--target",
+        "0,4,10",
+        "--light-dir",
+        "0.85,-0.4,-0.15",
+    ];
+    let mut setup = vec!["setup", "--technique", "cascades", "--json"];
+    setup.extend(view);
+    setup.extend(["--cascades", "3", "--cascade-split", "20,80"]);
+    let json: Value = serde_json::from_slice(&gnomon_ok(&setup).stdout).unwrap();
+    assert_eq!(json["selection"]["kind"], "cascades", "{json}");
+    assert_eq!(json["maps"].as_array().unwrap().len(), 3);
+    let depths: Vec<f64> = json["selection"]["view_depths"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(depths[1..3], [20.0, 80.0]);
+
+    let dir = temp_dir("cascades");
+    let out = dir.join("tinted.png");
+    let mut render = vec![
+        "render",
+        "--technique",
+        "cascades",
+        "--tint",
+        "--size",
+        "160x90",
+    ];
+    render.extend(view);
+    render.extend(["--out", out.to_str().unwrap()]);
+    gnomon_ok(&render);
+    assert!(out.exists());
+
+    for (bad, expected) in [
+        (vec!["--cascades", "9"], "cascade count"),
+        (
+            vec!["--cascades", "3", "--cascade-split", "80,20"],
+            "split distance",
+        ),
+        (
+            vec!["--cascades", "4", "--cascade-split", "20,80"],
+            "split distances",
+        ),
+        (vec!["--cascade-split", "sideways"], "first-log"),
+        (vec!["--cascade-lambda", "2"], "lambda"),
+        (vec!["--cascade-blend", "0.7"], "blend"),
+        (vec!["--shadow-distance", "-5"], "shadow distance"),
+    ] {
+        let mut args = vec!["setup", "--technique", "cascades"];
+        args.extend(view);
+        args.extend(&bad);
+        let out = gnomon(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}: {stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{bad:?}: {stderr}");
+        assert!(stderr.contains(expected), "{bad:?}: {stderr}");
+    }
+    // Cascade options with another technique do nothing: refused.
+    let mut args = vec!["setup", "--technique", "focused", "--cascades", "3"];
+    args.extend(view);
+    let out = gnomon(&args);
+    assert_eq!(out.status.code(), Some(2));
+    std::fs::remove_dir_all(dir).unwrap();
+}

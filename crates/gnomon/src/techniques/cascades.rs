@@ -57,6 +57,13 @@ pub enum CascadeSplit {
     Log,
     /// z_i = z_n + (z_f - z_n) i / K.
     Uniform,
+    /// The first slice ends at `first`, the others split the rest logarithmically: z_1 =
+    /// first, z_i = first (z_f / first)^((i - 1) / (K - 1)) (Bevy's rule: its first bound
+    /// defaults to 5 to 10 m).
+    FirstThenLog {
+        /// Where the first slice ends (clamped inside the view's range).
+        first: f64,
+    },
     /// The K - 1 view depths between the slices, increasing, between the near plane and the
     /// shadow distance.
     Distances {
@@ -167,6 +174,9 @@ impl Cascades {
             CascadeSplit::Practical { lambda } if !(0.0..=1.0).contains(&lambda) => {
                 Err(invalid("cascade lambda (0 to 1)", lambda))
             }
+            CascadeSplit::FirstThenLog { first } if !(first.is_finite() && first > 0.0) => {
+                Err(invalid("cascade first bound", first))
+            }
             CascadeSplit::Distances { count, depths } => {
                 if count + 1 != self.count {
                     return Err(invalid(
@@ -228,6 +238,14 @@ impl Cascades {
                 CascadeSplit::Practical { lambda } => lambda * log + (1.0 - lambda) * uniform,
                 CascadeSplit::Log => log,
                 CascadeSplit::Uniform => uniform,
+                CascadeSplit::FirstThenLog { first } => {
+                    let first = first.clamp(z0 + 1e-6 * (zk - z0), zk - 1e-6 * (zk - z0));
+                    if i == 0 {
+                        z0
+                    } else {
+                        first * (zk / first).powf((i - 1) as f64 / (k - 1).max(1) as f64)
+                    }
+                }
                 CascadeSplit::Distances { depths: given, .. } => {
                     if i == 0 {
                         z0
