@@ -14,15 +14,20 @@ use crate::report;
 /// Every command's default shadow-map size (texels on a side): one default for all.
 pub const DEFAULT_SHADOW_MAP: u32 = 2048;
 
-/// A camera, given by eye, target and up, and its lens.
+/// A camera, given by a named view of the demo scene and/or eye, target and up, and its
+/// lens: explicit options override the named view's.
 #[derive(Debug, Clone, Args)]
 pub struct ViewArgs {
+    /// A named view of the demo scene (its eye, target, far plane and sun; the options below
+    /// override them).
+    #[arg(long)]
+    pub view: Option<String>,
     /// Camera position, X,Y,Z.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-    pub eye: DVec3,
+    pub eye: Option<DVec3>,
     /// The point the camera looks at, X,Y,Z.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-    pub target: DVec3,
+    pub target: Option<DVec3>,
     /// The image's up direction, X,Y,Z.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
     pub up: DVec3,
@@ -32,15 +37,36 @@ pub struct ViewArgs {
     /// Near plane distance.
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub near: f64,
-    /// Far plane distance.
-    #[arg(long, default_value_t = 400.0, allow_hyphen_values = true)]
-    pub far: f64,
+    /// Far plane distance (default: the named view's, else 400).
+    #[arg(long, allow_hyphen_values = true)]
+    pub far: Option<f64>,
     /// Width over height (default: the image's; 16:9 without an image).
     #[arg(long, allow_hyphen_values = true)]
     pub aspect: Option<f64>,
 }
 
 impl ViewArgs {
+    /// The named view, if one is given.
+    pub fn named(&self) -> Result<Option<&'static gnomon_scene::DemoView>, CliError> {
+        let Some(name) = &self.view else {
+            return Ok(None);
+        };
+        gnomon_scene::DEMO_VIEWS
+            .iter()
+            .find(|v| v.name == name.trim())
+            .map(Some)
+            .ok_or_else(|| {
+                CliError::usage(format!(
+                    "unknown view '{name}' (known: {})",
+                    gnomon_scene::DEMO_VIEWS
+                        .iter()
+                        .map(|v| v.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })
+    }
+
     /// The validated camera (16:9 unless `--aspect` says otherwise).
     pub fn camera(&self) -> Result<Camera, CliError> {
         self.camera_with_aspect(16.0 / 9.0)
@@ -48,19 +74,31 @@ impl ViewArgs {
 
     /// The validated camera, of aspect `default_aspect` unless `--aspect` says otherwise.
     pub fn camera_with_aspect(&self, default_aspect: f64) -> Result<Camera, CliError> {
+        let named = self.named()?;
+        let (eye, target) = match (
+            self.eye.or(named.map(|v| DVec3::from_array(v.eye))),
+            self.target.or(named.map(|v| DVec3::from_array(v.target))),
+        ) {
+            (Some(eye), Some(target)) => (eye, target),
+            _ => {
+                return Err(CliError::usage(
+                    "give --eye and --target, or a named --view",
+                ));
+            }
+        };
         let lens = Lens {
             fov_y_degrees: self.fov,
             aspect: self.aspect.unwrap_or(default_aspect),
             near: self.near,
-            far: self.far,
+            far: self.far.or(named.map(|v| v.far)).unwrap_or(400.0),
         };
-        Ok(Camera::look_at(self.eye, self.target, self.up, lens)?)
+        Ok(Camera::look_at(eye, target, self.up, lens)?)
     }
 }
 
-/// The light: directional or spot, exactly one.
+/// The light: directional or spot, at most one (without either, the named view's sun).
 #[derive(Debug, Clone, Args)]
-#[group(required = true, multiple = false)]
+#[group(required = false, multiple = false)]
 pub struct LightArgs {
     /// A directional light: the direction the light travels, X,Y,Z.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
@@ -72,18 +110,21 @@ pub struct LightArgs {
 }
 
 impl LightArgs {
-    /// The validated light.
-    pub fn light(&self) -> Result<Light, CliError> {
-        match (self.light_dir, self.spot) {
-            (Some(d), None) => Ok(Light::Directional(DirectionalLight::new(d)?)),
-            (None, Some(s)) => Ok(Light::Spot(SpotLight::new(
+    /// The validated light: the one given, else the named view's sun.
+    pub fn light(&self, view: &ViewArgs) -> Result<Light, CliError> {
+        match (self.light_dir, self.spot, view.named()?) {
+            (Some(d), None, _) => Ok(Light::Directional(DirectionalLight::new(d)?)),
+            (None, Some(s), _) => Ok(Light::Spot(SpotLight::new(
                 DVec3::new(s[0], s[1], s[2]),
                 DVec3::new(s[3], s[4], s[5]),
                 s[6],
                 s[7],
             )?)),
+            (None, None, Some(named)) => Ok(Light::Directional(DirectionalLight::new(
+                DVec3::from_array(named.light_direction),
+            )?)),
             _ => Err(CliError::usage(
-                "give exactly one of --light-dir and --spot",
+                "give one of --light-dir and --spot, or a named --view",
             )),
         }
     }
@@ -583,7 +624,7 @@ pub fn scene_bounds(name: &str) -> Result<SceneBounds, CliError> {
 pub fn run_setup(args: &SetupArgs) -> Result<(), CliError> {
     let scene = scene_bounds(&args.scene)?;
     let camera = args.view.camera()?;
-    let light = args.light.light()?;
+    let light = args.light.light(&args.view)?;
     let technique = args.params.apply(args.technique);
     args.params.check_used_by(&[technique])?;
     let setup = compute_setup(

@@ -293,7 +293,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             gnomon_render::MAX_VIEW_DISTANCE
         )));
     }
-    let light = args.light.light()?;
+    let light = args.light.light(&args.view)?;
     let technique = match args.technique {
         Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &light, mode),
         Drawn::Map(technique) => technique,

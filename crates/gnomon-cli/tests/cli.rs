@@ -213,7 +213,8 @@ fn bad_input_gives_one_line_and_exit_code_2() {
             &["--light-dir", "0,-1,0", "--spot", "0,10,0,0,-1,0,30,50"],
             "cannot be used",
         ),
-        (&[], "required"),
+        (&[], "--light-dir and --spot, or a named --view"),
+        (&["--view", "nowhere"], "unknown view"),
         (
             &["--light-dir", "0,-1,0", "--scene", "moon"],
             "unknown scene",
