@@ -27,6 +27,7 @@ mod gpu;
 mod headless;
 mod light_view;
 mod pipelines;
+mod probes;
 mod readback;
 mod records;
 mod renderer;

@@ -166,6 +166,8 @@ pub struct Renderer {
     pub(crate) headless: Option<crate::headless::Targets>,
     /// The view samples pass's targets (made on first use).
     pub(crate) sample_targets: Option<crate::samples::SampleTargets>,
+    /// The probe pass (made on first use).
+    pub(crate) probes: Option<crate::probes::Probes>,
 }
 
 impl Renderer {
@@ -278,6 +280,7 @@ impl Renderer {
             wall_clock: false,
             headless: None,
             sample_targets: None,
+            probes: None,
             resources,
             gpu,
         };

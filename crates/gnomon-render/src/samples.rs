@@ -29,8 +29,24 @@ impl Renderer {
         camera: &Camera,
         light: &Light,
     ) -> Result<ViewSamples, RenderError> {
-        let (cols, rows) = ViewSamples::grid(camera.lens().aspect);
-        self.prepare_lights(camera, &[*light], &RenderSettings::default())?;
+        let points = self.surface_points(camera, ViewSamples::grid(camera.lens().aspect))?;
+        Ok(ViewSamples::from_surface_points(
+            camera,
+            light,
+            points.into_iter().flatten(),
+        ))
+    }
+
+    /// What each pixel of a `cols` x `rows` image of `camera` sees: its surface point and
+    /// geometric normal (turned toward the camera), world space, row by row from the top;
+    /// `None` where there is no geometry. (It writes the frame's records for `camera`.)
+    pub fn surface_points(
+        &mut self,
+        camera: &Camera,
+        (cols, rows): (u32, u32),
+    ) -> Result<Vec<Option<(DVec3, DVec3)>>, RenderError> {
+        self.gpu.check_size("surface points", cols, rows)?;
+        self.prepare_lights(camera, &[], &RenderSettings::default())?;
         if self
             .sample_targets
             .as_ref()
@@ -86,10 +102,10 @@ impl Renderer {
             };
             (DVec3::new(f(0), f(4), f(8)), f(12))
         };
-        let points = positions
+        Ok(positions
             .chunks_exact(16)
             .zip(normals.chunks_exact(16))
-            .filter_map(|(p, n)| {
+            .map(|(p, n)| {
                 let ((p, geometry), (n, _)) = (floats(p), floats(n));
                 (geometry > 0.5).then(|| {
                     (
@@ -97,7 +113,7 @@ impl Renderer {
                         world_from_view.transform_vector3(n).normalize_or_zero(),
                     )
                 })
-            });
-        Ok(ViewSamples::from_surface_points(camera, light, points))
+            })
+            .collect())
     }
 }

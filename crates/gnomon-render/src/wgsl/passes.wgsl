@@ -445,3 +445,49 @@ fn fs_samples_frag_depth(in: MainOut) -> SamplesDepthOut {
     let s = view_samples(in);
     return SamplesDepthOut(s.position, s.normal, in.depth.x / in.depth.y);
 }
+
+// Probes: light 0's one-tap shadow state at given surface points (view space), one point per
+// texel of a PROBE_SIZE x PROBE_SIZE R32Uint target, in order. Bit 0: lit by the map (as the
+// main pass's mask reads it: the selected map, beyond the shadow distance lit); bit 1: probed.
+const PROBE_SIZE: u32 = 256u;
+
+struct ProbeOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) camera: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+};
+
+@vertex
+fn vs_probe(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, @builtin(vertex_index) index: u32) -> ProbeOut {
+    let x = f32(index % PROBE_SIZE);
+    let y = f32(index / PROBE_SIZE);
+    var out: ProbeOut;
+    out.clip = vec4<f32>(
+        (2.0 * x + 1.0) / f32(PROBE_SIZE) - 1.0,
+        1.0 - (2.0 * y + 1.0) / f32(PROBE_SIZE),
+        0.5,
+        1.0,
+    );
+    out.camera = position;
+    out.normal = normal;
+    return out;
+}
+
+@fragment
+fn fs_probe(in: ProbeOut) -> @location(0) vec4<u32> {
+    let p = in.camera;
+    var n = normalize(in.normal);
+    if (dot(n, -p) < 0.0) {
+        n = -n;
+    }
+    let incidence = gnomon_incidence(0u, p);
+    let n_dot_l = dot(n, incidence.to_light);
+    let selected = gnomon_select(0u, p);
+    var lit = 1u;
+    if (selected.fade <= 0.5) {
+        let view = gnomon_map_view(selected.map);
+        let lookup = gnomon_offset_point(view, p, n, n_dot_l);
+        lit = select(0u, 1u, gnomon_lookup_view(view, lookup, GNOMON_FILTER_ONE_TAP) > 0.5);
+    }
+    return vec4<u32>(lit | 2u, 0u, 0u, 0u);
+}
