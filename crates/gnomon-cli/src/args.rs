@@ -210,7 +210,7 @@ pub enum SppsmWithArg {
 }
 
 /// Technique parameters; each applies to its technique and is ignored by the others.
-#[derive(Debug, Clone, Copy, Default, Args)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Args)]
 pub struct TechniqueParams {
     /// LiSPSM: the distance n of the projection reference point, in world units (default:
     /// the paper's n_opt / sin(gamma)).

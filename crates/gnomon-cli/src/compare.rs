@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use gnomon::{ShadowTechnique, Technique};
+
 use gnomon_render::{
     Filter, Frame, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderScene, RenderSettings, StencilMode,
 };
@@ -90,84 +90,6 @@ fn mask_errors(map: &Frame, exact: &Frame) -> (MaskErrors, Vec<u8>) {
     (errors, image)
 }
 
-/// One row of the tables: a label, a technique, its maps' resolution and the parameters
-/// that give it (for the command that reproduces a cell).
-struct Entry {
-    label: String,
-    technique: Technique,
-    resolution: u32,
-    params: TechniqueParams,
-}
-
-/// The options of a fixed row ([`crate::names::CASCADE_ROWS`]), parsed by the one definition
-/// of the technique options.
-#[derive(clap::Parser)]
-struct RowOptions {
-    #[command(flatten)]
-    params: TechniqueParams,
-}
-
-fn row_params(options: &str) -> TechniqueParams {
-    use clap::Parser;
-    RowOptions::try_parse_from(std::iter::once("row").chain(options.split_whitespace()))
-        .expect("the fixed rows' options parse")
-        .params
-}
-
-/// The techniques named on the command line. SPPSM comes twice: with each of its two maps
-/// at `--shadow-map` (as in the paper), and as `sppsm-same-texels` with two maps of half
-/// the area (the texel count of one map). Cascades come with the fixed rows of
-/// [`crate::names::CASCADE_ROWS`] after them (the texels of one map).
-fn techniques(args: &CompareArgs) -> Result<Vec<Entry>, CliError> {
-    let named: Vec<Technique> = if args.techniques.iter().any(|t| t == "all") {
-        Technique::all()
-    } else {
-        args.techniques
-            .iter()
-            .map(|name| crate::names::parse_map(name).map_err(CliError::usage))
-            .collect::<Result<_, _>>()?
-    };
-    for (k, t) in named.iter().enumerate() {
-        if named[..k].iter().any(|u| u.name() == t.name()) {
-            return Err(CliError::usage(format!(
-                "--techniques names {} twice",
-                t.name()
-            )));
-        }
-    }
-    let applied: Vec<Technique> = named.iter().map(|t| args.params.apply(*t)).collect();
-    args.params.check_used_by(&applied)?;
-    let mut entries = Vec::new();
-    for technique in applied {
-        entries.push(Entry {
-            label: technique.name().to_string(),
-            technique,
-            resolution: args.shadow_map,
-            params: args.params,
-        });
-        if let Technique::Sppsm(_) = technique {
-            entries.push(Entry {
-                label: crate::names::SPPSM_SAME_TEXELS.into(),
-                technique,
-                resolution: ((args.shadow_map as f64) / std::f64::consts::SQRT_2).round() as u32,
-                params: args.params,
-            });
-        }
-        if let Technique::Cascades(_) = technique {
-            for (label, options) in crate::names::CASCADE_ROWS {
-                let params = row_params(options);
-                entries.push(Entry {
-                    label: label.into(),
-                    technique: params.apply(Technique::Cascades(Default::default())),
-                    resolution: args.shadow_map,
-                    params,
-                });
-            }
-        }
-    }
-    Ok(entries)
-}
-
 /// Runs `gnomon compare`.
 pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     let started = Instant::now();
@@ -197,7 +119,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             })
             .collect::<Result<_, _>>()?
     };
-    let techniques = techniques(args)?;
+    let techniques = crate::rows::rows(&args.techniques, &args.params, args.shadow_map, true)?;
     if techniques.is_empty() || views.is_empty() {
         return Err(CliError::usage("nothing to compare"));
     }

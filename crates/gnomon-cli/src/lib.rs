@@ -21,6 +21,7 @@ pub mod names;
 mod output;
 mod render;
 mod report;
+pub mod rows;
 
 use std::process::ExitCode;
 

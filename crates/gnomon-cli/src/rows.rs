@@ -1,0 +1,128 @@
+//! The rows of `compare` and `flicker`: a label, a technique with its parameters, its maps'
+//! resolution, and the parameters that give it (for the command that reproduces a cell).
+//! A row is named by a technique of [`crate::names`] or one of its fixed rows
+//! (`sppsm-same-texels`, [`crate::names::CASCADE_ROWS`]).
+
+use gnomon::{ShadowTechnique, Technique};
+
+use crate::CliError;
+use crate::args::TechniqueParams;
+use crate::names::{CASCADE_ROWS, SPPSM_SAME_TEXELS};
+
+/// One row.
+#[derive(Debug, Clone)]
+pub struct Row {
+    /// Its name in tables.
+    pub label: String,
+    /// The technique with its parameters.
+    pub technique: Technique,
+    /// The resolution of its maps (the setup's `--shadow-map`).
+    pub resolution: u32,
+    /// The options that give it.
+    pub params: TechniqueParams,
+}
+
+/// The options of a fixed row, parsed by the one definition of the technique options.
+#[derive(clap::Parser)]
+struct RowOptions {
+    #[command(flatten)]
+    params: TechniqueParams,
+}
+
+fn fixed_row_params(options: &str) -> TechniqueParams {
+    use clap::Parser;
+    RowOptions::try_parse_from(std::iter::once("row").chain(options.split_whitespace()))
+        .expect("the fixed rows' options parse")
+        .params
+}
+
+/// The row named `name`: a technique (with `params` applied, at `shadow_map`), or a fixed
+/// row (`sppsm-same-texels`: SPPSM with two maps of half the area; the cascade rows with
+/// their own options).
+pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row, CliError> {
+    let name = name.trim();
+    if name == SPPSM_SAME_TEXELS {
+        return Ok(Row {
+            label: name.into(),
+            technique: params.apply(Technique::Sppsm(Default::default())),
+            resolution: ((shadow_map as f64) / std::f64::consts::SQRT_2).round() as u32,
+            params: *params,
+        });
+    }
+    if let Some((label, options)) = CASCADE_ROWS.iter().find(|(n, _)| *n == name) {
+        let params = fixed_row_params(options);
+        return Ok(Row {
+            label: (*label).into(),
+            technique: params.apply(Technique::Cascades(Default::default())),
+            resolution: shadow_map,
+            params,
+        });
+    }
+    let technique = crate::names::parse_map(name).map_err(|e| {
+        CliError::usage(format!(
+            "{e}; rows: {SPPSM_SAME_TEXELS}, {}",
+            CASCADE_ROWS.map(|r| r.0).join(", ")
+        ))
+    })?;
+    Ok(Row {
+        label: technique.name().to_string(),
+        technique: params.apply(technique),
+        resolution: shadow_map,
+        params: *params,
+    })
+}
+
+/// Rows by name (`all`: every technique), each named once; `params` must be read by one of
+/// the techniques (the fixed rows keep their own). With `expand`, SPPSM is followed by
+/// `sppsm-same-texels` and cascades by the cascade rows (`compare`'s tables).
+pub fn rows(
+    names: &[String],
+    params: &TechniqueParams,
+    shadow_map: u32,
+    expand: bool,
+) -> Result<Vec<Row>, CliError> {
+    let names: Vec<String> = if names.iter().any(|t| t.trim() == "all") {
+        Technique::NAMES.iter().map(|n| n.to_string()).collect()
+    } else {
+        names.to_vec()
+    };
+    let mut rows: Vec<Row> = Vec::new();
+    for name in &names {
+        let r = row(name, params, shadow_map)?;
+        if rows.iter().any(|u| u.label == r.label) {
+            return Err(CliError::usage(format!(
+                "--techniques names {} twice",
+                r.label
+            )));
+        }
+        rows.push(r);
+    }
+    let own: Vec<Technique> = rows
+        .iter()
+        .filter(|r| r.params == *params)
+        .map(|r| r.technique)
+        .collect();
+    if !own.is_empty() {
+        params.check_used_by(&own)?;
+    }
+    if !expand {
+        return Ok(rows);
+    }
+    let mut expanded = Vec::new();
+    for r in rows {
+        let extras: Vec<&str> = match r.technique {
+            Technique::Sppsm(_) if r.label == "sppsm" => vec![SPPSM_SAME_TEXELS],
+            Technique::Cascades(_) if r.label == "cascades" => {
+                CASCADE_ROWS.iter().map(|(n, _)| *n).collect()
+            }
+            _ => Vec::new(),
+        };
+        expanded.push(r);
+        for extra in extras {
+            if !expanded.iter().any(|u: &Row| u.label == extra) {
+                expanded.push(row(extra, params, shadow_map)?);
+            }
+        }
+    }
+    Ok(expanded)
+}
