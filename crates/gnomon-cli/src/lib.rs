@@ -16,6 +16,7 @@ pub mod args;
 mod bench;
 mod compare;
 mod demo;
+mod flicker;
 mod heatmap;
 pub mod names;
 mod output;
@@ -57,6 +58,9 @@ enum Command {
     /// Time techniques on the same scene and views (frames interleaved), with each one's
     /// ratio to the focused shadow map.
     Bench(Box<bench::BenchArgs>),
+    /// How much shadows swim and shimmer while the camera or the sun moves: false flicker
+    /// and edge swim on fixed surface points along a path.
+    Flicker(Box<flicker::FlickerArgs>),
 }
 
 /// An error, printed on one line: exit code 2 for bad input, 1 for a failure at run time
@@ -137,6 +141,7 @@ pub fn main() -> ExitCode {
         Command::Bench(a) => bench::run(&a),
         Command::Analyze(a) => analyze::run(&a),
         Command::Compare(a) => compare::run(&a),
+        Command::Flicker(a) => flicker::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

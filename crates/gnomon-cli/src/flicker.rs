@@ -1,0 +1,388 @@
+//! `gnomon flicker`: how much shadows swim and shimmer while the camera or the sun moves.
+//!
+//! Measured on surface points, not screen pixels: the points the first frame's pixels see
+//! (one per pixel of `--size`), fixed in the world. In every frame of the path each point is
+//! looked up in that frame's maps as the main pass reads them (`Renderer::lit_at_points`:
+//! the selected map, the normal offset, one tap). A point is judged in a transition when the
+//! light reaches its face (N.L > 0.1) in both frames.
+//! - `false_flicker`: the share of judged points whose lit/shadowed state changes from one
+//!   frame to the next while the exact state does not. For the camera paths the exact state
+//!   never changes (the scene and the light stand still); for `sun` it is the exact shadow
+//!   volumes' mask at the same pixel (the camera stands still, so the points stay the
+//!   pixels').
+//! - `edge_swim_px`: per transition, those false changes over the length of the map's shadow
+//!   boundaries in the first frame's pixel grid (neighbouring judged points whose states
+//!   differ): a boundary that moves by d pixels changes about d points per pixel of its
+//!   length. The mean over the transitions, in pixels of `--size`.
+
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+use glam::{DQuat, DVec3};
+use gnomon::{Camera, DirectionalLight, Light, ShadowTechnique};
+use gnomon_render::{MASK_LIT, RenderSettings, ShadowedLight, StencilMode};
+use serde_json::json;
+
+use crate::CliError;
+use crate::args::{DEFAULT_SHADOW_MAP, LightArgs, TechniqueParams, ViewArgs, timed_setup};
+use crate::render::{open_renderer, parse_size};
+
+/// How the camera or the light moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PathArg {
+    /// Forward along the view direction.
+    Dolly,
+    /// Sideways, to the image's right.
+    Pan,
+    /// Turning in place about the world's up axis.
+    Turn,
+    /// Circling the target about the world's up axis, looking at it.
+    Orbit,
+    /// The camera still, the sun turning about the world's up axis.
+    Sun,
+}
+
+/// `gnomon flicker`.
+#[derive(Debug, Clone, Args)]
+pub struct FlickerArgs {
+    /// The path.
+    #[arg(long, value_enum, default_value = "dolly")]
+    pub path: PathArg,
+    /// Frames along the path (2 to 1000).
+    #[arg(long, default_value_t = 30)]
+    pub frames: usize,
+    /// How far each frame moves: world units for dolly and pan (default: a thousandth of
+    /// the far plane), degrees for turn, orbit and sun (default 0.2).
+    #[arg(long, allow_hyphen_values = true)]
+    pub step: Option<f64>,
+    /// The rows measured, by compare's names (techniques, sppsm-same-texels, the cascade
+    /// rows), comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "focused,lispsm,sppsm,cascades-lispsm,cascades-stable"
+    )]
+    pub techniques: Vec<String>,
+    /// The built-in scene.
+    #[arg(long, default_value = "demo")]
+    pub scene: String,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    #[command(flatten)]
+    pub light: LightArgs,
+    #[command(flatten)]
+    pub params: TechniqueParams,
+    /// Shadow-map resolution in texels.
+    #[arg(long, default_value_t = DEFAULT_SHADOW_MAP)]
+    pub shadow_map: u32,
+    /// The first frame's size, WIDTHxHEIGHT: one measured point per pixel (at most 512 on
+    /// a side).
+    #[arg(long, value_parser = parse_size, default_value = "320x180")]
+    pub size: (u32, u32),
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The camera and light of frame `t`.
+fn frame_at(
+    path: PathArg,
+    step: f64,
+    camera: &Camera,
+    light: &Light,
+    target: DVec3,
+    t: usize,
+) -> Result<(Camera, Light), CliError> {
+    let (eye, forward, up, lens) = (camera.eye(), camera.forward(), camera.up(), camera.lens());
+    let turn = DQuat::from_rotation_y((step * t as f64).to_radians());
+    let look = |eye: DVec3, forward: DVec3| Camera::look_at(eye, eye + forward, up, lens);
+    let moved = match path {
+        PathArg::Dolly => look(eye + forward * (step * t as f64), forward)?,
+        PathArg::Pan => look(eye + camera.right() * (step * t as f64), forward)?,
+        PathArg::Turn => look(eye, turn * forward)?,
+        PathArg::Orbit => {
+            let eye = target + turn * (eye - target);
+            Camera::look_at(eye, target, up, lens)?
+        }
+        PathArg::Sun => *camera,
+    };
+    let light = match (path, light) {
+        (PathArg::Sun, Light::Directional(d)) => {
+            Light::Directional(DirectionalLight::new(turn * d.direction())?)
+        }
+        (PathArg::Sun, Light::Spot(_)) => {
+            return Err(CliError::usage(
+                "--path sun turns a directional light; give --light-dir or a named --view",
+            ));
+        }
+        _ => *light,
+    };
+    Ok((moved, light))
+}
+
+/// One row's tallies over the transitions.
+#[derive(Default)]
+struct Tally {
+    judged: u64,
+    false_changes: u64,
+    swim: Vec<f64>,
+}
+
+/// Runs `gnomon flicker`.
+pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
+    let started = Instant::now();
+    if !(2..=1000).contains(&args.frames) {
+        return Err(CliError::usage(format!(
+            "--frames must be 2 to 1000 (got {})",
+            args.frames
+        )));
+    }
+    let (width, height) = args.size;
+    if width > 512 || height > 512 {
+        return Err(CliError::usage(format!(
+            "--size {width}x{height}: at most 512 on a side (one point per pixel)"
+        )));
+    }
+    let camera = args.view.camera_with_aspect(width as f64 / height as f64)?;
+    let light = args.light.light(&args.view)?;
+    let target = match (args.view.target, args.view.named()?) {
+        (Some(t), _) => t,
+        (None, Some(v)) => DVec3::from_array(v.target),
+        (None, None) => camera.eye() + camera.forward(),
+    };
+    let step = match args.step {
+        Some(s) if !(s.is_finite() && s > 0.0 && s <= 1e6) => {
+            return Err(CliError::usage(format!(
+                "--step must be positive and finite (got {s})"
+            )));
+        }
+        Some(s) => s,
+        None => match args.path {
+            PathArg::Dolly | PathArg::Pan => camera.lens().far / 1000.0,
+            _ => 0.2,
+        },
+    };
+    // Every frame's camera and light first: a bad path fails before any work.
+    let frames: Vec<(Camera, Light)> = (0..args.frames)
+        .map(|t| frame_at(args.path, step, &camera, &light, target, t))
+        .collect::<Result<_, _>>()?;
+    let rows = crate::rows::rows(&args.techniques, &args.params, args.shadow_map, false)?;
+    let scene = gnomon_render::RenderScene::from_layout(&crate::args::scene_layout(&args.scene)?);
+    let bounds = scene.bounds()?;
+    let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
+    let settings = RenderSettings {
+        width,
+        height,
+        ..RenderSettings::default()
+    };
+    // The points: what the first frame's pixels see.
+    let grid = renderer.surface_points(&camera, args.size)?;
+    let present: Vec<usize> = (0..grid.len()).filter(|&i| grid[i].is_some()).collect();
+    let points: Vec<(DVec3, DVec3)> = present.iter().map(|&i| grid[i].unwrap()).collect();
+    if points.is_empty() {
+        return Err(CliError::usage(
+            "the first frame sees no surface to measure",
+        ));
+    }
+    // Each point's index in `points` by pixel, for the boundary length.
+    let mut slot = vec![usize::MAX; grid.len()];
+    for (k, &i) in present.iter().enumerate() {
+        slot[i] = k;
+    }
+    let progress = indicatif::ProgressBar::new((args.frames * rows.len()) as u64);
+    progress.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
+            .expect("a valid template"),
+    );
+    let mut tallies: Vec<Tally> = rows.iter().map(|_| Tally::default()).collect();
+    let mut previous: Vec<Option<Vec<bool>>> = vec![None; rows.len()];
+    let mut previous_exact: Option<Vec<bool>> = None;
+    let mut previous_facing: Option<Vec<bool>> = None;
+    for (t, (camera_t, light_t)) in frames.iter().enumerate() {
+        let facing: Vec<bool> = points
+            .iter()
+            .map(|(p, n)| {
+                let to_light = match light_t {
+                    Light::Directional(d) => -d.direction(),
+                    Light::Spot(s) => (s.position() - *p).normalize_or_zero(),
+                };
+                n.dot(to_light) > 0.1
+            })
+            .collect();
+        // The exact state changes only when the sun moves (the camera is then still, and the
+        // points are its pixels).
+        let exact: Option<Vec<bool>> = if args.path == PathArg::Sun {
+            let volumes =
+                renderer.render_volumes(camera_t, light_t, &settings, StencilMode::ZFail)?;
+            Some(
+                present
+                    .iter()
+                    .map(|&i| volumes.frame.mask[i] == MASK_LIT)
+                    .collect(),
+            )
+        } else {
+            None
+        };
+        let samples = renderer.view_samples(camera_t, light_t)?;
+        for (r, row) in rows.iter().enumerate() {
+            progress.set_message(format!("frame {t}: {}", row.label));
+            let (setup, _) = timed_setup(
+                &row.technique,
+                camera_t,
+                light_t,
+                &bounds,
+                row.resolution,
+                Some(&samples),
+            )?;
+            let lit = renderer.lit_at_points(
+                camera_t,
+                &[ShadowedLight {
+                    light: light_t,
+                    setup: &setup,
+                }],
+                &settings,
+                &points,
+            )?;
+            if let (Some(before), Some(facing_before)) = (&previous[r], &previous_facing) {
+                let tally = &mut tallies[r];
+                let mut changes = 0u64;
+                for k in 0..points.len() {
+                    if !(facing[k] && facing_before[k]) {
+                        continue;
+                    }
+                    tally.judged += 1;
+                    let exact_changed = match (&exact, &previous_exact) {
+                        (Some(now), Some(then)) => now[k] != then[k],
+                        _ => false,
+                    };
+                    if lit[k] != before[k] && !exact_changed {
+                        changes += 1;
+                    }
+                }
+                tally.false_changes += changes;
+                // The map's boundary length in the first frame's grid.
+                let mut boundary = 0u64;
+                for (k, &i) in present.iter().enumerate() {
+                    let (x, y) = (i as u32 % width, i as u32 / width);
+                    for neighbour in [
+                        (x + 1 < width).then(|| i + 1),
+                        (y + 1 < height).then(|| i + width as usize),
+                    ]
+                    .into_iter()
+                    .flatten()
+                    {
+                        let j = slot[neighbour];
+                        if j != usize::MAX
+                            && facing_before[k]
+                            && facing_before[j]
+                            && before[k] != before[j]
+                        {
+                            boundary += 1;
+                        }
+                    }
+                }
+                if boundary > 0 {
+                    tally.swim.push(changes as f64 / boundary as f64);
+                }
+            }
+            previous[r] = Some(lit);
+            progress.inc(1);
+        }
+        previous_exact = exact;
+        previous_facing = Some(facing);
+    }
+    progress.finish_and_clear();
+    let path_name = args
+        .path
+        .to_possible_value()
+        .map_or("dolly".into(), |v| v.get_name().to_string());
+    let view_name = args.view.view.clone().unwrap_or_else(|| "custom".into());
+    let results: Vec<_> = rows
+        .iter()
+        .zip(&tallies)
+        .map(|(row, tally)| {
+            let false_flicker = tally.false_changes as f64 / tally.judged.max(1) as f64;
+            let swim = if tally.swim.is_empty() {
+                0.0
+            } else {
+                tally.swim.iter().sum::<f64>() / tally.swim.len() as f64
+            };
+            // The command that measures this row alone.
+            let v = |a: DVec3| format!("{},{},{}", a.x, a.y, a.z);
+            let light_option = match &light {
+                Light::Directional(d) => format!("--light-dir={}", v(d.direction())),
+                Light::Spot(sp) => format!(
+                    "--spot={},{},{},{}",
+                    v(sp.position()),
+                    v(sp.direction()),
+                    sp.half_angle().to_degrees(),
+                    sp.range()
+                ),
+            };
+            let mut command = format!(
+                "gnomon flicker --eye={} --target={} --up={} --fov {} --near {} --far {} {light_option} --path {path_name} --frames {} --step {step} --size {width}x{height} --shadow-map {} --techniques {}",
+                v(camera.eye()),
+                v(target),
+                v(args.view.up),
+                camera.lens().fov_y_degrees,
+                camera.lens().near,
+                camera.lens().far,
+                args.frames,
+                args.shadow_map,
+                row.label,
+            );
+            if row.params == args.params {
+                for (_, flag) in args.params.flags() {
+                    command += &format!(" {flag}");
+                }
+            }
+            json!({
+                "technique": row.label,
+                "command": command,
+                "false_flicker": false_flicker,
+                "edge_swim_px": swim,
+                "judged": tally.judged,
+                "false_changes": tally.false_changes,
+                "setup_technique": row.technique.name(),
+            })
+        })
+        .collect();
+    if args.json {
+        let report = json!({
+            "path": path_name,
+            "frames": args.frames,
+            "step": step,
+            "view": view_name,
+            "size": [width, height],
+            "shadow_map": args.shadow_map,
+            "points": points.len(),
+            "techniques": results,
+        });
+        crate::say!(
+            "{}",
+            serde_json::to_string_pretty(&report).expect("JSON of plain values")
+        );
+    } else {
+        crate::say!(
+            "flicker along {path_name} ({} frames, step {step}) from {view_name}: {} points, {} maps",
+            args.frames,
+            points.len(),
+            args.shadow_map
+        );
+        crate::say!("technique            false flicker   edge swim (px)");
+        for r in &results {
+            crate::say!(
+                "{:<20} {:>12.4}%   {:>14.4}",
+                r["technique"].as_str().unwrap_or_default(),
+                100.0 * r["false_flicker"].as_f64().unwrap_or(0.0),
+                r["edge_swim_px"].as_f64().unwrap_or(0.0)
+            );
+        }
+        eprintln!(
+            "measured in {:.1} s on {}",
+            started.elapsed().as_secs_f64(),
+            renderer.gpu().describe()
+        );
+    }
+    Ok(())
+}
