@@ -5,7 +5,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use gnomon::{ShadowTechnique, Technique};
 use gnomon_render::{RenderScene, RenderSettings, StencilMode};
 use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
@@ -50,10 +49,8 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         light_view: true,
         ..RenderSettings::default()
     };
-    let techniques: Vec<Technique> = Technique::all()
-        .into_iter()
-        .map(|t| args.params.apply(t))
-        .collect();
+    // Every technique, SPPSM with the texels of one map, and the cascade rows.
+    let techniques = crate::rows::rows(&["all".to_string()], &args.params, args.shadow_map, true)?;
     // Every map technique, then the shadow volumes.
     let per_view = techniques.len() + 1;
     let total = DEMO_VIEWS.len() * per_view;
@@ -66,17 +63,17 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         let mut cells = String::new();
         // What the pixels see, once per view, shared by every technique.
         let samples = renderer.view_samples(&camera, &light)?;
-        for (t, technique) in techniques.iter().enumerate() {
+        for (t, row) in techniques.iter().enumerate() {
             let (setup, setup_us) = timed_setup(
-                technique,
+                &row.technique,
                 &camera,
                 &light,
                 &bounds,
-                args.shadow_map,
+                row.resolution,
                 Some(&samples),
             )?;
             let frame = renderer.render(&camera, &light, &setup, &settings)?;
-            let stem = format!("{}_{}", view.name, technique.name());
+            let stem = format!("{}_{}", view.name, row.label);
             let light_view = args.out.join(format!("{stem}_light.png"));
             write_frame(
                 &frame,
@@ -93,16 +90,16 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 "[{:>2}/{total}] {:<15} {:<8} setup {:>7.1} us  shadow pass {:>6.1} ms  main pass {:>6.1} ms  fallback {fallback}",
                 v * per_view + t + 1,
                 view.name,
-                technique.name(),
+                row.label,
                 setup_us,
                 timings.shadow_pass_ms,
                 timings.main_pass_ms,
             );
             let command = render_command(
                 view,
-                Some(technique),
-                &args.params,
-                args.shadow_map,
+                Some(&row.technique),
+                &row.params,
+                row.resolution,
                 (width, height),
                 &format!(" --out {stem}.png --light-view {stem}_light.png"),
             );
@@ -110,13 +107,13 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 "<td><img src=\"{stem}.png\" width=480><br><img src=\"{stem}_light.png\" width=240>\
                  <br>{} &middot; setup {setup_us:.0} &micro;s &middot; shadow pass {:.1} ms &middot; \
                  main pass {:.1} ms &middot; fallback {fallback}<br><code>{command}</code></td>",
-                technique.name(),
+                row.label,
                 timings.shadow_pass_ms,
                 timings.main_pass_ms
             ));
             all.push(json!({
                 "view": view.name,
-                "technique": technique.name(),
+                "technique": row.label,
                 "setup_us": setup_us,
                 "shadow_pass_ms": timings.shadow_pass_ms,
                 "main_pass_ms": timings.main_pass_ms,
@@ -181,7 +178,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     }
     let header: String = techniques
         .iter()
-        .map(|t| format!("<th>{}</th>", t.name()))
+        .map(|t| format!("<th>{}</th>", t.label))
         .chain(["<th>volumes (exact)</th>".to_string()])
         .collect();
     let html = format!(

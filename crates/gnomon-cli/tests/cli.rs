@@ -292,11 +292,23 @@ fn demo_writes_every_view_and_technique() {
     let json: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("setups.json")).unwrap()).unwrap();
     let entries = json.as_array().unwrap();
-    // Every view with every map technique and with the exact shadow volumes.
+    // Every view with every map technique, SPPSM with one map's texels, the three cascade
+    // rows, and the exact shadow volumes.
     assert_eq!(
         entries.len(),
-        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 1)
+        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 1 + 3 + 1)
     );
+    for row in [
+        "sppsm-same-texels",
+        "cascades-stable",
+        "cascades-lispsm",
+        "cascades-best",
+    ] {
+        assert!(
+            entries.iter().any(|e| e["technique"] == row),
+            "no {row} in the demo"
+        );
+    }
     let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
     assert!(html.contains("overview") && html.contains("volumes (exact)"));
     for view in gnomon_scene::DEMO_VIEWS {

@@ -344,7 +344,7 @@ impl Renderer {
         self.ensure_headless(width, height, settings.metrics);
         // Made on first use, then kept.
         self.pipelines
-            .measured(&self.gpu.device, settings.metrics, self.light_count);
+            .measured(&self.gpu.device, settings.metrics, self.main_spec);
         let mut clock = FrameClock::start(self);
         self.encode_shadow_maps_timed(clock.encoder(), true);
         clock.end_part(&self.gpu, Part::Shadow)?;
@@ -370,7 +370,7 @@ impl Renderer {
                 });
             pass.set_pipeline(
                 self.pipelines
-                    .measured_for(settings.metrics, self.light_count)
+                    .measured_for(settings.metrics, self.main_spec)
                     .expect("made above"),
             );
             self.bind_frame(&mut pass);

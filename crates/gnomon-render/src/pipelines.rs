@@ -37,15 +37,35 @@ pub(crate) struct Pipelines {
     depth_layout: wgpu::PipelineLayout,
     /// Depth passes by the caster vertex stride.
     depth: HashMap<u64, wgpu::RenderPipeline>,
-    /// The measured main pass, by (metrics, number of lights).
-    measured: HashMap<(bool, u32), wgpu::RenderPipeline>,
-    /// The main pass into a caller's target, by format, sample count and number of lights.
-    color: HashMap<(wgpu::TextureFormat, u32, u32), wgpu::RenderPipeline>,
+    /// The measured main pass, by metrics and specialisation.
+    measured: HashMap<(bool, MainSpec), wgpu::RenderPipeline>,
+    /// The main pass into a caller's target, by format, sample count and specialisation.
+    color: HashMap<(wgpu::TextureFormat, u32, MainSpec), wgpu::RenderPipeline>,
     pub light_view: wgpu::RenderPipeline,
     /// The view samples pass (position and normal per pixel), on first use.
     samples: Option<wgpu::RenderPipeline>,
     fs_color: String,
     fs_measured: String,
+}
+
+/// What the main pass is specialised for (override constants): the number of lights (a loop
+/// with a constant trip count costs far less than one bounded by a uniform on some devices:
+/// 1.4x the main pass on lavapipe), and whether a light has cascades (their per-pixel choice
+/// of map makes every read of a map's record a gather on a CPU rasteriser: 1.45x the main
+/// pass on lavapipe when compiled into frames that have none).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub(crate) struct MainSpec {
+    pub lights: u32,
+    pub cascades: bool,
+}
+
+impl MainSpec {
+    fn constants(&self) -> [(&'static str, f64); 2] {
+        [
+            ("LIGHT_COUNT", self.lights as f64),
+            ("CASCADES", if self.cascades { 1.0 } else { 0.0 }),
+        ]
+    }
 }
 
 /// The scene's vertex streams: positions and normals, instances.
@@ -214,20 +234,20 @@ impl Pipelines {
     }
 
     /// The measured main pass already made.
-    pub fn measured_for(&self, metrics: bool, lights: u32) -> Option<&wgpu::RenderPipeline> {
-        self.measured.get(&(metrics, lights))
+    pub fn measured_for(&self, metrics: bool, spec: MainSpec) -> Option<&wgpu::RenderPipeline> {
+        self.measured.get(&(metrics, spec))
     }
 
     /// The measured main pass (colour, lit-light bits, and with `metrics` the sampling
-    /// metrics) for `lights` lights.
+    /// metrics) for `spec`.
     pub fn measured(
         &mut self,
         device: &wgpu::Device,
         metrics: bool,
-        lights: u32,
+        spec: MainSpec,
     ) -> &wgpu::RenderPipeline {
         let (shader, layout, fragment) = (&self.shader, &self.layout, &self.fs_measured);
-        self.measured.entry((metrics, lights)).or_insert_with(|| {
+        self.measured.entry((metrics, spec)).or_insert_with(|| {
             let mut targets = vec![Some(COLOR_FORMAT.into()), Some(LIT_FORMAT.into())];
             if metrics {
                 targets.push(Some(METRICS_FORMAT.into()));
@@ -244,7 +264,8 @@ impl Pipelines {
                     targets: &targets,
                     constants: &[
                         ("METRICS", if metrics { 1.0 } else { 0.0 }),
-                        ("LIGHT_COUNT", lights as f64),
+                        spec.constants()[0],
+                        spec.constants()[1],
                     ],
                     depth: Some(camera_depth()),
                     samples: 1,
@@ -277,17 +298,17 @@ impl Pipelines {
         })
     }
 
-    /// The main pass into a target of `format` with `samples` samples, for `lights` lights.
+    /// The main pass into a target of `format` with `samples` samples, for `spec`.
     pub fn color(
         &mut self,
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
         samples: u32,
-        lights: u32,
+        spec: MainSpec,
     ) -> &wgpu::RenderPipeline {
         let (shader, layout, fragment) = (&self.shader, &self.layout, &self.fs_color);
         self.color
-            .entry((format, samples, lights))
+            .entry((format, samples, spec))
             .or_insert_with(|| {
                 build(
                     device,
@@ -299,7 +320,7 @@ impl Pipelines {
                         buffers: &scene_buffers(),
                         fragment: Some(fragment),
                         targets: &[Some(format.into())],
-                        constants: &[("LIGHT_COUNT", lights as f64)],
+                        constants: &spec.constants(),
                         depth: Some(camera_depth()),
                         samples,
                     },

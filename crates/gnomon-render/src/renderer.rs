@@ -154,8 +154,8 @@ pub struct Renderer {
     /// The prepared frame's records (kept to be rewritten without allocating).
     shadows: Box<GpuShadows>,
     pub(crate) prepared_camera: Option<Camera>,
-    /// The prepared frame's number of lights (the main pass is specialised by it).
-    pub(crate) light_count: u32,
+    /// What the prepared frame's main pass is specialised for (its lights, cascades).
+    pub(crate) main_spec: crate::pipelines::MainSpec,
     pub(crate) volumes: VolumePipelines,
     pub(crate) volume_casters: VolumeCasters,
     pub(crate) volume_targets: Option<VolumeTargets>,
@@ -271,7 +271,7 @@ impl Renderer {
             maps: Vec::new(),
             shadows: Box::new(bytemuck::Zeroable::zeroed()),
             prepared_camera: None,
-            light_count: 0,
+            main_spec: Default::default(),
             volumes,
             volume_casters,
             volume_targets: None,
@@ -526,7 +526,13 @@ impl Renderer {
         queue.write_buffer(&self.shadows_buffer, 0, bytemuck::bytes_of(&*self.shadows));
         self.scene.write_transforms(queue, view_from_world);
         self.prepared_camera = Some(*camera);
-        self.light_count = lights.len() as u32;
+        self.main_spec = crate::pipelines::MainSpec {
+            lights: lights.len() as u32,
+            cascades: lights
+                .iter()
+                .flat_map(|l| l.1)
+                .any(|s| matches!(s.selection, MapSelection::Cascades(_))),
+        };
         Ok(())
     }
 
@@ -612,7 +618,7 @@ impl Renderer {
         let depth = &self.camera_depth.as_ref().expect("made above").1;
         let pipeline =
             self.pipelines
-                .color(&self.gpu.device, target.format, samples, self.light_count);
+                .color(&self.gpu.device, target.format, samples, self.main_spec);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("main"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {

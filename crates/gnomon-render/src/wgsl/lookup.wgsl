@@ -134,9 +134,25 @@ fn gnomon_select(light: u32, p: vec3<f32>) -> GnomonSelection {
     return out;
 }
 
-// The map of `light` that point `p` reads (in a cascade's blend band, the nearer one).
+// The map of `light` that point `p` reads for the single and plane selections (without the
+// cascades' code, which costs a CPU rasteriser even where it does not run).
+fn gnomon_plane_map_index(light: u32, p: vec3<f32>) -> u32 {
+    let info = gnomon_shadows.lights[light].info;
+    var k = 0u;
+    if (info.y == GNOMON_SELECT_PLANE) {
+        let plane = gnomon_shadows.lights[light].params[0];
+        k = select(0u, 1u, dot(plane.xyz, p) + plane.w > 0.0);
+    }
+    return info.z + min(k, max(info.w, 1u) - 1u);
+}
+
+// The map of `light` that point `p` reads, any selection (in a cascade's blend band, the
+// nearer one).
 fn gnomon_map_index(light: u32, p: vec3<f32>) -> u32 {
-    return gnomon_select(light, p).map;
+    if (gnomon_shadows.lights[light].info.y == GNOMON_SELECT_CASCADES) {
+        return gnomon_select(light, p).map;
+    }
+    return gnomon_plane_map_index(light, p);
 }
 
 struct GnomonIncidence {

@@ -112,11 +112,15 @@ fn vs_main_infinite(@location(0) position: vec3<f32>, @location(1) normal: vec3<
 // 1.4x the main pass on lavapipe).
 override METRICS: bool = false;
 override LIGHT_COUNT: u32 = 1u;
+// Whether a light has cascades (their per-pixel choice of map and blend band, their fade).
+override CASCADES: bool = false;
 
 // A fragment's surface: geometric normal (the triangle's plane) and shading normal, both
 // turned toward the camera (at the origin of view space).
 struct Surface {
     p: vec3<f32>,
+    // The fragment's position in the target (pixels), for dithering.
+    pixel: vec2<f32>,
     n_geo: vec3<f32>,
     n: vec3<f32>,
     receives: bool,
@@ -125,6 +129,7 @@ struct Surface {
 fn surface(in: MainOut, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> Surface {
     var s: Surface;
     s.p = in.camera;
+    s.pixel = in.clip.xy;
     s.n_geo = normalize(cross(dp_dx, dp_dy));
     let to_eye = -in.camera;
     if (dot(s.n_geo, to_eye) < 0.0) {
@@ -136,6 +141,20 @@ fn surface(in: MainOut, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> Surface {
     }
     s.receives = in.color.w > 0.5;
     return s;
+}
+
+// The map light 0 reads at p, as the main pass is specialised (for the tint and metrics).
+fn main_map_index(light: u32, p: vec3<f32>) -> u32 {
+    if (CASCADES) {
+        return gnomon_select(light, p).map;
+    }
+    return gnomon_plane_map_index(light, p);
+}
+
+// Interleaved gradient noise in [0, 1) (Jimenez 2014): a threshold per pixel that is
+// spread evenly over small neighbourhoods.
+fn gnomon_dither(pixel: vec2<f32>) -> f32 {
+    return fract(52.9829189 * fract(dot(pixel, vec2<f32>(0.06711056, 0.00583715))));
 }
 
 struct Shaded {
@@ -161,20 +180,27 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
         var one_tap = 1.0;
         var shadow = 1.0;
         if (s.receives) {
-            let selected = gnomon_select(light, s.p);
-            if (selected.fade < 1.0) {
-                let view = gnomon_map_view(selected.map);
-                let lookup = gnomon_offset_point(view, s.p, s.n_geo, n_dot_l_geo);
-                one_tap = gnomon_lookup_view(view, lookup, GNOMON_FILTER_ONE_TAP);
-                shadow = gnomon_lookup_view(view, lookup, gnomon_shadows.info.y);
-                // A cascade's blend band mixes in the next map; the mask keeps the nearer one.
-                if (selected.next_weight > 0.0) {
-                    let next = gnomon_lookup_surface(
-                        selected.map + 1u, s.p, s.n_geo, n_dot_l_geo, gnomon_shadows.info.y);
-                    shadow = mix(shadow, next, selected.next_weight);
-                }
-                shadow = mix(shadow, 1.0, selected.fade);
-                if (selected.fade > 0.5) {
+            // In a cascade's blend band the next map takes over for a share of the pixels
+            // that grows across the band, dithered by the pixel: one lookup, where mixing two
+            // maps would cost every pixel a second filter on a CPU rasteriser (which samples
+            // in masked-off branches too). Without cascades the map stays the same for every
+            // pixel of a draw, which keeps the reads of its record scalar.
+            var map = gnomon_plane_map_index(light, s.p);
+            var fade = 0.0;
+            if (CASCADES) {
+                let selected = gnomon_select(light, s.p);
+                map = select(
+                    selected.map, selected.map + 1u, selected.next_weight > gnomon_dither(s.pixel));
+                fade = selected.fade;
+            }
+            let view = gnomon_map_view(map);
+            let lookup = gnomon_offset_point(view, s.p, s.n_geo, n_dot_l_geo);
+            one_tap = gnomon_lookup_view(view, lookup, GNOMON_FILTER_ONE_TAP);
+            shadow = gnomon_lookup_view(view, lookup, gnomon_shadows.info.y);
+            if (CASCADES) {
+                // Shadows fade toward the shadow distance.
+                shadow = mix(shadow, 1.0, fade);
+                if (fade > 0.5) {
                     one_tap = 1.0;
                 }
             }
@@ -193,7 +219,7 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
             vec3<f32>(0.55, 0.7, 1.0), vec3<f32>(1.0, 0.55, 0.5), vec3<f32>(0.55, 1.0, 0.55),
             vec3<f32>(1.0, 0.9, 0.45), vec3<f32>(0.85, 0.55, 1.0), vec3<f32>(0.45, 1.0, 1.0),
             vec3<f32>(1.0, 0.7, 0.3), vec3<f32>(0.75, 0.75, 0.75));
-        let k = gnomon_map_index(0u, s.p) - gnomon_shadows.lights[0].info.z;
+        let k = main_map_index(0u, s.p) - gnomon_shadows.lights[0].info.z;
         tint = palette[min(k, 7u)];
     }
     out.color = albedo * (ambient + (1.0 - ambient) * direct) * tint;
@@ -207,7 +233,7 @@ fn sampling_metrics(p: vec3<f32>, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> vec2<f3
     if (gnomon_shadows.info.x == 0u) {
         return vec2<f32>(-1.0, -1.0);
     }
-    let map = gnomon_map_index(0u, p);
+    let map = main_map_index(0u, p);
     if ((gnomon_shadows.maps[map].clip_from_camera * vec4<f32>(p, 1.0)).w <= 0.0) {
         return vec2<f32>(-1.0, -1.0);
     }
