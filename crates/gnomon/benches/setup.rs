@@ -8,8 +8,8 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use gnomon::{
-    Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, Psm, SceneBounds,
-    SpotLight, Tsm, Uniform, Xpsm, compute_setup,
+    Aabb, Camera, Cascades, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, Psm,
+    SceneBounds, SpotLight, Sppsm, Tsm, Uniform, Xpsm, compute_setup,
 };
 
 /// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, on a ground slab: casters, and also
@@ -122,6 +122,41 @@ fn bench(c: &mut Criterion) {
             &scene,
             |b, s| {
                 b.iter(|| compute_setup(&Focused, black_box(&camera), &sun, s, settings).unwrap())
+            },
+        );
+        let unlimited = Lispsm {
+            limit: false,
+            ..Lispsm::default()
+        };
+        group.bench_with_input(
+            BenchmarkId::new("lispsm_without_limit_directional", n),
+            &scene,
+            |b, s| {
+                b.iter(|| compute_setup(&unlimited, black_box(&camera), &sun, s, settings).unwrap())
+            },
+        );
+        group.bench_with_input(BenchmarkId::new("sppsm_directional", n), &scene, |b, s| {
+            b.iter(|| {
+                compute_setup(&Sppsm::default(), black_box(&camera), &sun, s, settings).unwrap()
+            })
+        });
+        let cascades = Cascades::default();
+        group.bench_with_input(
+            BenchmarkId::new("cascades_4_lispsm_directional", n),
+            &scene,
+            |b, s| {
+                b.iter(|| compute_setup(&cascades, black_box(&camera), &sun, s, settings).unwrap())
+            },
+        );
+        let stable = Cascades {
+            stable: true,
+            ..Cascades::default()
+        };
+        group.bench_with_input(
+            BenchmarkId::new("cascades_4_stable_directional", n),
+            &scene,
+            |b, s| {
+                b.iter(|| compute_setup(&stable, black_box(&camera), &sun, s, settings).unwrap())
             },
         );
         group.bench_with_input(BenchmarkId::new("focused_spot", n), &scene, |b, s| {
