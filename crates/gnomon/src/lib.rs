@@ -26,7 +26,10 @@
 //!
 //! Techniques (each cites its paper): [`Uniform`] (SSM), [`Focused`] (FSM with unit cube
 //! clipping), [`Lispsm`] (LiSPSM), [`Tsm`] (TSM), [`Xpsm`] (XPSM), [`Psm`] (PSM), [`Sppsm`]
-//! (two maps and a separating plane). Every technique implements [`ShadowTechnique`];
+//! (two maps and a separating plane), [`Cascades`] (a map per slice of the view, each fitted by
+//! a single-map technique, or stable cascades). The warps are limited so that they sample the
+//! frame's [`ViewSamples`] no more coarsely than the focused map. Every technique implements
+//! [`ShadowTechnique`];
 //! [`Technique`] names them all. [`analysis`] measures aliasing from the matrices;
 //! [`volumes`] builds exact shadow volumes.
 
