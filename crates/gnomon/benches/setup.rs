@@ -9,7 +9,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use gnomon::{
     Aabb, Camera, Cascades, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, Psm,
-    SceneBounds, SpotLight, Sppsm, Tsm, Uniform, Xpsm, compute_setup,
+    SceneBounds, SpotLight, Sppsm, Tsm, Uniform, ViewSamples, Xpsm, compute_setup,
 };
 
 /// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, on a ground slab: casters, and also
@@ -123,6 +123,11 @@ fn bench(c: &mut Criterion) {
             |b, s| {
                 b.iter(|| compute_setup(&Focused, black_box(&camera), &sun, s, settings).unwrap())
             },
+        );
+        group.bench_with_input(
+            BenchmarkId::new("view_samples_from_boxes", n),
+            &scene,
+            |b, s| b.iter(|| ViewSamples::new(black_box(&camera), &sun, s)),
         );
         let unlimited = Lispsm {
             limit: false,

@@ -73,11 +73,16 @@ impl ViewSamples {
         let tan_x = tan_y * lens.aspect;
         let (eye, forward, right, up) =
             (camera.eye(), camera.forward(), camera.right(), camera.up());
-        // The ray through cell (i, j): eye + t d, with t the view depth (forward . d = 1).
+        // The ray through cell (i, j): eye + t d, with t the view depth (forward . d = 1), and
+        // the reciprocals of its components for the slab tests.
         let ndc = |i: usize, n: usize| (2.0 * i as f64 + 1.0) / n as f64 - 1.0;
-        let direction = |i: usize, j: usize| {
-            forward + right * (ndc(i, cols) * tan_x) + up * (ndc(j, rows) * tan_y)
-        };
+        let rays: Vec<(DVec3, DVec3)> = (0..rows * cols)
+            .map(|k| {
+                let (i, j) = (k % cols, k / cols);
+                let d = forward + right * (ndc(i, cols) * tan_x) + up * (ndc(j, rows) * tan_y);
+                (d, d.recip())
+            })
+            .collect();
         // Nearest hit per cell: (t, face axis).
         let mut nearest = vec![(f64::INFINITY, usize::MAX); rows * cols];
         for aabb in scene.receivers() {
@@ -85,14 +90,16 @@ impl ViewSamples {
             else {
                 continue;
             };
+            let (lo, hi) = (aabb.min() - eye, aabb.max() - eye);
             for j in j0..=j1 {
                 for i in i0..=i1 {
-                    if let Some((t, axis)) = ray_box(eye, direction(i, j), aabb)
+                    let k = j * cols + i;
+                    if let Some((t, axis)) = ray_box(rays[k].1, lo, hi)
                         && t >= lens.near
                         && t <= lens.far
-                        && t < nearest[j * cols + i].0
+                        && t < nearest[k].0
                     {
-                        nearest[j * cols + i] = (t, axis);
+                        nearest[k] = (t, axis);
                     }
                 }
             }
@@ -100,7 +107,7 @@ impl ViewSamples {
         let hits = (0..rows * cols).filter_map(|k| {
             let (t, axis) = nearest[k];
             (axis != usize::MAX).then(|| {
-                let d = direction(k % cols, k / cols);
+                let d = rays[k].0;
                 let mut normal = DVec3::ZERO;
                 normal[axis] = -d[axis].signum();
                 (eye + d * t, normal)
@@ -246,8 +253,9 @@ fn lit_facing(light: &Light, p: DVec3, n: DVec3) -> bool {
     }
 }
 
-/// The grid cells (i0, i1, j0, j1) whose rays can hit `aabb`, or `None` when it lies wholly
-/// behind the near plane or beside the view. A box reaching behind the eye covers every cell.
+/// The grid cells (i0, i1, j0, j1) whose rays can hit `aabb` (through the box around it in
+/// camera coordinates), or `None` when it lies wholly behind the near plane or beside the
+/// view. A box reaching behind the eye covers every cell.
 fn cells_covered(
     aabb: &Aabb,
     camera: &Camera,
@@ -256,30 +264,28 @@ fn cells_covered(
 ) -> Option<(usize, usize, usize, usize)> {
     let (eye, forward, right, up) = (camera.eye(), camera.forward(), camera.right(), camera.up());
     let near = camera.lens().near;
-    let mut lo = (f64::INFINITY, f64::INFINITY);
-    let mut hi = (f64::NEG_INFINITY, f64::NEG_INFINITY);
-    let mut behind = 0;
-    let mut crosses_eye_plane = false;
-    for c in aabb.corners() {
-        let q = c - eye;
-        let z = q.dot(forward);
-        if z < near {
-            behind += 1;
-        }
-        if z <= 0.5 * near {
-            crosses_eye_plane = true;
-            continue;
-        }
-        let (x, y) = (q.dot(right) / (z * tan_x), q.dot(up) / (z * tan_y));
-        lo = (lo.0.min(x), lo.1.min(y));
-        hi = (hi.0.max(x), hi.1.max(y));
-    }
-    if behind == 8 {
+    // The box in camera coordinates (right, up, forward), bounded by a box there: its centre
+    // and the half extents |R| h.
+    let (c, h) = (aabb.center() - eye, aabb.half_extents());
+    let centre = DVec3::new(c.dot(right), c.dot(up), c.dot(forward));
+    let half = DVec3::new(right.abs().dot(h), up.abs().dot(h), forward.abs().dot(h));
+    let (z0, z1) = (centre.z - half.z, centre.z + half.z);
+    if z1 < near {
         return None;
     }
-    if crosses_eye_plane {
+    if z0 <= 0.5 * near {
         return Some((0, cols - 1, 0, rows - 1));
     }
+    // x / z over the camera-space box: least at the nearest depth when x < 0, else at the
+    // farthest (and the other way round for the largest).
+    let bounds = |lo: f64, hi: f64, tan: f64| {
+        let least = lo / if lo < 0.0 { z0 } else { z1 };
+        let most = hi / if hi > 0.0 { z0 } else { z1 };
+        (least / tan, most / tan)
+    };
+    let (x0, x1) = bounds(centre.x - half.x, centre.x + half.x, tan_x);
+    let (y0, y1) = bounds(centre.y - half.y, centre.y + half.y, tan_y);
+    let (lo, hi) = ((x0, y0), (x1, y1));
     // Cell i's centre is at (2 i + 1) / n - 1: the cells whose centres lie in [lo, hi].
     let range = |lo: f64, hi: f64, n: usize| {
         let first = ((lo + 1.0) * 0.5 * n as f64 - 0.5).ceil().max(0.0);
@@ -293,30 +299,25 @@ fn cells_covered(
     Some((i0, i1, j0, j1))
 }
 
-/// Where the ray `origin + t d` (t >= 0) enters `aabb`, and the axis of the face it enters
-/// through; `None` when it misses or starts inside.
-fn ray_box(origin: DVec3, d: DVec3, aabb: &Aabb) -> Option<(f64, usize)> {
-    let (mut t_enter, mut t_exit, mut axis) = (0.0f64, f64::INFINITY, usize::MAX);
-    for k in 0..3 {
-        let (lo, hi) = (aabb.min()[k], aabb.max()[k]);
-        if d[k] == 0.0 {
-            if origin[k] < lo || origin[k] > hi {
-                return None;
-            }
-            continue;
-        }
-        let inv = 1.0 / d[k];
-        let (t0, t1) = {
-            let (a, b) = ((lo - origin[k]) * inv, (hi - origin[k]) * inv);
-            (a.min(b), a.max(b))
-        };
-        if t0 > t_enter {
-            t_enter = t0;
-            axis = k;
-        }
-        t_exit = t_exit.min(t1);
-    }
-    (axis != usize::MAX && t_enter <= t_exit).then_some((t_enter, axis))
+/// Where the ray `t d` (t >= 0) from the origin enters the box [lo, hi] (relative to the
+/// ray's origin), given `inv` = 1 / d per component, and the axis of the face it enters
+/// through; `None` when it misses or starts inside. (A zero component gives infinite
+/// reciprocals: the slab is all or nothing, and a NaN from 0 x infinity is ignored by min and
+/// max.)
+fn ray_box(inv: DVec3, lo: DVec3, hi: DVec3) -> Option<(f64, usize)> {
+    let a = lo * inv;
+    let b = hi * inv;
+    let near = a.min(b);
+    let far = a.max(b);
+    let t_exit = far.x.min(far.y).min(far.z);
+    let (t_enter, axis) = if near.x >= near.y && near.x >= near.z {
+        (near.x, 0)
+    } else if near.y >= near.z {
+        (near.y, 1)
+    } else {
+        (near.z, 2)
+    };
+    (t_enter > 0.0 && t_enter <= t_exit).then_some((t_enter, axis))
 }
 
 #[cfg(test)]
