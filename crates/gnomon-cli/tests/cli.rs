@@ -322,6 +322,17 @@ fn demo_writes_every_view_and_technique() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// The entry of `json["techniques"]` named `name`.
+fn technique_row(json: &Value, name: &str) -> Value {
+    json["techniques"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|t| t["technique"] == name)
+        .unwrap_or_else(|| panic!("no {name} in {json}"))
+        .clone()
+}
+
 fn temp_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("gnomon-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -685,15 +696,7 @@ fn analyze_reproduces_the_papers() {
         plot.to_str().unwrap(),
     ]);
     let json: Value = serde_json::from_slice(&out.stdout).unwrap();
-    let row = |name: &str| {
-        json["techniques"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|t| t["technique"] == name)
-            .unwrap_or_else(|| panic!("no {name}"))
-            .clone()
-    };
+    let row = |name: &str| technique_row(&json, name);
     let near = |v: &Value, expected: f64| (v.as_f64().unwrap() / expected - 1.0).abs() <= 0.03;
     let uniform = row("uniform");
     assert!(
@@ -1333,14 +1336,7 @@ fn cascades_on_the_command_line() {
             "--json",
         ]);
         let json: Value = serde_json::from_slice(&out.stdout).unwrap();
-        json["techniques"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|t| t["technique"] == "cascades")
-            .unwrap()["max"]
-            .as_f64()
-            .unwrap()
+        technique_row(&json, "cascades")["max"].as_f64().unwrap()
     };
     let (focused, lispsm) = (analyze("focused"), analyze("lispsm"));
     assert!((focused / 4.33 - 1.0).abs() < 0.02, "{focused}");
@@ -1437,16 +1433,10 @@ fn stable_cascades_do_not_flicker() {
         ]);
         let json: Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(json["path"], path);
-        let row = |name: &str| {
-            json["techniques"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .find(|t| t["technique"] == name)
-                .unwrap()
-                .clone()
-        };
-        let (focused, stable) = (row("focused"), row("cascades-stable"));
+        let (focused, stable) = (
+            technique_row(&json, "focused"),
+            technique_row(&json, "cascades-stable"),
+        );
         assert!(stable["judged"].as_u64().unwrap() > 10_000, "{stable}");
         let (f, s) = (
             focused["false_flicker"].as_f64().unwrap(),

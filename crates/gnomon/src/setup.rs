@@ -549,16 +549,7 @@ pub fn compute_setup(
     scene: &SceneBounds,
     map: MapSettings,
 ) -> Result<ShadowSetup, SetupError> {
-    checked_setup(
-        technique,
-        &SetupInput {
-            camera,
-            light,
-            scene,
-            map,
-            samples: None,
-        },
-    )
+    checked_setup(technique, camera, light, scene, map, None)
 }
 
 /// [`compute_setup`] with the frame's [`ViewSamples`]: what the renderer's pixels see (its
@@ -572,24 +563,25 @@ pub fn compute_setup_with_samples(
     map: MapSettings,
     samples: &ViewSamples,
 ) -> Result<ShadowSetup, SetupError> {
-    checked_setup(
-        technique,
-        &SetupInput {
-            camera,
-            light,
-            scene,
-            map,
-            samples: Some(samples),
-        },
-    )
+    checked_setup(technique, camera, light, scene, map, Some(samples))
 }
 
 fn checked_setup(
     technique: &dyn ShadowTechnique,
-    input: &SetupInput<'_>,
+    camera: &Camera,
+    light: &Light,
+    scene: &SceneBounds,
+    map: MapSettings,
+    samples: Option<&ViewSamples>,
 ) -> Result<ShadowSetup, SetupError> {
-    input.map.validate()?;
-    let setup = technique.setup(input)?;
+    map.validate()?;
+    let setup = technique.setup(&SetupInput {
+        camera,
+        light,
+        scene,
+        map,
+        samples,
+    })?;
     if setup.maps.iter().all(ShadowMap::is_finite) {
         Ok(setup)
     } else {
