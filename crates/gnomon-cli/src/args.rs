@@ -334,7 +334,10 @@ fn options_read_by(technique: &Technique) -> Vec<&'static str> {
                 "--stable",
                 "--equal-texels",
             ];
-            if let Some(fit) = fit_technique(c.fit) {
+            // Stable cascades fit a sphere per slice: no fit technique, none of its options.
+            if c.stable {
+                read.retain(|o| *o != "--cascade-fit");
+            } else if let Some(fit) = fit_technique(c.fit) {
                 read.extend(options_read_by(&fit));
             }
             read

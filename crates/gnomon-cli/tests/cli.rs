@@ -1393,6 +1393,10 @@ fn cascades_on_the_command_line() {
         (vec!["--cascade-lambda", "2"], "lambda"),
         (vec!["--cascade-blend", "0.7"], "blend"),
         (vec!["--shadow-distance", "-5"], "shadow distance"),
+        (
+            vec!["--stable", "--cascade-fit", "lispsm"],
+            "--cascade-fit does nothing",
+        ),
     ] {
         let mut args = vec!["setup", "--technique", "cascades"];
         args.extend(view);
