@@ -7,17 +7,17 @@
 
 use glam::DVec3;
 
-use crate::body::focus_body;
 use crate::error::SetupError;
-use crate::focus::{VisibleScene, caster_extents, unit_cube_clip};
-use crate::geometry::{ConvexPolyhedron, Plane};
+use crate::focus::{caster_extents, unit_cube_clip};
+use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, Projector, build_map};
 use crate::setup::{
     Diagnostics, Fallback, LightFrameKind, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
 };
-use crate::techniques::uniform::{fixed_projector, uniform_map};
-use crate::techniques::{ANGULAR_PADDING, tolerance};
+use crate::techniques::ANGULAR_PADDING;
+use crate::techniques::basis::FocusBasis;
+use crate::techniques::uniform::uniform_map;
 
 /// Focused shadow map (FSM): the light's projection (orthographic for a directional light,
 /// the spot light's perspective for a spot light) fitted to what the camera sees, by unit
@@ -49,9 +49,16 @@ impl ShadowTechnique for Focused {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         input.map.validate()?;
+        Ok(self.setup_on(input, &FocusBasis::new(input)))
+    }
+}
+
+impl Focused {
+    /// The focused map of `input` on its (shared) visible scene and B.
+    pub(crate) fn setup_on(&self, input: &SetupInput<'_>, basis: &FocusBasis) -> ShadowSetup {
         let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
-        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
-        let map = match focus(input, tolerance, &mut diagnostics) {
+        let tolerance = basis.tolerance;
+        let map = match focus(input, basis, &mut diagnostics) {
             Some((projector, region)) => {
                 let xy_padding = match projector {
                     Projector::Parallel(_) => tolerance,
@@ -61,30 +68,22 @@ impl ShadowTechnique for Focused {
             }
             None => uniform_map(input.light, input.scene, input.map, &mut diagnostics),
         };
-        Ok(ShadowSetup {
+        ShadowSetup {
             technique: self.name(),
             maps: vec![map],
             selection: MapSelection::Single,
             diagnostics,
-        })
+        }
     }
 }
 
 /// The focused projector and region, or `None` when the uniform map is the fallback.
 pub(crate) fn focus(
     input: &SetupInput<'_>,
-    tolerance: f64,
+    basis: &FocusBasis,
     diagnostics: &mut Diagnostics,
 ) -> Option<(Projector, Extents)> {
-    let scene_box = input.scene.scene_box();
-    let (light_planes, fixed) = match input.light {
-        Light::Directional(_) => (None, fixed_projector(input.light)),
-        Light::Spot(spot) => {
-            let projector = fixed_projector(input.light);
-            (Some(spot.frustum_planes(projector.frame().up)), projector)
-        }
-    };
-    let visible = VisibleScene::new(input.camera, input.scene, light_planes.as_ref(), tolerance);
+    let (tolerance, visible, light_planes) = (basis.tolerance, &basis.visible, &basis.light_planes);
     diagnostics.visible_receivers = visible.visible_receivers();
     if visible.view_body.is_empty() && light_planes.is_some() {
         diagnostics.fallbacks.push(Fallback::SpotLightMissesView);
@@ -100,16 +99,11 @@ pub(crate) fn focus(
     {
         diagnostics.fallbacks.push(Fallback::LightParallelToView);
     }
-    // B does not depend on the rotation about the light direction: build it in the fixed frame.
-    let region = match &light_planes {
-        None => ConvexPolyhedron::from_box(&scene_box),
-        Some(planes) => ConvexPolyhedron::from_box(&scene_box).clip_all(planes, tolerance),
-    };
-    let body = focus_body(&visible.view_body, &region, &fixed, tolerance).vertices(tolerance);
+    let body = &basis.body;
     diagnostics.focus_body_vertices = body.len();
-    let projector = choose_frame(input, &body, fixed, diagnostics);
+    let projector = choose_frame(input, body, basis.fixed, diagnostics);
     let receivers = visible.receiver_extents(input.scene, &projector);
-    let body_extents = usable_body_extents(&body, &projector, &receivers, tolerance);
+    let body_extents = usable_body_extents(body, &projector, &receivers, tolerance);
     if body_extents.is_none() {
         diagnostics.fallbacks.push(Fallback::DegenerateFocusBody);
     }

@@ -53,6 +53,7 @@
 
 use crate::error::SetupError;
 use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
+use crate::techniques::basis::FocusBasis;
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
 use crate::techniques::warp_limit::limit_warp;
 
@@ -92,8 +93,13 @@ impl Lispsm {
     }
 
     /// The setup with 1 / n scaled by `strength` (1: the paper's).
-    fn setup_at(&self, input: &SetupInput<'_>, strength: f64) -> Result<ShadowSetup, SetupError> {
-        view_warp_setup(input, self.name(), true, |c| {
+    fn setup_at(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+        strength: f64,
+    ) -> Result<ShadowSetup, SetupError> {
+        view_warp_setup(input, basis, self.name(), true, |c| {
             // P's near plane at B's nearest Y; the projection reference point n before it.
             // The formula is in world units; for a spot light, light space's Y is in tangent
             // units, so 1 / n is scaled by B's world depth over its depth in light space
@@ -127,8 +133,8 @@ impl ShadowTechnique for Lispsm {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         self.validate()?;
-        limit_warp(input, self.name(), self.limit, |strength| {
-            self.setup_at(input, strength)
+        limit_warp(input, self.name(), self.limit, |basis, strength| {
+            self.setup_at(input, basis, strength)
         })
     }
 }

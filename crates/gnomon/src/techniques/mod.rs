@@ -1,5 +1,6 @@
 //! The shadow-map techniques, one file each, all behind [`crate::ShadowTechnique`].
 
+mod basis;
 mod cascades;
 mod focused;
 mod lispsm;

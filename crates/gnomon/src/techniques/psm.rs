@@ -54,8 +54,9 @@ use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, pad};
 use crate::setup::{
     Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
+use crate::techniques::basis::FocusBasis;
 use crate::techniques::focused::Focused;
-use crate::techniques::view_warp::{WarpBasis, warp_basis};
+use crate::techniques::view_warp::warp_diagnostics;
 use crate::techniques::warp_limit::limit_warp;
 use crate::techniques::{ANGULAR_PADDING, with_fallback};
 
@@ -97,21 +98,30 @@ impl Psm {
     }
 
     /// The setup with the virtual eye's distance from B's near side divided by `strength`.
-    fn setup_at(&self, input: &SetupInput<'_>, strength: f64) -> Result<ShadowSetup, SetupError> {
+    fn setup_at(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+        strength: f64,
+    ) -> Result<ShadowSetup, SetupError> {
         let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
-            Ok(with_fallback(Focused.setup(input)?, "psm", fallback))
+            Ok(with_fallback(
+                Focused.setup_on(input, basis),
+                "psm",
+                fallback,
+            ))
         };
         let camera = input.camera;
-        let WarpBasis {
-            visible,
-            body,
-            tolerance,
-            light_planes,
-            mut diagnostics,
-        } = match warp_basis(input, self.name()) {
-            Ok(basis) => basis,
+        let mut diagnostics = match warp_diagnostics(input, self.name(), basis) {
+            Ok(diagnostics) => diagnostics,
             Err(uniform) => return Ok(*uniform),
         };
+        let (visible, body, tolerance, light_planes) = (
+            &basis.visible,
+            &basis.body,
+            basis.tolerance,
+            &basis.light_planes,
+        );
         let (eye, forward, near) = (camera.eye(), camera.forward(), camera.lens().near);
         let depth = |p: DVec3| (p - eye).dot(forward);
         let b0 = body.iter().map(|p| depth(*p)).fold(f64::INFINITY, f64::min);
@@ -299,8 +309,8 @@ impl ShadowTechnique for Psm {
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         input.map.validate()?;
         self.validate()?;
-        limit_warp(input, self.name(), self.limit, |strength| {
-            self.setup_at(input, strength)
+        limit_warp(input, self.name(), self.limit, |basis, strength| {
+            self.setup_at(input, basis, strength)
         })
     }
 }

@@ -48,13 +48,13 @@
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
 use crate::error::SetupError;
-use crate::focus::VisibleScene;
 use crate::geometry::convex_hull_2d;
 use crate::light::Light;
 use crate::setup::{Fallback, MapProjection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
+use crate::techniques::basis::FocusBasis;
 use crate::techniques::focused::Focused;
 use crate::techniques::warp_limit::limit_warp;
-use crate::techniques::{tolerance, with_fallback};
+use crate::techniques::with_fallback;
 
 /// Trapezoidal shadow map (TSM, Martin and Tan 2004) over the focused map. See the module
 /// documentation for the construction, where its projection point goes, and each degenerate
@@ -103,8 +103,13 @@ impl Tsm {
     }
 
     /// The setup with eta divided by `strength` (the projection point moved away).
-    fn setup_at(&self, input: &SetupInput<'_>, strength: f64) -> Result<ShadowSetup, SetupError> {
-        let mut setup = Focused.setup(input)?;
+    fn setup_at(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+        strength: f64,
+    ) -> Result<ShadowSetup, SetupError> {
+        let mut setup = Focused.setup_on(input, basis);
         setup.technique = self.name();
         let fallback_setup = setup.clone();
         let fall_back =
@@ -122,9 +127,9 @@ impl Tsm {
             return Ok(setup);
         }
         let focused = setup.maps[0];
-        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
-        let visible = VisibleScene::new(input.camera, input.scene, None, tolerance);
-        let body = visible.view_body.vertices(tolerance);
+        // P's vertices (a directional light: no light frustum cuts it).
+        let tolerance = basis.tolerance;
+        let body = basis.visible.view_body.vertices(tolerance);
         let ndc = |p: DVec3| focused.project(p).map(|v| v.truncate());
         let Some(q_polygon) = clipped_hull(
             body.iter().filter_map(|p| ndc(*p)).collect(),
@@ -214,8 +219,8 @@ impl ShadowTechnique for Tsm {
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         input.map.validate()?;
         self.validate()?;
-        limit_warp(input, self.name(), self.limit, |strength| {
-            self.setup_at(input, strength)
+        limit_warp(input, self.name(), self.limit, |basis, strength| {
+            self.setup_at(input, basis, strength)
         })
     }
 }

@@ -28,19 +28,19 @@
 
 use glam::{DMat4, DVec3, DVec4};
 
-use crate::body::focus_body;
 use crate::error::SetupError;
-use crate::focus::{BoxSide, ParallelBoxes, VisibleScene, box_cut_vertices, classify_box};
-use crate::geometry::{ConvexPolyhedron, Plane};
+use crate::focus::{BoxSide, ParallelBoxes, box_cut_vertices, classify_box};
+use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, pad};
 use crate::setup::{
     Diagnostics, Fallback, LightFrameKind, MapProjection, MapSelection, SetupInput, ShadowMap,
-    ShadowSetup, ShadowTechnique,
+    ShadowSetup,
 };
+use crate::techniques::basis::FocusBasis;
 use crate::techniques::focused::Focused;
 use crate::techniques::uniform::uniform_map;
-use crate::techniques::{ANGULAR_PADDING, fixed_projector, tolerance, with_fallback};
+use crate::techniques::{ANGULAR_PADDING, with_fallback};
 
 /// Light space before the warp: where light rays are parallel to Z.
 #[derive(Debug, Clone, Copy)]
@@ -208,32 +208,17 @@ impl Warp {
     }
 }
 
-/// What every camera-dependent warp starts from: the visible scene, B's vertices, the
-/// tolerance, the spot light's frustum (if any) and the diagnostics so far.
-pub(crate) struct WarpBasis {
-    pub visible: VisibleScene,
-    pub body: Vec<DVec3>,
-    pub tolerance: f64,
-    pub light_planes: Option<[Plane; 6]>,
-    pub diagnostics: Diagnostics,
-}
-
-/// The visible scene and B for `input` (for a spot light, inside its frustum), or (as `Err`)
+/// The diagnostics a warp starts from (the visible receivers, B's vertices), or (as `Err`)
 /// the uniform setup when no receiver is visible or the spot light cannot see the view.
-pub(crate) fn warp_basis(
+pub(crate) fn warp_diagnostics(
     input: &SetupInput<'_>,
     technique: &'static str,
-) -> Result<WarpBasis, Box<ShadowSetup>> {
+    basis: &FocusBasis,
+) -> Result<Diagnostics, Box<ShadowSetup>> {
     let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
-    let tolerance = tolerance(input.scene, Some(input.camera), input.light);
-    let fixed = fixed_projector(input.light);
-    let light_planes = match input.light {
-        Light::Directional(_) => None,
-        Light::Spot(spot) => Some(spot.frustum_planes(fixed.frame().up)),
-    };
-    let visible = VisibleScene::new(input.camera, input.scene, light_planes.as_ref(), tolerance);
+    let visible = &basis.visible;
     diagnostics.visible_receivers = visible.visible_receivers();
-    let nothing_to_see = if visible.view_body.is_empty() && light_planes.is_some() {
+    let nothing_to_see = if visible.view_body.is_empty() && basis.light_planes.is_some() {
         Some(Fallback::SpotLightMissesView)
     } else if visible.visible_receivers() == 0 {
         Some(Fallback::NoVisibleReceiver)
@@ -250,17 +235,8 @@ pub(crate) fn warp_basis(
             diagnostics,
         }));
     }
-    let region = ConvexPolyhedron::from_box(&input.scene.scene_box())
-        .clip_all(light_planes.iter().flatten(), tolerance);
-    let body = focus_body(&visible.view_body, &region, &fixed, tolerance).vertices(tolerance);
-    diagnostics.focus_body_vertices = body.len();
-    Ok(WarpBasis {
-        visible,
-        body,
-        tolerance,
-        light_planes,
-        diagnostics,
-    })
+    diagnostics.focus_body_vertices = basis.body.len();
+    Ok(diagnostics)
 }
 
 /// The setup of a view-axis warp: the focused map where the warp is undefined (view
@@ -269,13 +245,18 @@ pub(crate) fn warp_basis(
 /// space.
 pub(crate) fn view_warp_setup(
     input: &SetupInput<'_>,
+    basis: &FocusBasis,
     technique: &'static str,
     warps_spot_lights: bool,
     choose: impl FnOnce(&WarpContext) -> WarpChoice,
 ) -> Result<ShadowSetup, SetupError> {
     input.map.validate()?;
     let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
-        Ok(with_fallback(Focused.setup(input)?, technique, fallback))
+        Ok(with_fallback(
+            Focused.setup_on(input, basis),
+            technique,
+            fallback,
+        ))
     };
     let (eye, view) = (input.camera.eye(), input.camera.forward());
     let (space, sin_gamma) = match input.light {
@@ -309,16 +290,16 @@ pub(crate) fn view_warp_setup(
         }
         Light::Spot(_) => return fallback(Fallback::SpotLightNotWarped),
     };
-    let WarpBasis {
-        visible,
-        body,
-        tolerance,
-        light_planes,
-        mut diagnostics,
-    } = match warp_basis(input, technique) {
-        Ok(basis) => basis,
+    let mut diagnostics = match warp_diagnostics(input, technique, basis) {
+        Ok(diagnostics) => diagnostics,
         Err(uniform) => return Ok(*uniform),
     };
+    let (visible, body, tolerance, light_planes) = (
+        &basis.visible,
+        &basis.body,
+        basis.tolerance,
+        &basis.light_planes,
+    );
     diagnostics.light_frame = LightFrameKind::ViewAligned;
     let linear_row = input.light.linear_depth_row();
     let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
@@ -327,7 +308,7 @@ pub(crate) fn view_warp_setup(
     let mut body_light = Extents::EMPTY;
     let mut body_linear = f64::INFINITY;
     let mut body_up = (f64::INFINITY, f64::NEG_INFINITY);
-    for p in &body {
+    for p in body {
         body_light.add(space.light(*p));
         body_linear = body_linear.min(linear(*p));
         let y = space.frame().up.dot(*p);
@@ -395,7 +376,7 @@ pub(crate) fn view_warp_setup(
     });
     let receivers_z = receivers_linear.1;
     let mut body_warped = Extents::EMPTY;
-    for p in &body {
+    for p in body {
         body_warped.add(warp.warp(warp.light(*p)).0);
     }
 

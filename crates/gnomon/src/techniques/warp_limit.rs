@@ -19,7 +19,8 @@
 
 use crate::error::SetupError;
 use crate::samples::ViewSamples;
-use crate::setup::{Fallback, SetupInput, ShadowSetup, ShadowTechnique};
+use crate::setup::{Fallback, SetupInput, ShadowSetup};
+use crate::techniques::basis::FocusBasis;
 use crate::techniques::focused::Focused;
 use crate::techniques::with_fallback;
 
@@ -36,13 +37,16 @@ pub(crate) const MIN_SAMPLES: usize = 16;
 /// The setup `build` gives at the largest strength in 1, 1/2, ... 1/2^HALVINGS whose map
 /// samples `input`'s view no more coarsely than the focused map, else the focused map; with
 /// `enabled` false, or when the full-strength setup is not a warp (a fallback), that setup.
+/// `build` and the focused map share one [`FocusBasis`].
 pub(crate) fn limit_warp(
     input: &SetupInput<'_>,
     technique: &'static str,
     enabled: bool,
-    build: impl Fn(f64) -> Result<ShadowSetup, SetupError>,
+    build: impl Fn(&FocusBasis, f64) -> Result<ShadowSetup, SetupError>,
 ) -> Result<ShadowSetup, SetupError> {
-    let mut setup = build(1.0)?;
+    // The visible scene and B, once for the focused map and every strength tried.
+    let basis = FocusBasis::new(input);
+    let mut setup = build(&basis, 1.0)?;
     if !enabled || !is_warp(&setup) {
         return Ok(setup);
     }
@@ -57,7 +61,7 @@ pub(crate) fn limit_warp(
     if samples.len() < MIN_SAMPLES {
         return Ok(setup);
     }
-    let focused = Focused.setup(input)?;
+    let focused = Focused.setup_on(input, &basis);
     // The 95th percentile and the worst sample.
     let measure = |s: &ShadowSetup| {
         samples
@@ -69,7 +73,7 @@ pub(crate) fn limit_warp(
     for halving in 0..=HALVINGS {
         if halving > 0 {
             strength *= 0.5;
-            setup = build(strength)?;
+            setup = build(&basis, strength)?;
         }
         let ours = measure(&setup);
         if ours[0] <= reference[0] && ours[1] <= MAX_MARGIN * reference[1] {

@@ -27,6 +27,7 @@
 
 use crate::error::SetupError;
 use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
+use crate::techniques::basis::FocusBasis;
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
 use crate::techniques::warp_limit::limit_warp;
 
@@ -74,8 +75,13 @@ impl Xpsm {
     }
 
     /// The setup with len scaled by `strength` (1: the chapter's, clamped).
-    fn setup_at(&self, input: &SetupInput<'_>, strength: f64) -> Result<ShadowSetup, SetupError> {
-        view_warp_setup(input, self.name(), false, |c| {
+    fn setup_at(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+        strength: f64,
+    ) -> Result<ShadowSetup, SetupError> {
+        view_warp_setup(input, basis, self.name(), false, |c| {
             // |V.xy| is sin(gamma); the frame exists, so it is at least 1e-3.
             let mut len = self.coef / c.sin_gamma;
             let m = c.body_light.min.y - c.eye_light.y;
@@ -98,8 +104,8 @@ impl ShadowTechnique for Xpsm {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         self.validate()?;
-        limit_warp(input, self.name(), self.limit, |strength| {
-            self.setup_at(input, strength)
+        limit_warp(input, self.name(), self.limit, |basis, strength| {
+            self.setup_at(input, basis, strength)
         })
     }
 }
