@@ -25,8 +25,9 @@ pub struct BenchArgs {
     pub scene: String,
     #[command(flatten)]
     pub mesh: MeshArgs,
-    /// What to time, comma-separated: shadow-map techniques (uniform, focused, lispsm, tsm,
-    /// xpsm, psm, sppsm) and shadow volumes (volumes = z-fail, volumes-z-pass,
+    /// What to time, comma-separated: shadow-map techniques and compare's rows (uniform,
+    /// focused, lispsm, tsm, xpsm, psm, sppsm, cascades, sppsm-same-texels, cascades-stable,
+    /// cascades-lispsm, cascades-best) and shadow volumes (volumes = z-fail, volumes-z-pass,
     /// volumes-per-caster).
     #[arg(
         long,
@@ -57,8 +58,20 @@ pub struct BenchArgs {
     pub json: bool,
 }
 
-/// One thing timed: a name of the registry.
-type Entry = Drawn;
+/// One thing timed: a row of shadow maps, or the shadow volumes counted one way.
+enum Entry {
+    Map(crate::rows::Row),
+    Volumes(gnomon_render::StencilMode),
+}
+
+impl Entry {
+    fn name(&self) -> &str {
+        match self {
+            Entry::Map(row) => &row.label,
+            Entry::Volumes(mode) => Drawn::Volumes(*mode).name(),
+        }
+    }
+}
 
 /// A view to time: name, camera, light.
 type View = (String, Camera, Light);
@@ -112,19 +125,22 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let entries = args
         .techniques
         .iter()
-        .map(|t| match Drawn::parse(t).map_err(CliError::usage)? {
-            Drawn::Map(technique) => Ok(Drawn::Map(args.params.apply(technique))),
-            volumes => Ok(volumes),
-        })
+        .map(
+            |t| match crate::names::VOLUMES.iter().find(|(n, _)| *n == t.trim()) {
+                Some((_, mode)) => Ok(Entry::Volumes(*mode)),
+                None => crate::rows::row(t, &args.params, args.shadow_map).map(Entry::Map),
+            },
+        )
         .collect::<Result<Vec<_>, CliError>>()?;
     if entries.is_empty() {
         return Err(CliError::usage("--techniques names nothing to time"));
     }
+    // The parameters given must be read by a row that takes them (fixed rows keep their own).
     let maps: Vec<Technique> = entries
         .iter()
         .filter_map(|e| match e {
-            Drawn::Map(t) => Some(*t),
-            Drawn::Volumes(_) => None,
+            Entry::Map(row) if row.params == args.params => Some(row.technique),
+            _ => None,
         })
         .collect();
     if !maps.is_empty() {
@@ -185,20 +201,20 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                  samples: &gnomon::ViewSamples|
      -> Result<(f64, Timings), CliError> {
         match entry {
-            Drawn::Map(technique) => {
+            Entry::Map(row) => {
                 let (setup, setup_us) = timed_setup(
-                    technique,
+                    &row.technique,
                     camera,
                     light,
                     &bounds,
-                    args.shadow_map,
+                    row.resolution,
                     Some(samples),
                 )?;
                 let f = renderer.render(camera, light, &setup, &settings)?;
                 let t = f.timings;
                 Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
             }
-            Drawn::Volumes(mode) => {
+            Entry::Volumes(mode) => {
                 let f = renderer
                     .render_volumes(camera, light, &settings, *mode)?
                     .frame;
