@@ -60,7 +60,7 @@ pub struct BenchArgs {
 
 /// One thing timed: a row of shadow maps, or the shadow volumes counted one way.
 enum Entry {
-    Map(crate::rows::Row),
+    Map(Box<crate::rows::Row>),
     Volumes(gnomon_render::StencilMode),
 }
 
@@ -128,7 +128,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         .map(
             |t| match crate::names::VOLUMES.iter().find(|(n, _)| *n == t.trim()) {
                 Some((_, mode)) => Ok(Entry::Volumes(*mode)),
-                None => crate::rows::row(t, &args.params, args.shadow_map).map(Entry::Map),
+                None => crate::rows::row(t, &args.params, args.shadow_map)
+                    .map(|r| Entry::Map(Box::new(r))),
             },
         )
         .collect::<Result<Vec<_>, CliError>>()?;
