@@ -382,6 +382,13 @@ fn casters_by_side(scene: &SceneBounds, plane: DVec4) -> CastersBySide {
     counts
 }
 
+/// Whether the plane `next` is `plane` up to a millionth of `scale` (world units) in its
+/// offset and round-off in its normal.
+fn converged(plane: DVec4, next: DVec4, scale: f64) -> bool {
+    (next.truncate() - plane.truncate()).length() <= 1e-9
+        && (next.w - plane.w).abs() <= 1e-6 * scale
+}
+
 impl ShadowTechnique for Sppsm {
     fn name(&self) -> &'static str {
         "sppsm"
@@ -487,6 +494,12 @@ impl ShadowTechnique for Sppsm {
                 break;
             }
             match separating_plane(&focused_map, &perspective_map, input.light) {
+                // Refocusing converges geometrically (the plane's offset moves about a sixth
+                // as far each time); once it moves by less than a millionth of the scene, the
+                // next maps would be the same to far below a texel.
+                Some(next) if converged(plane, next, input.scene.scene_box().diagonal()) => {
+                    break;
+                }
                 Some(next) => plane = next,
                 None => break,
             }
