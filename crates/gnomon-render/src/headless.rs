@@ -425,7 +425,7 @@ impl Renderer {
         let mut views = Vec::new();
         let mut k = 0u32;
         for l in lights {
-            for map in &l.setup.maps {
+            for (i, map) in l.setup.maps.iter().enumerate() {
                 let (size, offset) = (map.resolution.min(MAX_LIGHT_VIEW), self.slot(k));
                 let targets = self.headless.as_mut().expect("made by render");
                 if targets
@@ -458,7 +458,20 @@ impl Renderer {
                 let mut rgba = self
                     .readback
                     .read(&self.gpu, &self.resources, texture, 4, 0)?;
-                draw_frustum(&mut rgba, size, camera, map);
+                // A cascade's map shows its slice of the view.
+                let slice = match l.setup.selection {
+                    gnomon::MapSelection::Cascades(c) => Camera::from_view_from_world(
+                        camera.view_from_world(),
+                        gnomon::Lens {
+                            near: c.view_depths[i],
+                            far: c.view_depths[i + 1],
+                            ..camera.lens()
+                        },
+                    )
+                    .ok(),
+                    _ => None,
+                };
+                draw_frustum(&mut rgba, size, slice.as_ref().unwrap_or(camera), map);
                 views.push((size, rgba));
                 k += 1;
             }
