@@ -18,13 +18,14 @@
 //!   (its inset square's footprint in the map plane is no larger);
 //! - SPPSM (two maps and a plane): the same, for the map each receiver point's side of the
 //!   plane picks, with its shadowing caster points in that same map;
-//! - cascades (LiSPSM and focused fits, stable, equal texels): the same for the map of the
-//!   point's slice and, in a blend band, the next slice's map too.
+//! - cascades (every fit: LiSPSM, focused with equal texels, PSM, TSM, XPSM; every split;
+//!   stable): the same for the map of the point's slice and, in a blend band, the next
+//!   slice's map too.
 
 use glam::{DVec3, DVec4};
 use gnomon::{
-    Aabb, Camera, CascadeFit, Cascades, DirectionalLight, Focused, Lens, Light, Lispsm,
-    MapSelection, MapSettings, Psm, SceneBounds, ShadowMap, ShadowSetup, SpotLight, Sppsm,
+    Aabb, Camera, CascadeFit, CascadeSplit, Cascades, DirectionalLight, Focused, Lens, Light,
+    Lispsm, MapSelection, MapSettings, Psm, SceneBounds, ShadowMap, ShadowSetup, SpotLight, Sppsm,
     Technique, Tsm, Uniform, Xpsm, compute_setup,
 };
 use proptest::prelude::*;
@@ -444,6 +445,28 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
         count: 5,
         ..Cascades::default()
     }))?;
+    // Every other fit inside cascades, each with its own split and band.
+    let fits = [
+        (CascadeFit::Psm(Psm::default()), CascadeSplit::Log, 0.2),
+        (CascadeFit::Tsm(Tsm::default()), CascadeSplit::Uniform, 0.5),
+        (
+            CascadeFit::Xpsm(Xpsm::default()),
+            CascadeSplit::FirstThenLog { first: 3.0 },
+            0.1,
+        ),
+    ]
+    .map(|(fit, split, blend)| {
+        setup(Technique::Cascades(Cascades {
+            fit,
+            split,
+            blend,
+            count: 3,
+            ..Cascades::default()
+        }))
+    });
+    let [psm_cascades, tsm_cascades, xpsm_cascades] = fits;
+    let (psm_cascades, tsm_cascades, xpsm_cascades) =
+        (psm_cascades?, tsm_cascades?, xpsm_cascades?);
     let mut rng = TestRng::from_seed(
         proptest::test_runner::RngAlgorithm::ChaCha,
         &[seed as u8; 32],
@@ -460,6 +483,9 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
         &cascades,
         &focused_cascades,
         &stable,
+        &psm_cascades,
+        &tsm_cascades,
+        &xpsm_cascades,
     ] {
         for map in &setup.maps {
             if !(map.clip_from_world.is_finite() && map.depth_from_world.is_finite()) {
