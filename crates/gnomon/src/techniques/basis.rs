@@ -1,6 +1,9 @@
 //! What every focused or warped map of one setup starts from, computed once and shared: the
 //! focused map, the warp at each strength the warp limit tries, and TSM's trapezoid all read
-//! the same visible scene and convex body B.
+//! the same visible scene and convex body B, and the focused map itself (the warps' fallback,
+//! the limit's reference, TSM's start) is made once.
+
+use std::cell::OnceCell;
 
 use glam::DVec3;
 
@@ -9,7 +12,8 @@ use crate::focus::VisibleScene;
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
 use crate::light_space::Projector;
-use crate::setup::SetupInput;
+use crate::setup::{SetupInput, ShadowSetup};
+use crate::techniques::focused::Focused;
 use crate::techniques::{fixed_projector, tolerance};
 
 /// The visible scene and B of one camera, light and scene.
@@ -26,6 +30,8 @@ pub(crate) struct FocusBasis {
     /// B's vertices (LiSPSM paper, section 3.3), built in the fixed frame (B does not depend
     /// on the rotation about the light direction); empty when no receiver is visible.
     pub body: Vec<DVec3>,
+    /// The focused map on this basis, made on first use.
+    focused: OnceCell<ShadowSetup>,
 }
 
 impl FocusBasis {
@@ -51,6 +57,12 @@ impl FocusBasis {
             light_planes,
             visible,
             body,
+            focused: OnceCell::new(),
         }
+    }
+
+    /// The focused map of `input` (the input this basis was made for), made once.
+    pub fn focused(&self, input: &SetupInput<'_>) -> &ShadowSetup {
+        self.focused.get_or_init(|| Focused.setup_on(input, self))
     }
 }

@@ -55,7 +55,6 @@ use crate::setup::{
     Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
 use crate::techniques::basis::FocusBasis;
-use crate::techniques::focused::Focused;
 use crate::techniques::view_warp::warp_diagnostics;
 use crate::techniques::warp_limit::limit_warp;
 use crate::techniques::{ANGULAR_PADDING, with_fallback};
@@ -105,11 +104,7 @@ impl Psm {
         strength: f64,
     ) -> Result<ShadowSetup, SetupError> {
         let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
-            Ok(with_fallback(
-                Focused.setup_on(input, basis),
-                "psm",
-                fallback,
-            ))
+            Ok(with_fallback(basis.focused(input).clone(), "psm", fallback))
         };
         let camera = input.camera;
         let mut diagnostics = match warp_diagnostics(input, self.name(), basis) {

@@ -52,7 +52,6 @@ use crate::geometry::convex_hull_2d;
 use crate::light::Light;
 use crate::setup::{Fallback, MapProjection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
-use crate::techniques::focused::Focused;
 use crate::techniques::warp_limit::limit_warp;
 use crate::techniques::with_fallback;
 
@@ -109,7 +108,7 @@ impl Tsm {
         basis: &FocusBasis,
         strength: f64,
     ) -> Result<ShadowSetup, SetupError> {
-        let mut setup = Focused.setup_on(input, basis);
+        let mut setup = basis.focused(input).clone();
         setup.technique = self.name();
         let fallback_setup = setup.clone();
         let fall_back =

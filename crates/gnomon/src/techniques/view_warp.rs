@@ -38,7 +38,6 @@ use crate::setup::{
     ShadowSetup,
 };
 use crate::techniques::basis::FocusBasis;
-use crate::techniques::focused::Focused;
 use crate::techniques::uniform::uniform_map;
 use crate::techniques::{ANGULAR_PADDING, with_fallback};
 
@@ -253,7 +252,7 @@ pub(crate) fn view_warp_setup(
     input.map.validate()?;
     let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
         Ok(with_fallback(
-            Focused.setup_on(input, basis),
+            basis.focused(input).clone(),
             technique,
             fallback,
         ))

@@ -21,7 +21,6 @@ use crate::error::SetupError;
 use crate::samples::ViewSamples;
 use crate::setup::{Fallback, SetupInput, ShadowSetup};
 use crate::techniques::basis::FocusBasis;
-use crate::techniques::focused::Focused;
 use crate::techniques::with_fallback;
 
 /// The share of the samples whose undersampling is compared (its upper quantile).
@@ -61,7 +60,7 @@ pub(crate) fn limit_warp(
     if samples.len() < MIN_SAMPLES {
         return Ok(setup);
     }
-    let focused = Focused.setup_on(input, &basis);
+    let focused = basis.focused(input).clone();
     // The 95th percentile and the worst sample.
     let measure = |s: &ShadowSetup| {
         samples
