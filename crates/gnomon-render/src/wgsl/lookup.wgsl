@@ -97,10 +97,9 @@ fn gnomon_select(light: u32, p: vec3<f32>) -> GnomonSelection {
     let info = gnomon_shadows.lights[light].info;
     let count = max(info.w, 1u);
     var out = GnomonSelection(info.z, 0.0, 0.0);
-    if (info.y == GNOMON_SELECT_PLANE) {
-        let plane = gnomon_shadows.lights[light].params[0];
-        out.map = info.z + min(select(0u, 1u, dot(plane.xyz, p) + plane.w > 0.0), count - 1u);
-    } else if (info.y == GNOMON_SELECT_CASCADES) {
+    if (info.y != GNOMON_SELECT_CASCADES) {
+        out.map = gnomon_plane_map_index(light, p);
+    } else {
         // Without indexing by a computed value (a gather per fragment on a CPU rasteriser):
         // z_0..z_3, z_4..z_7 and z_8 as vectors, their indices beside them.
         let z_a = gnomon_shadows.lights[light].params[0];
