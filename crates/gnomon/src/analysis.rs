@@ -141,7 +141,7 @@ pub fn view_axis_dp_ds(
     config: &IdealConfiguration,
     z: f64,
 ) -> Result<f64, SetupError> {
-    view_axis_dp_ds_of(&[*map], MapSelection::Single, config, z)
+    view_axis_dp_ds_of(&[*map], MapSelection::Single, config, z, None)
 }
 
 /// [`view_axis_dp_ds`] for a setup: at each point, the map its selection picks (SPPSM: the
@@ -151,7 +151,7 @@ pub fn setup_view_axis_dp_ds(
     config: &IdealConfiguration,
     z: f64,
 ) -> Result<f64, SetupError> {
-    view_axis_dp_ds_of(&setup.maps, setup.selection, config, z)
+    view_axis_dp_ds_of(&setup.maps, setup.selection, config, z, None)
 }
 
 /// [`setup_view_axis_dp_ds`] in the texels of one map of `reference_resolution`: the value
@@ -163,16 +163,13 @@ pub fn setup_view_axis_dp_ds_in_texels(
     z: f64,
     reference_resolution: u32,
 ) -> Result<f64, SetupError> {
-    let p = DVec3::new(
-        0.0,
-        0.0,
-        -check_scalar("z", z)?.clamp(config.z_near, config.z_far),
-    );
-    let resolution = setup
-        .maps
-        .get(setup.selection.map_for(p))
-        .map_or(reference_resolution, |m| m.resolution);
-    Ok(setup_view_axis_dp_ds(setup, config, z)? * reference_resolution as f64 / resolution as f64)
+    view_axis_dp_ds_of(
+        &setup.maps,
+        setup.selection,
+        config,
+        z,
+        Some(reference_resolution),
+    )
 }
 
 /// [`setup_view_axis_aliasing`] in the texels of one map of `reference_resolution` (see
@@ -188,11 +185,14 @@ pub fn setup_view_axis_aliasing_in_texels(
     })
 }
 
+/// dp/ds at `z` from the map `selection` picks there; with `reference_resolution`, in the
+/// texels of one map of that resolution (times it over the map's).
 fn view_axis_dp_ds_of(
     maps: &[ShadowMap],
     selection: MapSelection,
     config: &IdealConfiguration,
     z: f64,
+    reference_resolution: Option<u32>,
 ) -> Result<f64, SetupError> {
     let z = check_scalar("z", z)?.clamp(config.z_near, config.z_far);
     let map = maps
@@ -211,7 +211,8 @@ fn view_axis_dp_ds_of(
     if !(dz_ds.is_finite() && dz_ds > 0.0) {
         return Err(failure("the map does not resolve the view axis"));
     }
-    Ok(z_n / z * dz_ds)
+    let texels = reference_resolution.map_or(1.0, |r| r as f64 / map.resolution as f64);
+    Ok(z_n / z * dz_ds * texels)
 }
 
 /// Measures dp/ds = (z_n / z) dz/ds along the view axis of `config` from `map` (computed
