@@ -91,6 +91,50 @@ pub(crate) fn classify_boxes(
     }
 }
 
+/// The codes of a part of a frame from the frame's: `frame_codes` against the frame's planes,
+/// `planes` the part's, which equal the frame's except those named in `changed` (bits; a
+/// part lies inside the frame). A box outside the frame is outside the part; one wholly
+/// inside is tested against the changed planes only; one that straddles, against all.
+pub(crate) fn refine_codes(
+    frame_codes: &[u32],
+    boxes: &[Aabb],
+    planes: &[Plane],
+    changed: u32,
+    tolerance: f64,
+) -> Vec<u32> {
+    frame_codes
+        .iter()
+        .zip(boxes)
+        .map(|(&code, aabb)| match code {
+            OUTSIDE => OUTSIDE,
+            0 => {
+                let (c, e) = (aabb.center(), aabb.half_extents());
+                let mut mask = 0;
+                let mut bits = changed;
+                while bits != 0 {
+                    let i = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let plane = &planes[i];
+                    let r = plane.normal.abs().dot(e);
+                    let s = plane.distance(c);
+                    if s + r <= tolerance {
+                        return OUTSIDE;
+                    }
+                    if s - r < -tolerance {
+                        mask |= 1 << i;
+                    }
+                }
+                mask
+            }
+            _ => match classify_box(aabb, planes, tolerance) {
+                BoxSide::Outside => OUTSIDE,
+                BoxSide::Inside => 0,
+                BoxSide::Straddles(mask) => mask,
+            },
+        })
+        .collect()
+}
+
 /// An orthographic frame ready to project boxes of a [`BoxArrays`]: a box's image is its
 /// projected centre plus and minus |R| times its half extents.
 pub(crate) struct ParallelBoxes<'a> {
@@ -258,27 +302,36 @@ pub(crate) struct VisibleScene {
 }
 
 impl VisibleScene {
-    /// `light_planes`: the spot light's frustum, if any.
+    /// What `camera` sees; `light_planes`: the spot light's frustum, if any.
     pub fn new(
         camera: &Camera,
         scene: &SceneBounds,
         light_planes: Option<&[Plane; 6]>,
         tolerance: f64,
     ) -> Self {
-        let mut planes: Vec<Plane> = camera.frustum_planes().to_vec();
-        if let Some(lp) = light_planes {
-            planes.extend_from_slice(lp);
+        let view_body = crate::frame::view_body(camera, scene, light_planes, tolerance);
+        let planes = crate::frame::frame_planes(camera.frustum_planes(), light_planes, None);
+        let mut codes = Vec::new();
+        if !view_body.is_empty() {
+            classify_boxes(scene.receiver_arrays(), &planes, tolerance, &mut codes);
         }
-        let scene_box = scene.scene_box();
-        let view_body = ConvexPolyhedron::from_hexahedron(&camera.frustum_corners())
-            .clip_all(&box_planes(&scene_box), tolerance)
-            .clip_all(light_planes.into_iter().flatten(), tolerance);
+        Self::from_codes(view_body, scene, &planes, &codes, tolerance)
+    }
+
+    /// The visible scene of P = `view_body` from each receiver's code against `planes` (as
+    /// [`classify_boxes`] gives them; empty when P is): wholly visible boxes are kept, cut
+    /// ones cut.
+    pub fn from_codes(
+        view_body: ConvexPolyhedron,
+        scene: &SceneBounds,
+        planes: &[Plane],
+        codes: &[u32],
+        tolerance: f64,
+    ) -> Self {
         let mut whole = Vec::new();
         let mut clipped = 0;
         let mut points = Vec::new();
         if !view_body.is_empty() {
-            let mut codes = Vec::new();
-            classify_boxes(scene.receiver_arrays(), &planes, tolerance, &mut codes);
             for (i, &code) in codes.iter().enumerate() {
                 match code {
                     OUTSIDE => {}
@@ -286,7 +339,7 @@ impl VisibleScene {
                     mask => {
                         if box_cut_vertices(
                             &scene.receivers()[i],
-                            &planes,
+                            planes,
                             mask,
                             tolerance,
                             &mut points,
@@ -359,14 +412,19 @@ pub(crate) fn box_planes(b: &Aabb) -> [Plane; 6] {
 }
 
 /// The extents of the casters that can shadow the visible receivers (`receivers`, their
-/// extents under `projector`). A caster is culled when it lies outside the light frustum
-/// (`light_planes`, spot lights), beside the receivers as seen from the light, or wholly
-/// behind them. Counts go into `diagnostics`.
+/// extents under `projector`). A caster is cut by `cut_planes` (a spot light's frustum, its
+/// near plane first when `light_near_first`, and a side's plane) and culled when nothing of
+/// it is left, when it lies beside the receivers as seen from the light, or wholly behind
+/// them. `cached`: every caster's extents under `projector` when the frame has them. Counts
+/// go into `diagnostics`.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn caster_extents(
     scene: &SceneBounds,
     projector: &Projector,
     receivers: &Extents,
-    light_planes: Option<&[Plane; 6]>,
+    cut_planes: &[Plane],
+    light_near_first: bool,
+    cached: Option<&[Extents]>,
     tolerance: f64,
     diagnostics: &mut Diagnostics,
 ) -> Extents {
@@ -374,48 +432,50 @@ pub(crate) fn caster_extents(
     let mut ext = Extents::EMPTY;
     let mut relevant = 0;
     let mut near_clipped = 0;
-    if let (Projector::Parallel(frame), None) = (projector, light_planes) {
+    let parallel = match projector {
+        Projector::Parallel(frame) => Some(ParallelBoxes::new(scene.caster_arrays(), frame)),
+        Projector::Point { .. } => None,
+    };
+    // A whole caster's extents: the frame's, else projected.
+    let whole = |i: usize| match (cached, &parallel) {
+        (Some(boxes), _) => boxes[i],
+        (None, Some(projected)) => projected.extents(i),
+        (None, None) => projector.box_extents(&scene.casters()[i]),
+    };
+    if cut_planes.is_empty() {
         // One pass over the box arrays: project, cull, accumulate.
-        let projected = ParallelBoxes::new(scene.caster_arrays(), frame);
-        for i in 0..projected.len() {
-            let box_ext = projected.extents(i);
+        for i in 0..scene.casters().len() {
+            let box_ext = whole(i);
             if receivers.xy_overlaps(&box_ext, xy_slack) && box_ext.min.z <= receivers.max.z {
                 relevant += 1;
                 ext = ext.union(&box_ext);
             }
         }
-        diagnostics.relevant_casters = relevant;
-        diagnostics.culled_casters = scene.casters().len() - relevant;
-        diagnostics.casters_clipped_by_light_near = 0;
-        return ext;
-    }
-    let mut scratch = Vec::new();
-    for caster in scene.casters() {
-        let (box_ext, crosses_near) = match light_planes {
-            None => (projector.box_extents(caster), false),
-            Some(planes) => match classify_box(caster, planes, tolerance) {
+    } else {
+        let mut scratch = Vec::new();
+        for (i, caster) in scene.casters().iter().enumerate() {
+            let (box_ext, crosses_near) = match classify_box(caster, cut_planes, tolerance) {
                 BoxSide::Outside => continue,
-                BoxSide::Inside => (projector.box_extents(caster), false),
+                BoxSide::Inside => (whole(i), false),
                 BoxSide::Straddles(mask) => {
                     scratch.clear();
-                    if !box_cut_vertices(caster, planes, mask, tolerance, &mut scratch) {
+                    if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch) {
                         continue;
                     }
                     let mut e = Extents::EMPTY;
                     for p in &scratch {
                         e.add(projector.project(*p));
                     }
-                    // Plane 0 is the light's near plane.
-                    (e, mask & 1 != 0)
+                    (e, light_near_first && mask & 1 != 0)
                 }
-            },
-        };
-        if !receivers.xy_overlaps(&box_ext, xy_slack) || box_ext.min.z > receivers.max.z {
-            continue;
+            };
+            if !receivers.xy_overlaps(&box_ext, xy_slack) || box_ext.min.z > receivers.max.z {
+                continue;
+            }
+            relevant += 1;
+            near_clipped += usize::from(crosses_near);
+            ext = ext.union(&box_ext);
         }
-        relevant += 1;
-        near_clipped += usize::from(crosses_near);
-        ext = ext.union(&box_ext);
     }
     diagnostics.relevant_casters = relevant;
     diagnostics.culled_casters = scene.casters().len() - relevant;

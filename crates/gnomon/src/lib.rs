@@ -42,6 +42,7 @@ mod bounds;
 mod camera;
 mod error;
 mod focus;
+mod frame;
 pub mod geometry;
 mod light;
 mod light_space;

@@ -34,15 +34,16 @@ use glam::{DMat4, DVec3, DVec4};
 
 use crate::camera::{Camera, Lens};
 use crate::error::SetupError;
-use crate::focus::VisibleScene;
+use crate::frame::Frame;
+use crate::geometry::ConvexPolyhedron;
 use crate::light::Light;
 use crate::light_space::LightFrame;
-use crate::samples::ViewSamples;
 use crate::setup::{
     CascadeSlices, Diagnostics, Fallback, LightFrameKind, MAX_CASCADES, MIN_RESOLUTION,
     MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
-use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm, tolerance};
+use crate::techniques::basis::{FocusBasis, Part};
+use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};
 
 /// How the view is cut into slices.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -103,6 +104,24 @@ impl CascadeFit {
             "psm" => Self::Psm(Psm::default()),
             _ => return None,
         })
+    }
+
+    /// The setup of a slice on its basis.
+    fn setup_with(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+    ) -> Result<ShadowSetup, SetupError> {
+        match self {
+            Self::Focused => {
+                input.map.validate()?;
+                Ok(basis.focused(input).clone())
+            }
+            Self::Lispsm(t) => t.setup_with(input, basis),
+            Self::Tsm(t) => t.setup_with(input, basis),
+            Self::Xpsm(t) => t.setup_with(input, basis),
+            Self::Psm(t) => t.setup_with(input, basis),
+        }
     }
 
     fn as_dyn(&self) -> &dyn ShadowTechnique {
@@ -203,13 +222,12 @@ impl Cascades {
 
     /// The slices' view depths and where the fade begins, for `camera` over `scene`; `None`
     /// when the view frustum does not meet the scene box.
-    fn slices(&self, camera: &Camera, visible: &VisibleScene) -> Option<CascadeSlices> {
+    fn slices(&self, camera: &Camera, view_body: &ConvexPolyhedron) -> Option<CascadeSlices> {
         let lens = camera.lens();
         let k = self.count;
         let distance = self.shadow_distance.unwrap_or(lens.far).min(lens.far);
         let (eye, forward) = (camera.eye(), camera.forward());
-        let (p0, p1) = visible
-            .view_body
+        let (p0, p1) = view_body
             .faces()
             .flatten()
             .map(|p| (*p - eye).dot(forward))
@@ -284,9 +302,10 @@ impl ShadowTechnique for Cascades {
         input.map.validate()?;
         let lens = input.camera.lens();
         self.validate(&lens)?;
-        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
-        let visible = VisibleScene::new(input.camera, input.scene, None, tolerance);
-        let Some(slices) = self.slices(input.camera, &visible) else {
+        // The frame's facts (P, the receivers against the view, the casters in light space,
+        // the samples) once; each slice refines them.
+        let frame = Frame::new(input);
+        let Some(slices) = self.slices(input.camera, &frame.view_body) else {
             // The view does not reach the scene: one map, as the fit gives it.
             let mut setup = self.fit.as_dyn().setup(input)?;
             setup.technique = self.name();
@@ -305,16 +324,6 @@ impl ShadowTechnique for Cascades {
         settings.validate()?;
         let stable_sun = match input.light {
             Light::Directional(d) if self.stable => Some(d.direction()),
-            _ => None,
-        };
-        // The frame's samples, cut per slice, for the warps' limit.
-        let cast;
-        let frame_samples = match (input.samples, stable_sun, self.fit) {
-            (Some(samples), _, _) => Some(samples),
-            (None, None, fit) if fit != CascadeFit::Focused => {
-                cast = ViewSamples::new(input.camera, input.light, input.scene);
-                Some(&cast)
-            }
             _ => None,
         };
         let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
@@ -340,13 +349,13 @@ impl ShadowTechnique for Cascades {
                 diagnostics.light_frame = LightFrameKind::Fixed;
                 continue;
             }
-            let slice_samples = frame_samples.map(|s| s.within_depth(near, far));
-            let setup = self.fit.as_dyn().setup(&SetupInput {
+            let slice_input = SetupInput {
                 camera: &camera,
                 map: settings,
-                samples: slice_samples.as_ref(),
                 ..*input
-            })?;
+            };
+            let basis = FocusBasis::new(&frame, Part::Slice(&camera));
+            let setup = self.fit.setup_with(&slice_input, &basis)?;
             merge(&mut diagnostics, &setup.diagnostics, i == 0);
             maps.push(setup.maps[0]);
         }

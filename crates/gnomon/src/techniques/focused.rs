@@ -9,15 +9,14 @@ use glam::DVec3;
 
 use crate::error::SetupError;
 use crate::focus::{caster_extents, unit_cube_clip};
-use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, Projector, build_map};
 use crate::setup::{
     Diagnostics, Fallback, LightFrameKind, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
 };
-use crate::techniques::ANGULAR_PADDING;
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::uniform::uniform_map;
+use crate::techniques::{ANGULAR_PADDING, on_whole_frame};
 
 /// Focused shadow map (FSM): the light's projection (orthographic for a directional light,
 /// the spot light's perspective for a spot light) fitted to what the camera sees, by unit
@@ -49,7 +48,7 @@ impl ShadowTechnique for Focused {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         input.map.validate()?;
-        Ok(self.setup_on(input, &FocusBasis::new(input)))
+        Ok(on_whole_frame(input, |basis| self.setup_on(input, basis)))
     }
 }
 
@@ -108,11 +107,17 @@ pub(crate) fn focus(
         diagnostics.fallbacks.push(Fallback::DegenerateFocusBody);
     }
 
+    let cached = match &projector {
+        Projector::Parallel(frame) => basis.frame.casters_in(frame),
+        Projector::Point { .. } => None,
+    };
     let casters = caster_extents(
         input.scene,
         &projector,
         &receivers,
-        light_planes.as_ref().map(|p: &[Plane; 6]| p),
+        &basis.caster_planes,
+        light_planes.is_some(),
+        cached,
         tolerance,
         diagnostics,
     );

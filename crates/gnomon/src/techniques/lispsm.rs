@@ -54,6 +54,7 @@
 use crate::error::SetupError;
 use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
+use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
 use crate::techniques::warp_limit::limit_warp;
 
@@ -90,6 +91,18 @@ impl Lispsm {
             }),
             _ => Ok(()),
         }
+    }
+
+    /// The setup on `basis` (a part of the frame; `input`'s camera is the part's).
+    pub(crate) fn setup_with(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+    ) -> Result<ShadowSetup, SetupError> {
+        self.validate()?;
+        limit_warp(input, basis, self.name(), self.limit, |strength| {
+            self.setup_at(input, basis, strength)
+        })
     }
 
     /// The setup with 1 / n scaled by `strength` (1: the paper's).
@@ -132,9 +145,6 @@ impl ShadowTechnique for Lispsm {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        self.validate()?;
-        limit_warp(input, self.name(), self.limit, |basis, strength| {
-            self.setup_at(input, basis, strength)
-        })
+        on_whole_frame(input, |basis| self.setup_with(input, basis))
     }
 }

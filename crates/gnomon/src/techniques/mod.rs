@@ -41,6 +41,15 @@ pub(crate) fn tolerance(scene: &SceneBounds, camera: Option<&Camera>, light: &Li
     1e-9 * scale
 }
 
+/// `f` on the basis of all of `input`'s frame (a technique's setup of one whole view).
+pub(crate) fn on_whole_frame<R>(
+    input: &crate::setup::SetupInput<'_>,
+    f: impl FnOnce(&basis::FocusBasis) -> R,
+) -> R {
+    let frame = crate::frame::Frame::new(input);
+    f(&basis::FocusBasis::new(&frame, basis::Part::Whole))
+}
+
 /// Padding of a perspective map's xy extents (tangent units).
 pub(crate) const ANGULAR_PADDING: f64 = 1e-9;
 

@@ -55,6 +55,7 @@ use crate::setup::{
     Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
 use crate::techniques::basis::FocusBasis;
+use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::warp_diagnostics;
 use crate::techniques::warp_limit::limit_warp;
 use crate::techniques::{ANGULAR_PADDING, with_fallback};
@@ -96,6 +97,19 @@ impl Psm {
         }
     }
 
+    /// The setup on `basis` (a part of the frame; `input`'s camera is the part's).
+    pub(crate) fn setup_with(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+    ) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        self.validate()?;
+        limit_warp(input, basis, self.name(), self.limit, |strength| {
+            self.setup_at(input, basis, strength)
+        })
+    }
+
     /// The setup with the virtual eye's distance from B's near side divided by `strength`.
     fn setup_at(
         &self,
@@ -111,12 +125,7 @@ impl Psm {
             Ok(diagnostics) => diagnostics,
             Err(uniform) => return Ok(*uniform),
         };
-        let (visible, body, tolerance, light_planes) = (
-            &basis.visible,
-            &basis.body,
-            basis.tolerance,
-            &basis.light_planes,
-        );
+        let (visible, body, tolerance) = (&basis.visible, &basis.body, basis.tolerance);
         let (eye, forward, near) = (camera.eye(), camera.forward(), camera.lens().near);
         let depth = |p: DVec3| (p - eye).dot(forward);
         let b0 = body.iter().map(|p| depth(*p)).fold(f64::INFINITY, f64::min);
@@ -202,7 +211,7 @@ impl Psm {
             Plane::through_point(eye + forward * b0, forward),
             Plane::through_point(eye + forward * b1, -forward),
         ];
-        slab.extend(light_planes.iter().flatten());
+        slab.extend_from_slice(&basis.caster_planes);
         if let Projector::Point { frame, position } = &projector {
             // Every relevant point has d >= the smallest d over B and the receivers; cutting
             // at half of it keeps them all and keeps cut vertices off the singular plane d = 0.
@@ -302,11 +311,7 @@ impl ShadowTechnique for Psm {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        input.map.validate()?;
-        self.validate()?;
-        limit_warp(input, self.name(), self.limit, |basis, strength| {
-            self.setup_at(input, basis, strength)
-        })
+        on_whole_frame(input, |basis| self.setup_with(input, basis))
     }
 }
 

@@ -58,15 +58,16 @@
 
 use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 
-use crate::bounds::{Aabb, SceneBounds};
+use crate::bounds::SceneBounds;
 use crate::error::SetupError;
-use crate::focus::VisibleScene;
+use crate::frame::Frame;
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
 use crate::setup::{
     CastersBySide, Fallback, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
-use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm, fixed_projector, tolerance};
+use crate::techniques::basis::{FocusBasis, Part};
+use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};
 
 /// The perspective map of an SPPSM setup.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -108,6 +109,20 @@ impl PerspectiveMap {
     /// The technique's name.
     pub fn name(&self) -> &'static str {
         self.as_dyn().name()
+    }
+
+    /// The setup on `basis`.
+    fn setup_with(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+    ) -> Result<ShadowSetup, SetupError> {
+        match self {
+            Self::Psm(t) => t.setup_with(input, basis),
+            Self::Lispsm(t) => t.setup_with(input, basis),
+            Self::Tsm(t) => t.setup_with(input, basis),
+            Self::Xpsm(t) => t.setup_with(input, basis),
+        }
     }
 
     /// The same map without the warp limit: SPPSM picks the finer map per point itself.
@@ -241,76 +256,17 @@ pub fn ray_area_density(map: &ShadowMap, light: &Light, p: DVec3) -> f64 {
     m.determinant().abs() / w.abs().powi(3)
 }
 
-/// The box's part on the side `sign` (1 or -1) of `plane`, as the box around it; `None` when
-/// nothing of it is there.
-fn cut_box(b: &Aabb, plane: DVec4, sign: f64) -> Option<Aabb> {
-    let corners = b.corners();
-    let side = |p: DVec3| sign * (plane.truncate().dot(p) + plane.w);
-    let values = corners.map(side);
-    if values.iter().all(|v| *v >= 0.0) {
-        return Some(*b);
+/// `plane` (n, d with |n| = 1, n . p + d >= 0 inside) as a [`Plane`].
+fn side_plane(plane: DVec4) -> Plane {
+    Plane {
+        normal: plane.truncate(),
+        offset: plane.w,
     }
-    let mut min = DVec3::INFINITY;
-    let mut max = DVec3::NEG_INFINITY;
-    let mut add = |p: DVec3| {
-        min = min.min(p);
-        max = max.max(p);
-    };
-    for (k, c) in corners.iter().enumerate() {
-        if values[k] >= 0.0 {
-            add(*c);
-        }
-    }
-    // Edges: corners whose indices differ in one bit (Aabb::corners orders x, y, z bits).
-    for a in 0..8 {
-        for bit in [1, 2, 4] {
-            let b_index = a ^ bit;
-            if a < b_index && (values[a] >= 0.0) != (values[b_index] >= 0.0) {
-                let t = values[a] / (values[a] - values[b_index]);
-                add(corners[a] + (corners[b_index] - corners[a]) * t);
-            }
-        }
-    }
-    if !(min.is_finite() && max.is_finite()) {
-        return None;
-    }
-    Aabb::new(min, max.max(min)).ok()
-}
-
-/// The scene with every box cut to the side `sign` of `plane`, or `None` when no receiver is
-/// left there.
-fn scene_on_side(scene: &SceneBounds, plane: DVec4, sign: f64) -> Option<SceneBounds> {
-    let cut = |boxes: &[Aabb]| -> Vec<Aabb> {
-        boxes
-            .iter()
-            .filter_map(|b| cut_box(b, plane, sign))
-            .collect()
-    };
-    let receivers = cut(scene.receivers());
-    if receivers.is_empty() {
-        return None;
-    }
-    let scene_box = cut_box(&scene.scene_box(), plane, sign)?;
-    SceneBounds::new(cut(scene.casters()), receivers, Some(scene_box)).ok()
-}
-
-/// P: the view frustum clipped by the scene box and, for a spot light, its frustum; and the
-/// setup's tolerance.
-fn view_body(input: &SetupInput<'_>) -> (ConvexPolyhedron, f64) {
-    let tolerance = tolerance(input.scene, Some(input.camera), input.light);
-    let light_planes = match input.light {
-        Light::Directional(_) => None,
-        Light::Spot(spot) => Some(spot.frustum_planes(fixed_projector(input.light).frame().up)),
-    };
-    let visible = VisibleScene::new(input.camera, input.scene, light_planes.as_ref(), tolerance);
-    (visible.view_body, tolerance)
 }
 
 /// The vertices of `body` on the positive side of `plane`.
 fn points_on_side(body: &ConvexPolyhedron, tolerance: f64, plane: DVec4) -> Vec<DVec3> {
-    let n = plane.truncate();
-    let side = Plane::through_point(n * -plane.w, n);
-    body.clip(&side, tolerance).vertices(tolerance)
+    body.clip(&side_plane(plane), tolerance).vertices(tolerance)
 }
 
 /// `map` cropped to the part of its square where `points` land: the same warp with the
@@ -396,12 +352,13 @@ impl ShadowTechnique for Sppsm {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         self.validate()?;
-        let on = |scene: &SceneBounds, technique: &dyn ShadowTechnique| {
-            technique.setup(&SetupInput { scene, ..*input })
-        };
-        let focused = on(input.scene, &Focused)?;
-        let perspective_map = self.perspective.without_limit();
-        let perspective = on(input.scene, perspective_map.as_dyn())?;
+        input.map.validate()?;
+        // P, the receivers against the view and B once for both maps; each refocusing cuts
+        // them to a side of the plane.
+        let frame = Frame::new(input);
+        let whole = FocusBasis::new(&frame, Part::Whole);
+        let focused = whole.focused(input).clone();
+        let perspective = self.perspective.without_limit().setup_with(input, &whole)?;
         let single = |mut setup: ShadowSetup, fallback: Option<Fallback>| {
             setup.technique = self.name();
             if let Some(f) = fallback {
@@ -428,7 +385,7 @@ impl ShadowTechnique for Sppsm {
             return single(setup, Some(Fallback::NoSeparatingPlane));
         }
         // P does not change between iterations; only its side of the plane does.
-        let (body, body_tolerance) = view_body(input);
+        let (body, body_tolerance) = (&frame.view_body, frame.tolerance);
         let Some(mut plane) = separating_plane(&focused.maps[0], &perspective.maps[0], input.light)
         else {
             // No plane: eq. 7's plane has a vanishing normal (both maps affine on the light's
@@ -453,20 +410,22 @@ impl ShadowTechnique for Sppsm {
         for iteration in 2..=self.iterations {
             // Each map on its side of the current plane; if a side has no receiver or a map
             // falls back, the result so far stays.
-            let (Some(negative), Some(_)) = (
-                scene_on_side(input.scene, plane, -1.0),
-                scene_on_side(input.scene, plane, 1.0),
-            ) else {
+            let negative_points = points_on_side(body, body_tolerance, -plane);
+            let positive_points = points_on_side(body, body_tolerance, plane);
+            if negative_points.is_empty() || positive_points.is_empty() {
                 break;
-            };
-            let f = on(&negative, &Focused)?;
+            }
+            let negative = FocusBasis::new(&frame, Part::Side(side_plane(-plane)));
+            if negative.visible.visible_receivers() == 0 {
+                break;
+            }
+            let f = Focused.setup_on(input, &negative);
             if !f.diagnostics.fallbacks.is_empty() {
                 break;
             }
             // The focused map re-evaluated on its side (the paper's refocusing) is taken when
             // it is no coarser there than the focused map on all of I; else that map cropped
             // to P's part on the side.
-            let negative_points = points_on_side(&body, body_tolerance, -plane);
             let focused_map =
                 if no_coarser(&f.maps[0], &focused.maps[0], input.light, &negative_points) {
                     f.maps[0]
@@ -475,7 +434,6 @@ impl ShadowTechnique for Sppsm {
                 };
             // The perspective map keeps its warp and is cropped to P's part on its side: a
             // warp re-evaluated on the side can come out coarser somewhere there.
-            let positive_points = points_on_side(&body, body_tolerance, plane);
             let perspective_map =
                 crop(&perspective.maps[0], &positive_points).unwrap_or(perspective.maps[0]);
             // Refocusing can overshoot: a map focused on less of I gets finer, which moves the

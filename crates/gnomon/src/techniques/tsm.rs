@@ -52,6 +52,7 @@ use crate::geometry::convex_hull_2d;
 use crate::light::Light;
 use crate::setup::{Fallback, MapProjection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
+use crate::techniques::on_whole_frame;
 use crate::techniques::warp_limit::limit_warp;
 use crate::techniques::with_fallback;
 
@@ -99,6 +100,19 @@ impl Tsm {
             });
         }
         Ok(())
+    }
+
+    /// The setup on `basis` (a part of the frame; `input`'s camera is the part's).
+    pub(crate) fn setup_with(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+    ) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        self.validate()?;
+        limit_warp(input, basis, self.name(), self.limit, |strength| {
+            self.setup_at(input, basis, strength)
+        })
     }
 
     /// The setup with eta divided by `strength` (the projection point moved away).
@@ -216,11 +230,7 @@ impl ShadowTechnique for Tsm {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        input.map.validate()?;
-        self.validate()?;
-        limit_warp(input, self.name(), self.limit, |basis, strength| {
-            self.setup_at(input, basis, strength)
-        })
+        on_whole_frame(input, |basis| self.setup_with(input, basis))
     }
 }
 

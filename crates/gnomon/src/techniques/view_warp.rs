@@ -238,6 +238,213 @@ pub(crate) fn warp_diagnostics(
     Ok(diagnostics)
 }
 
+/// What a view-axis warp needs at every strength, computed once per basis: light space, B
+/// there, the visible receivers' vertices there, and the casters that can matter at any
+/// strength (cut to B's Y range, beside-the-receivers and behind-the-receivers culled: both
+/// tests are the same before and after the warp).
+pub(crate) struct WarpSpace {
+    space: LightSpace,
+    sin_gamma: f64,
+    /// B's extents in light space, and its least linear depth along the light.
+    body_light: Extents,
+    body_linear: f64,
+    eye_light: DVec3,
+    depth_world: f64,
+    near_depth: f64,
+    /// The visible receivers' vertices in light space.
+    receiver_points: Vec<DVec3>,
+    /// Their linear depth range along the light.
+    receivers_linear: (f64, f64),
+    casters: WarpCasters,
+    /// How many casters the scene has.
+    caster_count: usize,
+}
+
+/// The casters a warp may need, in light space.
+enum WarpCasters {
+    /// Boxes [lo, hi] with Y inside B's range (a directional light with nothing else
+    /// cutting them): the least linear depth is lo.z.
+    Boxes(Vec<(DVec3, DVec3)>),
+    /// The vertices of each caster's cut part, as ranges of `points`, with their least
+    /// linear depth.
+    Points {
+        points: Vec<DVec3>,
+        casters: Vec<(u32, u32, f64)>,
+    },
+}
+
+impl WarpSpace {
+    /// The light space of `basis`, or the fallback where a warp is undefined: view parallel
+    /// to the light (for a spot light, the view ray through it), B empty or flat.
+    pub fn new(input: &SetupInput<'_>, basis: &FocusBasis) -> Result<Self, Fallback> {
+        let (eye, view) = (input.camera.eye(), input.camera.forward());
+        let (space, sin_gamma) = match input.light {
+            Light::Directional(light) => {
+                let frame = LightFrame::view_aligned(light.direction(), view)
+                    .ok_or(Fallback::LightParallelToView)?;
+                (
+                    LightSpace::Parallel(frame),
+                    view.cross(light.direction()).length(),
+                )
+            }
+            Light::Spot(spot) => {
+                // The image of the view direction in the spot's post-perspective space (see
+                // the module documentation).
+                let (f, q_e) = (spot.direction(), eye - spot.position());
+                let v = view * f.dot(q_e) - q_e * f.dot(view);
+                let frame = (q_e.length() > 0.0)
+                    .then(|| LightFrame::view_aligned(f, v / q_e.length()))
+                    .flatten()
+                    .ok_or(Fallback::LightParallelToView)?;
+                (
+                    LightSpace::Spot {
+                        frame,
+                        position: spot.position(),
+                    },
+                    v.length() / q_e.length(),
+                )
+            }
+        };
+        let (visible, body, tolerance) = (&basis.visible, &basis.body, basis.tolerance);
+        let linear_row = input.light.linear_depth_row();
+        let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
+
+        // B in light space: P's near and far planes, and the reference point's Z.
+        let mut body_light = Extents::EMPTY;
+        let mut body_linear = f64::INFINITY;
+        let mut body_up = (f64::INFINITY, f64::NEG_INFINITY);
+        for p in body {
+            body_light.add(space.light(*p));
+            body_linear = body_linear.min(linear(*p));
+            let y = space.frame().up.dot(*p);
+            body_up = (body_up.0.min(y), body_up.1.max(y));
+        }
+        let depth_along_view = body_light.max.y - body_light.min.y;
+        let flat = match space {
+            LightSpace::Parallel(_) => tolerance,
+            LightSpace::Spot { .. } => ANGULAR_PADDING,
+        };
+        if body.len() < 4 || depth_along_view.is_nan() || depth_along_view <= flat {
+            return Err(Fallback::DegenerateFocusBody);
+        }
+        let (eye_light, depth_world) = match space {
+            LightSpace::Parallel(_) => (space.light(eye), depth_along_view),
+            LightSpace::Spot { frame, position } => {
+                let center = 0.5 * (body_light.min + body_light.max);
+                let eye_light = if frame.forward.dot(eye - position) > tolerance {
+                    let e = space.light(eye);
+                    e.with_x(e.x.clamp(body_light.min.x, body_light.max.x))
+                } else {
+                    center
+                };
+                (eye_light, body_up.1 - body_up.0)
+            }
+        };
+        let near_depth = visible
+            .view_body
+            .faces()
+            .flatten()
+            .map(|p| view.dot(*p - eye))
+            .fold(f64::INFINITY, f64::min);
+        let near = input.camera.lens().near;
+        let near_depth = if near_depth.is_finite() {
+            near_depth.max(near)
+        } else {
+            near
+        };
+
+        // Receivers: light-space vertices, and the linear depth range.
+        let mut receiver_points = Vec::new();
+        let mut receivers_light = Extents::EMPTY;
+        let mut receivers_linear = (f64::INFINITY, f64::NEG_INFINITY);
+        visible.for_each_vertex(input.scene, |p| {
+            let q = space.light(p);
+            receivers_light.add(q);
+            receiver_points.push(q);
+            let z = linear(p);
+            receivers_linear = (receivers_linear.0.min(z), receivers_linear.1.max(z));
+        });
+        let receivers_z = receivers_linear.1;
+
+        // Casters, cut to B's Y range (see the module documentation), and culled where no
+        // strength can make them relevant.
+        let casters = match &space {
+            LightSpace::Parallel(frame) if !basis.cuts_casters() => {
+                // Light rays are columns of constant (X, Y) before and after the warp, so a
+                // caster beside the receivers' columns is culled before any division.
+                let light_slack = 1e-9
+                    * (receivers_light.max - receivers_light.min)
+                        .truncate()
+                        .max_element();
+                let mut kept = Vec::new();
+                let mut keep = |Extents { min: lo, max: hi }: Extents| {
+                    let (y0, y1) = (lo.y.max(body_light.min.y), hi.y.min(body_light.max.y));
+                    let beside =
+                        !receivers_light.xy_overlaps(&Extents { min: lo, max: hi }, light_slack);
+                    if y0 <= y1 && lo.z <= receivers_z && !beside {
+                        kept.push((lo.with_y(y0), hi.with_y(y1)));
+                    }
+                };
+                match basis.frame.casters_in(frame) {
+                    Some(boxes) => boxes.iter().for_each(|e| keep(*e)),
+                    None => {
+                        let projected = ParallelBoxes::new(input.scene.caster_arrays(), frame);
+                        (0..projected.len()).for_each(|i| keep(projected.extents(i)));
+                    }
+                }
+                WarpCasters::Boxes(kept)
+            }
+            _ => {
+                // Cut each caster by the light's frustum (and a side), and B's Y range: all
+                // world planes.
+                let mut planes = basis.caster_planes.clone();
+                planes.push(space.y_plane(body_light.min.y, true));
+                planes.push(space.y_plane(body_light.max.y, false));
+                let mut points = Vec::new();
+                let mut casters = Vec::new();
+                for caster in input.scene.casters() {
+                    let start = points.len();
+                    match classify_box(caster, &planes, tolerance) {
+                        BoxSide::Outside => continue,
+                        BoxSide::Inside => points.extend_from_slice(&caster.corners()),
+                        BoxSide::Straddles(mask) => {
+                            if !box_cut_vertices(caster, &planes, mask, tolerance, &mut points) {
+                                continue;
+                            }
+                        }
+                    }
+                    let z_min = points[start..]
+                        .iter()
+                        .map(|p| linear(*p))
+                        .fold(f64::INFINITY, f64::min);
+                    if z_min <= receivers_z {
+                        for p in &mut points[start..] {
+                            *p = space.light(*p);
+                        }
+                        casters.push((start as u32, points.len() as u32, z_min));
+                    } else {
+                        points.truncate(start);
+                    }
+                }
+                WarpCasters::Points { points, casters }
+            }
+        };
+        Ok(Self {
+            space,
+            sin_gamma,
+            body_light,
+            body_linear,
+            eye_light,
+            depth_world,
+            near_depth,
+            receiver_points,
+            receivers_linear,
+            casters,
+            caster_count: input.scene.casters().len(),
+        })
+    }
+}
+
 /// The setup of a view-axis warp: the focused map where the warp is undefined (view
 /// parallel to the light, a flat B, spot lights unless `warps_spot_lights`), the uniform map
 /// when nothing is visible, else the warp `choose` picks, with unit cube clipping in warped
@@ -257,191 +464,82 @@ pub(crate) fn view_warp_setup(
             fallback,
         ))
     };
-    let (eye, view) = (input.camera.eye(), input.camera.forward());
-    let (space, sin_gamma) = match input.light {
-        Light::Directional(light) => {
-            let Some(frame) = LightFrame::view_aligned(light.direction(), view) else {
-                return fallback(Fallback::LightParallelToView);
-            };
-            (
-                LightSpace::Parallel(frame),
-                view.cross(light.direction()).length(),
-            )
-        }
-        Light::Spot(spot) if warps_spot_lights => {
-            // The image of the view direction in the spot's post-perspective space (see the
-            // module documentation).
-            let (f, q_e) = (spot.direction(), eye - spot.position());
-            let v = view * f.dot(q_e) - q_e * f.dot(view);
-            let frame = (q_e.length() > 0.0)
-                .then(|| LightFrame::view_aligned(f, v / q_e.length()))
-                .flatten();
-            let Some(frame) = frame else {
-                return fallback(Fallback::LightParallelToView);
-            };
-            (
-                LightSpace::Spot {
-                    frame,
-                    position: spot.position(),
-                },
-                v.length() / q_e.length(),
-            )
-        }
-        Light::Spot(_) => return fallback(Fallback::SpotLightNotWarped),
-    };
+    if matches!(input.light, Light::Spot(_)) && !warps_spot_lights {
+        return fallback(Fallback::SpotLightNotWarped);
+    }
+    let prepared = basis.warp_space(input);
+    if let Err(Fallback::LightParallelToView) = prepared {
+        return fallback(Fallback::LightParallelToView);
+    }
     let mut diagnostics = match warp_diagnostics(input, technique, basis) {
         Ok(diagnostics) => diagnostics,
         Err(uniform) => return Ok(*uniform),
     };
-    let (visible, body, tolerance, light_planes) = (
-        &basis.visible,
-        &basis.body,
-        basis.tolerance,
-        &basis.light_planes,
-    );
+    let ws = match prepared {
+        Ok(ws) => ws,
+        Err(f) => return fallback(*f),
+    };
     diagnostics.light_frame = LightFrameKind::ViewAligned;
     let linear_row = input.light.linear_depth_row();
-    let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
-
-    // B in light space: P's near and far planes, and the reference point's Z.
-    let mut body_light = Extents::EMPTY;
-    let mut body_linear = f64::INFINITY;
-    let mut body_up = (f64::INFINITY, f64::NEG_INFINITY);
-    for p in body {
-        body_light.add(space.light(*p));
-        body_linear = body_linear.min(linear(*p));
-        let y = space.frame().up.dot(*p);
-        body_up = (body_up.0.min(y), body_up.1.max(y));
-    }
-    let depth_along_view = body_light.max.y - body_light.min.y;
-    let flat = match space {
-        LightSpace::Parallel(_) => tolerance,
-        LightSpace::Spot { .. } => ANGULAR_PADDING,
-    };
-    if body.len() < 4 || depth_along_view.is_nan() || depth_along_view <= flat {
-        return fallback(Fallback::DegenerateFocusBody);
-    }
-    let (eye_light, depth_world) = match space {
-        LightSpace::Parallel(_) => (space.light(eye), depth_along_view),
-        LightSpace::Spot { frame, position } => {
-            let center = 0.5 * (body_light.min + body_light.max);
-            let eye_light = if frame.forward.dot(eye - position) > tolerance {
-                let e = space.light(eye);
-                e.with_x(e.x.clamp(body_light.min.x, body_light.max.x))
-            } else {
-                center
-            };
-            (eye_light, body_up.1 - body_up.0)
-        }
-    };
-    let near_depth = visible
-        .view_body
-        .faces()
-        .flatten()
-        .map(|p| view.dot(*p - eye))
-        .fold(f64::INFINITY, f64::min);
-    let near = input.camera.lens().near;
-    let near_depth = if near_depth.is_finite() {
-        near_depth.max(near)
-    } else {
-        near
-    };
+    let body_light = ws.body_light;
     let choice = choose(&WarpContext {
         body_light,
-        depth_world,
-        sin_gamma,
-        eye_light,
-        near_depth,
+        depth_world: ws.depth_world,
+        sin_gamma: ws.sin_gamma,
+        eye_light: ws.eye_light,
+        near_depth: ws.near_depth,
     });
     let warp = Warp {
-        space,
-        x_eye: eye_light.x,
+        space: ws.space,
+        x_eye: ws.eye_light.x,
         y_origin: choice.y_origin,
         z_mid: 0.5 * (body_light.min.z + body_light.max.z),
         inv_n: choice.inv_n,
         k: choice.k,
     };
 
-    // Receivers: warped extents, and the linear depth range.
+    // Receivers: warped extents.
     let mut receivers = Extents::EMPTY;
-    let mut receivers_light = Extents::EMPTY;
-    let mut receivers_linear = (f64::INFINITY, f64::NEG_INFINITY);
-    visible.for_each_vertex(input.scene, |p| {
-        let q = warp.light(p);
-        receivers_light.add(q);
-        receivers.add(warp.warp(q).0);
-        let z = linear(p);
-        receivers_linear = (receivers_linear.0.min(z), receivers_linear.1.max(z));
-    });
+    for q in &ws.receiver_points {
+        receivers.add(warp.warp(*q).0);
+    }
+    let receivers_linear = ws.receivers_linear;
     let receivers_z = receivers_linear.1;
     let mut body_warped = Extents::EMPTY;
-    for p in body {
+    for p in &basis.body {
         body_warped.add(warp.warp(warp.light(*p)).0);
     }
 
-    // Casters, cut to B's Y range (see the module documentation).
+    // Casters: their warped extents, kept where they overlap the receivers' columns.
     let mut casters = Extents::EMPTY;
     let mut casters_z = f64::INFINITY;
     let mut relevant = 0;
     let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
     let mut add_caster = |warped: Extents, z_min: f64| {
-        if receivers.xy_overlaps(&warped, xy_slack) && z_min <= receivers_z {
+        if receivers.xy_overlaps(&warped, xy_slack) {
             relevant += 1;
             casters = casters.union(&warped);
             casters_z = casters_z.min(z_min);
         }
     };
-    match (&space, &light_planes) {
-        (LightSpace::Parallel(frame), None) => {
-            // One pass over the box arrays: the light-space box of each caster (centre plus
-            // |R| times the half extents), culled by depth and B's Y range before the warp.
-            let projected = ParallelBoxes::new(input.scene.caster_arrays(), frame);
-            let light_slack = 1e-9
-                * (receivers_light.max - receivers_light.min)
-                    .truncate()
-                    .max_element();
-            for i in 0..projected.len() {
-                let Extents { min: lo, max: hi } = projected.extents(i);
-                // Light rays are columns of constant (X, Y) before and after the warp, so a
-                // caster beside the receivers' columns is culled before any division.
-                let (y0, y1) = (lo.y.max(body_light.min.y), hi.y.min(body_light.max.y));
-                let beside =
-                    !receivers_light.xy_overlaps(&Extents { min: lo, max: hi }, light_slack);
-                if y0 <= y1 && lo.z <= receivers_z && !beside {
-                    let warped = warp.box_extents(lo.with_y(y0), hi.with_y(y1));
-                    add_caster(warped, lo.z);
-                }
+    match &ws.casters {
+        WarpCasters::Boxes(boxes) => {
+            for (lo, hi) in boxes {
+                add_caster(warp.box_extents(*lo, *hi), lo.z);
             }
         }
-        _ => {
-            // Cut each caster by the light's frustum and B's Y range, all world planes.
-            let mut planes: Vec<Plane> = light_planes.iter().flatten().copied().collect();
-            planes.push(space.y_plane(body_light.min.y, true));
-            planes.push(space.y_plane(body_light.max.y, false));
-            let mut scratch = Vec::new();
-            for caster in input.scene.casters() {
-                scratch.clear();
-                match classify_box(caster, &planes, tolerance) {
-                    BoxSide::Outside => continue,
-                    BoxSide::Inside => scratch.extend_from_slice(&caster.corners()),
-                    BoxSide::Straddles(mask) => {
-                        if !box_cut_vertices(caster, &planes, mask, tolerance, &mut scratch) {
-                            continue;
-                        }
-                    }
-                }
+        WarpCasters::Points { points, casters } => {
+            for &(start, end, z_min) in casters {
                 let mut warped = Extents::EMPTY;
-                let mut z_min = f64::INFINITY;
-                for p in &scratch {
-                    warped.add(warp.warp(warp.light(*p)).0);
-                    z_min = z_min.min(linear(*p));
+                for q in &points[start as usize..end as usize] {
+                    warped.add(warp.warp(*q).0);
                 }
                 add_caster(warped, z_min);
             }
         }
     }
     diagnostics.relevant_casters = relevant;
-    diagnostics.culled_casters = input.scene.casters().len() - relevant;
+    diagnostics.culled_casters = ws.caster_count - relevant;
 
     // Unit cube clipping in warped space; B bounds the near side as for the focused map.
     let (region, linear_range) = if relevant == 0 {
@@ -452,7 +550,7 @@ pub(crate) fn view_warp_setup(
         let hi = receivers.max.min(casters.max).truncate();
         let mid = 0.5 * (lo + hi);
         let near = casters.min.z.max(body_warped.min.z).min(receivers.max.z);
-        let near_linear = casters_z.max(body_linear).min(receivers_z);
+        let near_linear = casters_z.max(ws.body_linear).min(receivers_z);
         (
             Extents {
                 min: lo.min(mid).extend(near),
@@ -467,7 +565,7 @@ pub(crate) fn view_warp_setup(
         linear_range,
         linear_row,
         input.map,
-        tolerance,
+        basis.tolerance,
     );
     Ok(ShadowSetup {
         technique,

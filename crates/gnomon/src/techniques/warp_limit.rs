@@ -18,7 +18,6 @@
 //! fires), not for the frame's pixels. Each warp technique has a `limit` switch.
 
 use crate::error::SetupError;
-use crate::samples::ViewSamples;
 use crate::setup::{Fallback, SetupInput, ShadowSetup};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::with_fallback;
@@ -34,45 +33,37 @@ pub(crate) const HALVINGS: u32 = 3;
 pub(crate) const MIN_SAMPLES: usize = 16;
 
 /// The setup `build` gives at the largest strength in 1, 1/2, ... 1/2^HALVINGS whose map
-/// samples `input`'s view no more coarsely than the focused map, else the focused map; with
-/// `enabled` false, or when the full-strength setup is not a warp (a fallback), that setup.
-/// `build` and the focused map share one [`FocusBasis`].
+/// samples `basis`'s share of the frame's view no more coarsely than the focused map, else
+/// the focused map; with `enabled` false, or when the full-strength setup is not a warp (a
+/// fallback), that setup. `build` and the focused map share the basis.
 pub(crate) fn limit_warp(
     input: &SetupInput<'_>,
+    basis: &FocusBasis,
     technique: &'static str,
     enabled: bool,
-    build: impl Fn(&FocusBasis, f64) -> Result<ShadowSetup, SetupError>,
+    build: impl Fn(f64) -> Result<ShadowSetup, SetupError>,
 ) -> Result<ShadowSetup, SetupError> {
-    // The visible scene and B, once for the focused map and every strength tried.
-    let basis = FocusBasis::new(input);
-    let mut setup = build(&basis, 1.0)?;
+    let mut setup = build(1.0)?;
     if !enabled || !is_warp(&setup) {
         return Ok(setup);
     }
-    let cast;
-    let samples = match input.samples {
-        Some(samples) => samples,
-        None => {
-            cast = ViewSamples::new(input.camera, input.light, input.scene);
-            &cast
-        }
-    };
+    let samples = basis.samples();
     if samples.len() < MIN_SAMPLES {
         return Ok(setup);
     }
-    let focused = basis.focused(input).clone();
+    let focused = basis.focused(input);
     // The 95th percentile and the worst sample.
     let measure = |s: &ShadowSetup| {
         samples
             .undersampling_quantiles(&s.maps[0], [QUANTILE, 1.0])
             .unwrap_or([f64::INFINITY; 2])
     };
-    let reference = measure(&focused);
+    let reference = measure(focused);
     let mut strength = 1.0;
     for halving in 0..=HALVINGS {
         if halving > 0 {
             strength *= 0.5;
-            setup = build(&basis, strength)?;
+            setup = build(strength)?;
         }
         let ours = measure(&setup);
         if ours[0] <= reference[0] && ours[1] <= MAX_MARGIN * reference[1] {
@@ -83,7 +74,7 @@ pub(crate) fn limit_warp(
             return Ok(setup);
         }
     }
-    let mut focused = with_fallback(focused, technique, Fallback::WarpCoarserThanFocused);
+    let mut focused = with_fallback(focused.clone(), technique, Fallback::WarpCoarserThanFocused);
     focused.diagnostics.warp_strength = Some(0.0);
     Ok(focused)
 }

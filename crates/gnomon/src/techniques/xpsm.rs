@@ -28,6 +28,7 @@
 use crate::error::SetupError;
 use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
+use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
 use crate::techniques::warp_limit::limit_warp;
 
@@ -74,6 +75,18 @@ impl Xpsm {
         Ok(())
     }
 
+    /// The setup on `basis` (a part of the frame; `input`'s camera is the part's).
+    pub(crate) fn setup_with(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+    ) -> Result<ShadowSetup, SetupError> {
+        self.validate()?;
+        limit_warp(input, basis, self.name(), self.limit, |strength| {
+            self.setup_at(input, basis, strength)
+        })
+    }
+
     /// The setup with len scaled by `strength` (1: the chapter's, clamped).
     fn setup_at(
         &self,
@@ -103,9 +116,6 @@ impl ShadowTechnique for Xpsm {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        self.validate()?;
-        limit_warp(input, self.name(), self.limit, |basis, strength| {
-            self.setup_at(input, basis, strength)
-        })
+        on_whole_frame(input, |basis| self.setup_with(input, basis))
     }
 }

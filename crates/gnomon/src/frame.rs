@@ -1,0 +1,137 @@
+//! The facts of one frame, computed once and shared by every technique, every cascade and
+//! every SPPSM side that reads them: the tolerance, the light's fixed frame and frustum, the
+//! region B lies in, P (the view frustum clipped by the scene box and a spot light's frustum),
+//! each receiver's place against the view and light frusta, the casters' light-space boxes,
+//! and the view samples.
+//!
+//! A technique works on a part of the frame (a [`crate::techniques::basis::FocusBasis`]): all
+//! of it, a cascade's slice (the same eye and orientation, nearer far and farther near
+//! planes), or one side of a plane through the light's rays (SPPSM). A part refines the
+//! frame's classification (only the receivers the frame sees are tested again, against the
+//! planes the part adds) instead of classifying the scene again. A spatial index over the
+//! scene's boxes would sit here, under the same structure.
+
+use std::cell::OnceCell;
+
+use crate::bounds::SceneBounds;
+use crate::focus::{ParallelBoxes, box_planes, classify_boxes};
+use crate::geometry::{ConvexPolyhedron, Plane};
+use crate::light::Light;
+use crate::light_space::{Extents, LightFrame, Projector};
+use crate::samples::ViewSamples;
+use crate::setup::SetupInput;
+use crate::techniques::{fixed_projector, tolerance};
+
+/// The shared facts of one camera, light and scene; see the module documentation.
+pub(crate) struct Frame<'a> {
+    /// The frame's input (its camera is the whole view's).
+    pub input: SetupInput<'a>,
+    /// The setup's world-space tolerance (it depends on the eye, not on the near and far
+    /// planes, so a slice shares it).
+    pub tolerance: f64,
+    /// The light's projector in the frame fixed by the light alone.
+    pub fixed: Projector,
+    /// A spot light's frustum.
+    pub light_planes: Option<[Plane; 6]>,
+    /// The scene box clipped by a spot light's frustum: B lies in it.
+    pub region: ConvexPolyhedron,
+    /// P of the whole view.
+    pub view_body: ConvexPolyhedron,
+    /// Each receiver against the view frustum's and the light's planes, in that order
+    /// ([`classify_boxes`]'s codes).
+    pub receiver_codes: Vec<u32>,
+    /// The light frame aligned with the view (directional lights; `None` when the view is
+    /// parallel to the light or the light is a spot).
+    pub aligned: Option<LightFrame>,
+    /// The casters' boxes in `aligned`, made on first use.
+    aligned_casters: OnceCell<Vec<Extents>>,
+    /// The view samples when the input has none, cast on first use.
+    cast_samples: OnceCell<ViewSamples>,
+}
+
+impl<'a> Frame<'a> {
+    /// The frame of `input`.
+    pub fn new(input: &SetupInput<'a>) -> Self {
+        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
+        let fixed = fixed_projector(input.light);
+        let (light_planes, aligned) = match input.light {
+            Light::Directional(light) => (
+                None,
+                LightFrame::view_aligned(light.direction(), input.camera.forward()),
+            ),
+            Light::Spot(spot) => (Some(spot.frustum_planes(fixed.frame().up)), None),
+        };
+        let scene_box = input.scene.scene_box();
+        let region = ConvexPolyhedron::from_box(&scene_box)
+            .clip_all(light_planes.iter().flatten(), tolerance);
+        let view_body = view_body(input.camera, input.scene, light_planes.as_ref(), tolerance);
+        let mut receiver_codes = Vec::new();
+        if !view_body.is_empty() {
+            let planes = frame_planes(input.camera.frustum_planes(), light_planes.as_ref(), None);
+            classify_boxes(
+                input.scene.receiver_arrays(),
+                &planes,
+                tolerance,
+                &mut receiver_codes,
+            );
+        }
+        Self {
+            input: *input,
+            tolerance,
+            fixed,
+            light_planes,
+            region,
+            view_body,
+            receiver_codes,
+            aligned,
+            aligned_casters: OnceCell::new(),
+            cast_samples: OnceCell::new(),
+        }
+    }
+
+    /// The casters' boxes under `frame` when it is the frame's view-aligned light frame (a
+    /// directional light's: the focused map's usual frame and the warps' light space), made
+    /// once and shared; `None` for any other frame.
+    pub fn casters_in(&self, frame: &LightFrame) -> Option<&[Extents]> {
+        let aligned = self.aligned.as_ref().filter(|a| *a == frame)?;
+        Some(self.aligned_casters.get_or_init(|| {
+            let projected = ParallelBoxes::new(self.input.scene.caster_arrays(), aligned);
+            (0..projected.len()).map(|i| projected.extents(i)).collect()
+        }))
+    }
+
+    /// The frame's view samples: the input's, or cast against the receiver boxes once.
+    pub fn samples(&self) -> &ViewSamples {
+        match self.input.samples {
+            Some(samples) => samples,
+            None => self.cast_samples.get_or_init(|| {
+                ViewSamples::new(self.input.camera, self.input.light, self.input.scene)
+            }),
+        }
+    }
+}
+
+/// The planes a part of the frame classifies receivers against: the view frustum (near, far,
+/// left, right, bottom, top), the light's frustum, then a side plane.
+pub(crate) fn frame_planes(
+    frustum: [Plane; 6],
+    light_planes: Option<&[Plane; 6]>,
+    side: Option<Plane>,
+) -> Vec<Plane> {
+    let mut planes = frustum.to_vec();
+    planes.extend(light_planes.iter().copied().flatten());
+    planes.extend(side);
+    planes
+}
+
+/// P: `camera`'s view frustum clipped by the scene box and a spot light's frustum.
+pub(crate) fn view_body(
+    camera: &crate::camera::Camera,
+    scene: &SceneBounds,
+    light_planes: Option<&[Plane; 6]>,
+    tolerance: f64,
+) -> ConvexPolyhedron {
+    ConvexPolyhedron::from_hexahedron(&camera.frustum_corners())
+        .clip_all(&box_planes(&scene.scene_box()), tolerance)
+        .clip_all(light_planes.into_iter().flatten(), tolerance)
+}
