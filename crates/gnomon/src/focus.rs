@@ -199,10 +199,27 @@ pub(crate) fn box_cut_vertices(
     tolerance: f64,
     out: &mut Vec<DVec3>,
 ) -> bool {
+    // Most cut boxes cross one or two planes: small arrays for them (so that a call does not
+    // clear room for 32 planes), the full size for the rest.
+    if mask.count_ones() <= 4 {
+        cut_vertices::<4>(aabb, planes, mask, tolerance, out)
+    } else {
+        cut_vertices::<32>(aabb, planes, mask, tolerance, out)
+    }
+}
+
+/// [`box_cut_vertices`] with room for `N` cutting planes (at least the bits of `mask`).
+fn cut_vertices<const N: usize>(
+    aabb: &Aabb,
+    planes: &[Plane],
+    mask: u32,
+    tolerance: f64,
+    out: &mut Vec<DVec3>,
+) -> bool {
     let mut cut = [Plane {
         normal: DVec3::ZERO,
         offset: 0.0,
-    }; 32];
+    }; N];
     let mut k = 0;
     for (i, plane) in planes.iter().enumerate() {
         if mask & (1 << i) != 0 {
@@ -219,7 +236,7 @@ pub(crate) fn box_cut_vertices(
     };
     let corners = aabb.corners();
     // Each corner's distance to each cutting plane, computed once.
-    let mut dist = [[0.0f64; 8]; 32];
+    let mut dist = [[0.0f64; 8]; N];
     for (j, pl) in cut.iter().enumerate() {
         for (c, corner) in corners.iter().enumerate() {
             dist[j][c] = pl.distance(*corner);
@@ -377,6 +394,26 @@ impl VisibleScene {
         }
     }
 
+    /// Every vertex of the visible receiver parts in `frame`'s coordinates (right . p, up . p,
+    /// forward . p), appended to `out`: a whole box's corners are its projected centre plus and
+    /// minus the projected half extents along the world axes.
+    pub fn vertices_in(&self, scene: &SceneBounds, frame: &LightFrame, out: &mut Vec<DVec3>) {
+        let to = |p: DVec3| DVec3::new(frame.right.dot(p), frame.up.dot(p), frame.forward.dot(p));
+        let (ex, ey, ez) = (to(DVec3::X), to(DVec3::Y), to(DVec3::Z));
+        out.reserve(8 * self.whole.len() + self.points.len());
+        for &i in &self.whole {
+            let b = &scene.receivers()[i];
+            let (c, h) = (to(b.center()), b.half_extents());
+            let (dx, dy, dz) = (ex * h.x, ey * h.y, ez * h.z);
+            for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+                let q = c + dx * sx + dy * sy;
+                out.push(q - dz);
+                out.push(q + dz);
+            }
+        }
+        out.extend(self.points.iter().map(|p| to(*p)));
+    }
+
     /// The extents of the visible receiver parts under `projector`.
     pub fn receiver_extents(&self, scene: &SceneBounds, projector: &Projector) -> Extents {
         let mut ext = match projector {
@@ -424,7 +461,7 @@ pub(crate) fn caster_extents(
     receivers: &Extents,
     cut_planes: &[Plane],
     light_near_first: bool,
-    cached: Option<&[Extents]>,
+    cached: Option<&crate::frame::LightBoxes>,
     tolerance: f64,
     diagnostics: &mut Diagnostics,
 ) -> Extents {
@@ -438,11 +475,20 @@ pub(crate) fn caster_extents(
     };
     // A whole caster's extents: the frame's, else projected.
     let whole = |i: usize| match (cached, &parallel) {
-        (Some(boxes), _) => boxes[i],
+        (Some(boxes), _) => boxes.get(i),
         (None, Some(projected)) => projected.extents(i),
         (None, None) => projector.box_extents(&scene.casters()[i]),
     };
-    if cut_planes.is_empty() {
+    if let (true, Some(boxes)) = (cut_planes.is_empty(), cached) {
+        // The frame's boxes: cull in one pass, then accumulate.
+        let mut kept = Vec::new();
+        let all = (f64::NEG_INFINITY, f64::INFINITY);
+        boxes.overlapping(receivers, xy_slack, receivers.max.z, all, &mut kept);
+        for &i in &kept {
+            ext = ext.union(&boxes.get(i as usize));
+        }
+        relevant = kept.len();
+    } else if cut_planes.is_empty() {
         // One pass over the box arrays: project, cull, accumulate.
         for i in 0..scene.casters().len() {
             let box_ext = whole(i);

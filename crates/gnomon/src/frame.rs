@@ -13,7 +13,9 @@
 
 use std::cell::OnceCell;
 
-use crate::bounds::SceneBounds;
+use glam::DVec3;
+
+use crate::bounds::{BoxArrays, SceneBounds};
 use crate::focus::{ParallelBoxes, box_planes, classify_boxes};
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
@@ -44,7 +46,7 @@ pub(crate) struct Frame<'a> {
     /// parallel to the light or the light is a spot).
     pub aligned: Option<LightFrame>,
     /// The casters' boxes in `aligned`, made on first use.
-    aligned_casters: OnceCell<Vec<Extents>>,
+    aligned_casters: OnceCell<LightBoxes>,
     /// The view samples when the input has none, cast on first use.
     cast_samples: OnceCell<ViewSamples>,
 }
@@ -92,12 +94,12 @@ impl<'a> Frame<'a> {
     /// The casters' boxes under `frame` when it is the frame's view-aligned light frame (a
     /// directional light's: the focused map's usual frame and the warps' light space), made
     /// once and shared; `None` for any other frame.
-    pub fn casters_in(&self, frame: &LightFrame) -> Option<&[Extents]> {
+    pub fn casters_in(&self, frame: &LightFrame) -> Option<&LightBoxes> {
         let aligned = self.aligned.as_ref().filter(|a| *a == frame)?;
-        Some(self.aligned_casters.get_or_init(|| {
-            let projected = ParallelBoxes::new(self.input.scene.caster_arrays(), aligned);
-            (0..projected.len()).map(|i| projected.extents(i)).collect()
-        }))
+        Some(
+            self.aligned_casters
+                .get_or_init(|| LightBoxes::new(self.input.scene.caster_arrays(), aligned)),
+        )
     }
 
     /// The frame's view samples: the input's, or cast against the receiver boxes once.
@@ -134,4 +136,72 @@ pub(crate) fn view_body(
     ConvexPolyhedron::from_hexahedron(&camera.frustum_corners())
         .clip_all(&box_planes(&scene.scene_box()), tolerance)
         .clip_all(light_planes.into_iter().flatten(), tolerance)
+}
+
+/// Boxes in a light frame, one array per coordinate (so that a pass over them vectorises):
+/// box i spans [lo[k][i], hi[k][i]] along the frame's right, up and forward axes.
+pub(crate) struct LightBoxes {
+    pub lo: [Vec<f64>; 3],
+    pub hi: [Vec<f64>; 3],
+}
+
+impl LightBoxes {
+    /// The boxes of `boxes` in `frame`: a box's image is its projected centre plus and minus
+    /// |R| times its half extents.
+    pub fn new(boxes: &BoxArrays, frame: &LightFrame) -> Self {
+        let projected = ParallelBoxes::new(boxes, frame);
+        let n = projected.len();
+        let mut lo = [(); 3].map(|_| Vec::with_capacity(n));
+        let mut hi = [(); 3].map(|_| Vec::with_capacity(n));
+        for i in 0..n {
+            let e = projected.extents(i);
+            for k in 0..3 {
+                lo[k].push(e.min[k]);
+                hi[k].push(e.max[k]);
+            }
+        }
+        Self { lo, hi }
+    }
+
+    /// How many boxes.
+    pub fn len(&self) -> usize {
+        self.lo[0].len()
+    }
+
+    /// The boxes that overlap the xy rectangle of `rect` (grown by `slack`, touching counts)
+    /// and begin no farther along the light than `max_z`, and whose y range meets `y_range`:
+    /// their indices, appended to `out`.
+    pub fn overlapping(
+        &self,
+        rect: &Extents,
+        slack: f64,
+        max_z: f64,
+        y_range: (f64, f64),
+        out: &mut Vec<u32>,
+    ) {
+        let (x0, x1) = (rect.min.x - slack, rect.max.x + slack);
+        let (y0, y1) = (
+            (rect.min.y - slack).max(y_range.0),
+            (rect.max.y + slack).min(y_range.1),
+        );
+        let n = self.len();
+        let (lx, ly, lz) = (&self.lo[0][..n], &self.lo[1][..n], &self.lo[2][..n]);
+        let (hx, hy) = (&self.hi[0][..n], &self.hi[1][..n]);
+        for i in 0..n {
+            let keep =
+                (x0 <= hx[i]) & (lx[i] <= x1) & (y0 <= hy[i]) & (ly[i] <= y1) & (lz[i] <= max_z);
+            if keep {
+                out.push(i as u32);
+            }
+        }
+    }
+
+    /// Box `i`.
+    #[inline]
+    pub fn get(&self, i: usize) -> Extents {
+        Extents {
+            min: DVec3::new(self.lo[0][i], self.lo[1][i], self.lo[2][i]),
+            max: DVec3::new(self.hi[0][i], self.hi[1][i], self.hi[2][i]),
+        }
+    }
 }

@@ -21,9 +21,9 @@
 //! can take them from its last frame's depth and normals, as sample distribution shadow maps
 //! do), and a setup given them ([`crate::SetupInput::samples`]) uses them.
 
-use glam::DVec3;
+use glam::{DVec3, DVec4};
 
-use crate::bounds::{Aabb, SceneBounds};
+use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::light::Light;
 use crate::setup::ShadowMap;
@@ -83,17 +83,62 @@ impl ViewSamples {
                 (d, d.recip())
             })
             .collect();
+        let grid = Grid::new(camera, (tan_x, tan_y), (cols, rows));
+        let arrays = scene.receiver_arrays();
+        // The boxes the view can see, with their cells and nearest view depth z0.
+        let mut covered = Vec::with_capacity(scene.receivers().len());
+        for b in 0..scene.receivers().len() {
+            let centre = DVec3::new(
+                arrays.center[0][b],
+                arrays.center[1][b],
+                arrays.center[2][b],
+            );
+            let half = DVec3::new(arrays.half[0][b], arrays.half[1][b], arrays.half[2][b]);
+            if let Some((cells, z0)) = grid.cells_covered(centre, half) {
+                covered.push((b as u32, cells, z0));
+            }
+        }
+        // Roughly front to back (a counting sort by z0 into buckets): a hit at depth t hides
+        // every box whose nearest depth is beyond t, so a cell is tested only against the
+        // boxes that can still be nearer than its hit.
+        const BUCKETS: usize = 64;
+        let (z_lo, z_hi) = covered
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+                (a.min(c.2), b.max(c.2))
+            });
+        let scale = if z_hi > z_lo {
+            (BUCKETS as f64 - 1.0) / (z_hi - z_lo)
+        } else {
+            0.0
+        };
+        let bucket = |z: f64| (((z - z_lo) * scale) as usize).min(BUCKETS - 1);
+        let mut starts = [0usize; BUCKETS + 1];
+        for c in &covered {
+            starts[bucket(c.2) + 1] += 1;
+        }
+        for k in 0..BUCKETS {
+            starts[k + 1] += starts[k];
+        }
+        let mut order = vec![0u32; covered.len()];
+        let mut next = starts;
+        for (n, c) in covered.iter().enumerate() {
+            let k = bucket(c.2);
+            order[next[k]] = n as u32;
+            next[k] += 1;
+        }
         // Nearest hit per cell: (t, face axis).
         let mut nearest = vec![(f64::INFINITY, usize::MAX); rows * cols];
-        for aabb in scene.receivers() {
-            let Some((i0, i1, j0, j1)) = cells_covered(aabb, camera, (tan_x, tan_y), (cols, rows))
-            else {
-                continue;
-            };
+        for &n in &order {
+            let (b, (i0, i1, j0, j1), z0) = covered[n as usize];
+            let aabb = &scene.receivers()[b as usize];
             let (lo, hi) = (aabb.min() - eye, aabb.max() - eye);
             for j in j0..=j1 {
                 for i in i0..=i1 {
                     let k = j * cols + i;
+                    if z0 >= nearest[k].0 {
+                        continue;
+                    }
                     if let Some((t, axis)) = ray_box(rays[k].1, lo, hi)
                         && t >= lens.near
                         && t <= lens.far
@@ -196,13 +241,79 @@ impl ViewSamples {
         map: &ShadowMap,
         qs: [f64; N],
     ) -> Option<[f64; N]> {
-        let mut values: Vec<f64> = self.samples.iter().map(|s| undersampling(map, s)).collect();
+        let texels = Texels::new(map);
+        let mut values: Vec<f64> = self
+            .samples
+            .iter()
+            .map(|s| texels.undersampling(s))
+            .collect();
         if values.is_empty() {
             return None;
         }
-        values.sort_unstable_by(f64::total_cmp);
         let last = values.len() - 1;
-        Some(qs.map(|q| values[((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last)]))
+        // Nearest-rank quantiles by selection, largest rank first: each selection leaves the
+        // values below its rank in front, where the next one selects.
+        let ranks = qs.map(|q| ((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last));
+        let mut order: [usize; N] = std::array::from_fn(|i| i);
+        order.sort_unstable_by(|a, b| ranks[*b].cmp(&ranks[*a]));
+        let mut out = [0.0; N];
+        let mut end = values.len();
+        for &i in &order {
+            let rank = ranks[i];
+            let (_, value, _) = values[..end].select_nth_unstable_by(rank, f64::total_cmp);
+            out[i] = *value;
+            end = rank + 1;
+        }
+        Some(out)
+    }
+}
+
+/// A map's rows as the undersampling measure reads them, taken out of its matrix once.
+struct Texels {
+    x: DVec4,
+    y: DVec4,
+    w: DVec4,
+    scale: f64,
+}
+
+impl Texels {
+    fn new(map: &ShadowMap) -> Self {
+        let m = map.clip_from_world;
+        Self {
+            x: m.row(0),
+            y: m.row(1),
+            w: m.row(3),
+            scale: 0.5 * map.resolution as f64,
+        }
+    }
+
+    /// See [`undersampling`].
+    #[inline]
+    fn undersampling(&self, sample: &ViewSample) -> f64 {
+        let p = sample.position.extend(1.0);
+        let (cx, cy, cw) = (self.x.dot(p), self.y.dot(p), self.w.dot(p));
+        if cw.is_nan() || cw <= 0.0 {
+            return f64::INFINITY;
+        }
+        let inv_w = 1.0 / cw;
+        let (x, y) = (cx * inv_w, cy * inv_w);
+        let w = self.w.truncate();
+        let gx = (self.x.truncate() - w * x) * inv_w;
+        let gy = (self.y.truncate() - w * y) * inv_w;
+        let scale = self.scale;
+        let (jx0, jx1) = (scale * gx.dot(sample.dp_dx), scale * gy.dot(sample.dp_dx));
+        let (jy0, jy1) = (scale * gx.dot(sample.dp_dy), scale * gy.dot(sample.dp_dy));
+        // J^T J = [[a, b], [b, c]]: its eigenvalues are the squared singular values.
+        let a = jx0 * jx0 + jx1 * jx1;
+        let b = jx0 * jy0 + jx1 * jy1;
+        let c = jy0 * jy0 + jy1 * jy1;
+        let root = (0.25 * (a - c) * (a - c) + b * b).max(0.0).sqrt();
+        let sigma_min = (0.5 * (a + c) - root).max(0.0).sqrt();
+        if sigma_min > 0.0 {
+            1.0 / sigma_min
+        } else {
+            f64::INFINITY
+        }
     }
 }
 
@@ -210,29 +321,7 @@ impl ViewSamples {
 /// Jacobian from pixels to texels, as the renderer measures it); infinite where the map does
 /// not see the point (w <= 0) or does not resolve it.
 pub fn undersampling(map: &ShadowMap, sample: &ViewSample) -> f64 {
-    let m = map.clip_from_world;
-    let clip = m * sample.position.extend(1.0);
-    if clip.w.is_nan() || clip.w <= 0.0 {
-        return f64::INFINITY;
-    }
-    let row = |k: usize| m.row(k).truncate();
-    let (x, y) = (clip.x / clip.w, clip.y / clip.w);
-    let gx = (row(0) - row(3) * x) / clip.w;
-    let gy = (row(1) - row(3) * y) / clip.w;
-    let scale = 0.5 * map.resolution as f64;
-    let (jx0, jx1) = (scale * gx.dot(sample.dp_dx), scale * gy.dot(sample.dp_dx));
-    let (jy0, jy1) = (scale * gx.dot(sample.dp_dy), scale * gy.dot(sample.dp_dy));
-    // J^T J = [[a, b], [b, c]]: its eigenvalues are the squared singular values.
-    let a = jx0 * jx0 + jx1 * jx1;
-    let b = jx0 * jy0 + jx1 * jy1;
-    let c = jy0 * jy0 + jy1 * jy1;
-    let root = (0.25 * (a - c) * (a - c) + b * b).max(0.0).sqrt();
-    let sigma_min = (0.5 * (a + c) - root).max(0.0).sqrt();
-    if sigma_min > 0.0 {
-        1.0 / sigma_min
-    } else {
-        f64::INFINITY
-    }
+    Texels::new(map).undersampling(sample)
 }
 
 /// Whether the light reaches a surface at `p` with normal `n` (N.L > 0.1; a spot light also
@@ -253,50 +342,94 @@ fn lit_facing(light: &Light, p: DVec3, n: DVec3) -> bool {
     }
 }
 
-/// The grid cells (i0, i1, j0, j1) whose rays can hit `aabb` (through the box around it in
-/// camera coordinates), or `None` when it lies wholly behind the near plane or beside the
-/// view. A box reaching behind the eye covers every cell.
-fn cells_covered(
-    aabb: &Aabb,
-    camera: &Camera,
-    (tan_x, tan_y): (f64, f64),
-    (cols, rows): (usize, usize),
-) -> Option<(usize, usize, usize, usize)> {
-    let (eye, forward, right, up) = (camera.eye(), camera.forward(), camera.right(), camera.up());
-    let near = camera.lens().near;
-    // The box in camera coordinates (right, up, forward), bounded by a box there: its centre
-    // and the half extents |R| h.
-    let (c, h) = (aabb.center() - eye, aabb.half_extents());
-    let centre = DVec3::new(c.dot(right), c.dot(up), c.dot(forward));
-    let half = DVec3::new(right.abs().dot(h), up.abs().dot(h), forward.abs().dot(h));
-    let (z0, z1) = (centre.z - half.z, centre.z + half.z);
-    if z1 < near {
-        return None;
+/// The camera's grid of rays, ready to bound the cells a box can be hit in.
+struct Grid {
+    eye: DVec3,
+    /// The camera's axes, and their absolute values.
+    axes: [DVec3; 3],
+    abs_axes: [DVec3; 3],
+    near: f64,
+    far: f64,
+    /// 1 / tan of the half fields of view.
+    inv_tan: (f64, f64),
+    cols: usize,
+    rows: usize,
+}
+
+impl Grid {
+    fn new(camera: &Camera, (tan_x, tan_y): (f64, f64), (cols, rows): (usize, usize)) -> Self {
+        let axes = [camera.right(), camera.up(), camera.forward()];
+        let lens = camera.lens();
+        Self {
+            eye: camera.eye(),
+            axes,
+            abs_axes: axes.map(DVec3::abs),
+            near: lens.near,
+            far: lens.far,
+            inv_tan: (1.0 / tan_x, 1.0 / tan_y),
+            cols,
+            rows,
+        }
     }
-    if z0 <= 0.5 * near {
-        return Some((0, cols - 1, 0, rows - 1));
+
+    /// The grid cells (i0, i1, j0, j1) whose rays can hit the box of `centre` and `half`
+    /// extents (through the box around it in camera coordinates), or `None` when it lies
+    /// wholly before the near plane, beyond the far plane or beside the view. A box reaching
+    /// behind the eye covers every cell.
+    /// Also gives the box's nearest view depth.
+    #[inline]
+    fn cells_covered(
+        &self,
+        centre: DVec3,
+        half: DVec3,
+    ) -> Option<((usize, usize, usize, usize), f64)> {
+        let c = centre - self.eye;
+        let [r, u, f] = self.axes;
+        let [ar, au, af] = self.abs_axes;
+        // The box in camera coordinates (right, up, forward), bounded by a box there: its
+        // centre and the half extents |R| h.
+        let (cz, hz) = (f.dot(c), af.dot(half));
+        let (z0, z1) = (cz - hz, cz + hz);
+        if z1 < self.near || z0 > self.far {
+            return None;
+        }
+        let (cols, rows) = (self.cols, self.rows);
+        if z0 <= 0.5 * self.near {
+            return Some(((0, cols - 1, 0, rows - 1), z0));
+        }
+        let (r0, r1) = (1.0 / z0, 1.0 / z1);
+        // x / z over the camera-space box: least at the nearest depth when x < 0, else at the
+        // farthest (and the other way round for the largest); in units of the half field.
+        let bounds = |lo: f64, hi: f64, inv_tan: f64| {
+            let least = lo * if lo < 0.0 { r0 } else { r1 };
+            let most = hi * if hi > 0.0 { r0 } else { r1 };
+            (least * inv_tan, most * inv_tan)
+        };
+        let (cx, hx) = (r.dot(c), ar.dot(half));
+        let (cy, hy) = (u.dot(c), au.dot(half));
+        let (x0, x1) = bounds(cx - hx, cx + hx, self.inv_tan.0);
+        let (y0, y1) = bounds(cy - hy, cy + hy, self.inv_tan.1);
+        if x0 > 1.0 || x1 < -1.0 || y0 > 1.0 || y1 < -1.0 {
+            return None;
+        }
+        // Cell i's centre is at (2 i + 1) / n - 1: the cells whose centres lie in [lo, hi].
+        // The positions are clamped to [-1, n] first, so that truncation (toward zero, of
+        // a value at least -1 shifted by one) is a floor.
+        let range = |lo: f64, hi: f64, n: usize| {
+            let last_cell = n as f64 - 1.0;
+            let first = ((lo + 1.0) * 0.5 * n as f64 - 0.5).clamp(-1.0, n as f64);
+            let last = ((hi + 1.0) * 0.5 * n as f64 - 0.5).clamp(-1.0, n as f64);
+            let floor = |v: f64| (v + 1.0) as i64 - 1;
+            let first_floor = floor(first);
+            let first = first_floor + i64::from((first_floor as f64) < first);
+            let first = first.max(0);
+            let last = floor(last).min(last_cell as i64);
+            (first <= last).then_some((first as usize, last as usize))
+        };
+        let (i0, i1) = range(x0, x1, cols)?;
+        let (j0, j1) = range(y0, y1, rows)?;
+        Some(((i0, i1, j0, j1), z0))
     }
-    // x / z over the camera-space box: least at the nearest depth when x < 0, else at the
-    // farthest (and the other way round for the largest).
-    let bounds = |lo: f64, hi: f64, tan: f64| {
-        let least = lo / if lo < 0.0 { z0 } else { z1 };
-        let most = hi / if hi > 0.0 { z0 } else { z1 };
-        (least / tan, most / tan)
-    };
-    let (x0, x1) = bounds(centre.x - half.x, centre.x + half.x, tan_x);
-    let (y0, y1) = bounds(centre.y - half.y, centre.y + half.y, tan_y);
-    let (lo, hi) = ((x0, y0), (x1, y1));
-    // Cell i's centre is at (2 i + 1) / n - 1: the cells whose centres lie in [lo, hi].
-    let range = |lo: f64, hi: f64, n: usize| {
-        let first = ((lo + 1.0) * 0.5 * n as f64 - 0.5).ceil().max(0.0);
-        let last = ((hi + 1.0) * 0.5 * n as f64 - 0.5)
-            .floor()
-            .min(n as f64 - 1.0);
-        (first <= last).then_some((first as usize, last as usize))
-    };
-    let (i0, i1) = range(lo.0, hi.0, cols)?;
-    let (j0, j1) = range(lo.1, hi.1, rows)?;
-    Some((i0, i1, j0, j1))
 }
 
 /// Where the ray `t d` (t >= 0) from the origin enters the box [lo, hi] (relative to the
@@ -325,6 +458,7 @@ mod tests {
     use glam::DMat4;
 
     use super::*;
+    use crate::bounds::Aabb;
     use crate::camera::Lens;
     use crate::light::DirectionalLight;
     use crate::setup::MapProjection;

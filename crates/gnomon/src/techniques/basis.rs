@@ -14,7 +14,7 @@ use glam::DVec3;
 use crate::body::focus_body;
 use crate::camera::Camera;
 use crate::focus::{VisibleScene, refine_codes};
-use crate::frame::{Frame, frame_planes, view_body};
+use crate::frame::{Frame, frame_planes};
 use crate::geometry::Plane;
 use crate::light_space::Projector;
 use crate::samples::ViewSamples;
@@ -88,8 +88,12 @@ impl<'f> FocusBasis<'f> {
             ),
             Part::Slice(camera) => {
                 let lens = camera.lens();
-                let body = view_body(camera, scene, light_planes.as_ref(), tolerance);
                 let planes = frame_planes(camera.frustum_planes(), light_planes.as_ref(), None);
+                // The slice's P is the frame's between the slice's near and far planes.
+                let body = frame
+                    .view_body
+                    .clip(&planes[0], tolerance)
+                    .clip(&planes[1], tolerance);
                 // The near and far planes (bits 0 and 1) are the slice's own.
                 let codes = refine_codes(
                     &frame.receiver_codes,

@@ -304,7 +304,15 @@ impl ShadowTechnique for Cascades {
         self.validate(&lens)?;
         // The frame's facts (P, the receivers against the view, the casters in light space,
         // the samples) once; each slice refines them.
-        let frame = Frame::new(input);
+        // Slices are cameras made from the view matrix; the frame's camera is made the same
+        // way, so that their eye and axes (and so the view frustum's side planes and the
+        // view-aligned light frame) are the same to the last bit.
+        let view_from_world = input.camera.view_from_world();
+        let whole = Camera::from_view_from_world(view_from_world, lens)?;
+        let frame = Frame::new(&SetupInput {
+            camera: &whole,
+            ..*input
+        });
         let Some(slices) = self.slices(input.camera, &frame.view_body) else {
             // The view does not reach the scene: one map, as the fit gives it.
             let mut setup = self.fit.as_dyn().setup(input)?;
@@ -343,7 +351,7 @@ impl ShadowTechnique for Cascades {
             };
             let far = depths[i + 1];
             let slice_lens = Lens { near, far, ..lens };
-            let camera = Camera::from_view_from_world(input.camera.view_from_world(), slice_lens)?;
+            let camera = Camera::from_view_from_world(view_from_world, slice_lens)?;
             if let Some(direction) = stable_sun {
                 maps.push(stable_map(&camera, direction, input.scene, settings));
                 diagnostics.light_frame = LightFrameKind::Fixed;

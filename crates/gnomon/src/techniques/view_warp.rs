@@ -29,7 +29,8 @@
 use glam::{DMat4, DVec3, DVec4};
 
 use crate::error::SetupError;
-use crate::focus::{BoxSide, ParallelBoxes, box_cut_vertices, classify_box};
+use crate::focus::{BoxSide, box_cut_vertices, classify_box};
+use crate::frame::LightBoxes;
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, pad};
@@ -167,6 +168,19 @@ impl Warp {
             ) / w,
             w,
         )
+    }
+
+    /// The extents of the warped light-space points.
+    fn points_extents(&self, points: &[DVec3]) -> Extents {
+        let (x_eye, y_origin, z_mid, inv_n, k) =
+            (self.x_eye, self.y_origin, self.z_mid, self.inv_n, self.k);
+        let mut ext = Extents::EMPTY;
+        for q in points {
+            let dy = q.y - y_origin;
+            let r = 1.0 / (1.0 + dy * inv_n);
+            ext.add(DVec3::new((q.x - x_eye) * r, dy * k * r, (q.z - z_mid) * r));
+        }
+        ext
     }
 
     /// The warped extents of the light-space box [lo, hi], with its Y inside B's range so
@@ -357,13 +371,23 @@ impl WarpSpace {
         let mut receiver_points = Vec::new();
         let mut receivers_light = Extents::EMPTY;
         let mut receivers_linear = (f64::INFINITY, f64::NEG_INFINITY);
-        visible.for_each_vertex(input.scene, |p| {
-            let q = space.light(p);
-            receivers_light.add(q);
-            receiver_points.push(q);
-            let z = linear(p);
-            receivers_linear = (receivers_linear.0.min(z), receivers_linear.1.max(z));
-        });
+        match space {
+            LightSpace::Parallel(frame) => {
+                // Light space's Z is the linear depth along a directional light.
+                visible.vertices_in(input.scene, &frame, &mut receiver_points);
+                for q in &receiver_points {
+                    receivers_light.add(*q);
+                }
+                receivers_linear = (receivers_light.min.z, receivers_light.max.z);
+            }
+            LightSpace::Spot { .. } => visible.for_each_vertex(input.scene, |p| {
+                let q = space.light(p);
+                receivers_light.add(q);
+                receiver_points.push(q);
+                let z = linear(p);
+                receivers_linear = (receivers_linear.0.min(z), receivers_linear.1.max(z));
+            }),
+        }
         let receivers_z = receivers_linear.1;
 
         // Casters, cut to B's Y range (see the module documentation), and culled where no
@@ -376,23 +400,35 @@ impl WarpSpace {
                     * (receivers_light.max - receivers_light.min)
                         .truncate()
                         .max_element();
-                let mut kept = Vec::new();
-                let mut keep = |Extents { min: lo, max: hi }: Extents| {
-                    let (y0, y1) = (lo.y.max(body_light.min.y), hi.y.min(body_light.max.y));
-                    let beside =
-                        !receivers_light.xy_overlaps(&Extents { min: lo, max: hi }, light_slack);
-                    if y0 <= y1 && lo.z <= receivers_z && !beside {
-                        kept.push((lo.with_y(y0), hi.with_y(y1)));
+                let made;
+                let boxes = match basis.frame.casters_in(frame) {
+                    Some(boxes) => boxes,
+                    None => {
+                        made = LightBoxes::new(input.scene.caster_arrays(), frame);
+                        &made
                     }
                 };
-                match basis.frame.casters_in(frame) {
-                    Some(boxes) => boxes.iter().for_each(|e| keep(*e)),
-                    None => {
-                        let projected = ParallelBoxes::new(input.scene.caster_arrays(), frame);
-                        (0..projected.len()).for_each(|i| keep(projected.extents(i)));
-                    }
-                }
-                WarpCasters::Boxes(kept)
+                let mut indices = Vec::new();
+                let y_range = (body_light.min.y, body_light.max.y);
+                boxes.overlapping(
+                    &receivers_light,
+                    light_slack,
+                    receivers_z,
+                    y_range,
+                    &mut indices,
+                );
+                WarpCasters::Boxes(
+                    indices
+                        .iter()
+                        .map(|&i| {
+                            let Extents { min: lo, max: hi } = boxes.get(i as usize);
+                            (
+                                lo.with_y(lo.y.max(y_range.0)),
+                                hi.with_y(hi.y.min(y_range.1)),
+                            )
+                        })
+                        .collect(),
+                )
             }
             _ => {
                 // Cut each caster by the light's frustum (and a side), and B's Y range: all
@@ -499,10 +535,7 @@ pub(crate) fn view_warp_setup(
     };
 
     // Receivers: warped extents.
-    let mut receivers = Extents::EMPTY;
-    for q in &ws.receiver_points {
-        receivers.add(warp.warp(*q).0);
-    }
+    let receivers = warp.points_extents(&ws.receiver_points);
     let receivers_linear = ws.receivers_linear;
     let receivers_z = receivers_linear.1;
     let mut body_warped = Extents::EMPTY;
@@ -530,11 +563,10 @@ pub(crate) fn view_warp_setup(
         }
         WarpCasters::Points { points, casters } => {
             for &(start, end, z_min) in casters {
-                let mut warped = Extents::EMPTY;
-                for q in &points[start as usize..end as usize] {
-                    warped.add(warp.warp(*q).0);
-                }
-                add_caster(warped, z_min);
+                add_caster(
+                    warp.points_extents(&points[start as usize..end as usize]),
+                    z_min,
+                );
             }
         }
     }
