@@ -153,11 +153,6 @@ impl<'a> ParallelBoxes<'a> {
         }
     }
 
-    /// How many boxes.
-    pub fn len(&self) -> usize {
-        self.boxes.center[0].len()
-    }
-
     /// The extents of box `i` in the frame.
     #[inline(always)]
     pub fn extents(&self, i: usize) -> Extents {
@@ -170,6 +165,40 @@ impl<'a> ParallelBoxes<'a> {
             min: pc - ph,
             max: pc + ph,
         }
+    }
+}
+
+/// The corners of world boxes in a light frame, from their projected centres and half
+/// extents: the frame's images of the world axes, computed once.
+pub(crate) struct LightCorners {
+    axes: [DVec3; 3],
+}
+
+impl LightCorners {
+    pub fn new(frame: &LightFrame) -> Self {
+        let to = |p: DVec3| DVec3::new(frame.right.dot(p), frame.up.dot(p), frame.forward.dot(p));
+        Self {
+            axes: [to(DVec3::X), to(DVec3::Y), to(DVec3::Z)],
+        }
+    }
+
+    /// The eight corners of the box with projected centre `c` and half extents `h`.
+    #[inline(always)]
+    pub fn corners(&self, c: DVec3, h: DVec3) -> [DVec3; 8] {
+        let [ex, ey, ez] = self.axes;
+        let (dx, dy, dz) = (ex * h.x, ey * h.y, ez * h.z);
+        let (a, b) = (c - dx, c + dx);
+        let (a0, a1, b0, b1) = (a - dy, a + dy, b - dy, b + dy);
+        [
+            a0 - dz,
+            a0 + dz,
+            a1 - dz,
+            a1 + dz,
+            b0 - dz,
+            b0 + dz,
+            b1 - dz,
+            b1 + dz,
+        ]
     }
 }
 
@@ -394,24 +423,23 @@ impl VisibleScene {
         }
     }
 
-    /// Every vertex of the visible receiver parts in `frame`'s coordinates (right . p, up . p,
-    /// forward . p), appended to `out`: a whole box's corners are its projected centre plus and
-    /// minus the projected half extents along the world axes.
-    pub fn vertices_in(&self, scene: &SceneBounds, frame: &LightFrame, out: &mut Vec<DVec3>) {
+    /// The visible receiver parts in `frame`'s coordinates (right . p, up . p, forward . p):
+    /// each whole box as its projected centre and half extents (its corners are the centre
+    /// plus and minus the half extents times `frame`'s images of the world axes, see
+    /// [`LightCorners`]), appended to `boxes`, and the vertices of the cut ones, to `points`.
+    pub fn parts_in(
+        &self,
+        scene: &SceneBounds,
+        frame: &LightFrame,
+        boxes: &mut Vec<(DVec3, DVec3)>,
+        points: &mut Vec<DVec3>,
+    ) {
         let to = |p: DVec3| DVec3::new(frame.right.dot(p), frame.up.dot(p), frame.forward.dot(p));
-        let (ex, ey, ez) = (to(DVec3::X), to(DVec3::Y), to(DVec3::Z));
-        out.reserve(8 * self.whole.len() + self.points.len());
-        for &i in &self.whole {
+        boxes.extend(self.whole.iter().map(|&i| {
             let b = &scene.receivers()[i];
-            let (c, h) = (to(b.center()), b.half_extents());
-            let (dx, dy, dz) = (ex * h.x, ey * h.y, ez * h.z);
-            for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
-                let q = c + dx * sx + dy * sy;
-                out.push(q - dz);
-                out.push(q + dz);
-            }
-        }
-        out.extend(self.points.iter().map(|p| to(*p)));
+            (to(b.center()), b.half_extents())
+        }));
+        points.extend(self.points.iter().map(|p| to(*p)));
     }
 
     /// The extents of the visible receiver parts under `projector`.
@@ -499,11 +527,13 @@ pub(crate) fn caster_extents(
         }
     } else {
         let mut scratch = Vec::new();
+        let mut codes = Vec::new();
+        classify_boxes(scene.caster_arrays(), cut_planes, tolerance, &mut codes);
         for (i, caster) in scene.casters().iter().enumerate() {
-            let (box_ext, crosses_near) = match classify_box(caster, cut_planes, tolerance) {
-                BoxSide::Outside => continue,
-                BoxSide::Inside => (whole(i), false),
-                BoxSide::Straddles(mask) => {
+            let (box_ext, crosses_near) = match codes[i] {
+                OUTSIDE => continue,
+                0 => (whole(i), false),
+                mask => {
                     scratch.clear();
                     if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch) {
                         continue;

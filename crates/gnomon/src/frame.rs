@@ -11,12 +11,12 @@
 //! planes the part adds) instead of classifying the scene again. A spatial index over the
 //! scene's boxes would sit here, under the same structure.
 
-use std::cell::OnceCell;
+use std::cell::{Cell, OnceCell};
 
 use glam::DVec3;
 
 use crate::bounds::{BoxArrays, SceneBounds};
-use crate::focus::{ParallelBoxes, box_planes, classify_boxes};
+use crate::focus::{box_planes, classify_boxes};
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, Projector};
@@ -47,6 +47,11 @@ pub(crate) struct Frame<'a> {
     pub aligned: Option<LightFrame>,
     /// The casters' boxes in `aligned`, made on first use.
     aligned_casters: OnceCell<LightBoxes>,
+    /// The casters' boxes in the fixed frame of a directional light, made on first use.
+    fixed_casters: OnceCell<LightBoxes>,
+    /// How often each of the two was asked for: a frame that one setup reads once does not
+    /// pay for the copy, so each is made on its second request.
+    requests: [Cell<u32>; 2],
     /// The view samples when the input has none, cast on first use.
     cast_samples: OnceCell<ViewSamples>,
 }
@@ -87,19 +92,35 @@ impl<'a> Frame<'a> {
             receiver_codes,
             aligned,
             aligned_casters: OnceCell::new(),
+            fixed_casters: OnceCell::new(),
+            requests: Default::default(),
             cast_samples: OnceCell::new(),
         }
     }
 
-    /// The casters' boxes under `frame` when it is the frame's view-aligned light frame (a
-    /// directional light's: the focused map's usual frame and the warps' light space), made
-    /// once and shared; `None` for any other frame.
+    /// The casters' boxes under `frame` when it is one of a directional light's two frames
+    /// (the frame's view-aligned one, the warps' light space and the focused map's usual
+    /// frame, or the one fixed by the light), made once (on the second request) and shared;
+    /// `None` for any other frame, and on the first request.
     pub fn casters_in(&self, frame: &LightFrame) -> Option<&LightBoxes> {
-        let aligned = self.aligned.as_ref().filter(|a| *a == frame)?;
-        Some(
-            self.aligned_casters
-                .get_or_init(|| LightBoxes::new(self.input.scene.caster_arrays(), aligned)),
-        )
+        let boxes = self.input.scene.caster_arrays();
+        let which = if self.aligned.as_ref() == Some(frame) {
+            0
+        } else {
+            match (&self.fixed, self.input.light) {
+                (Projector::Parallel(fixed), Light::Directional(_)) if fixed == frame => 1,
+                _ => return None,
+            }
+        };
+        let cache = [&self.aligned_casters, &self.fixed_casters][which];
+        if cache.get().is_none() {
+            let requests = &self.requests[which];
+            requests.set(requests.get() + 1);
+            if requests.get() < 2 {
+                return None;
+            }
+        }
+        Some(cache.get_or_init(|| LightBoxes::new(boxes, frame)))
     }
 
     /// The frame's view samples: the input's, or cast against the receiver boxes once.
@@ -149,18 +170,34 @@ impl LightBoxes {
     /// The boxes of `boxes` in `frame`: a box's image is its projected centre plus and minus
     /// |R| times its half extents.
     pub fn new(boxes: &BoxArrays, frame: &LightFrame) -> Self {
-        let projected = ParallelBoxes::new(boxes, frame);
-        let n = projected.len();
-        let mut lo = [(); 3].map(|_| Vec::with_capacity(n));
-        let mut hi = [(); 3].map(|_| Vec::with_capacity(n));
-        for i in 0..n {
-            let e = projected.extents(i);
-            for k in 0..3 {
-                lo[k].push(e.min[k]);
-                hi[k].push(e.max[k]);
-            }
+        let axes = [frame.right, frame.up, frame.forward];
+        let n = boxes.center[0].len();
+        let (cx, cy, cz) = (
+            &boxes.center[0][..n],
+            &boxes.center[1][..n],
+            &boxes.center[2][..n],
+        );
+        let (hx, hy, hz) = (
+            &boxes.half[0][..n],
+            &boxes.half[1][..n],
+            &boxes.half[2][..n],
+        );
+        // One pass per axis, so that it vectorises.
+        let side = |axis: DVec3, sign: f64| -> Vec<f64> {
+            let a = axis.abs() * sign;
+            (0..n)
+                .map(|i| {
+                    axis.x * cx[i]
+                        + axis.y * cy[i]
+                        + axis.z * cz[i]
+                        + (a.x * hx[i] + a.y * hy[i] + a.z * hz[i])
+                })
+                .collect()
+        };
+        Self {
+            lo: axes.map(|a| side(a, -1.0)),
+            hi: axes.map(|a| side(a, 1.0)),
         }
-        Self { lo, hi }
     }
 
     /// How many boxes.

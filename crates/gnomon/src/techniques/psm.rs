@@ -183,8 +183,8 @@ impl Psm {
         center += 0.5 * (receiver_box.min + receiver_box.max);
         let extent = (receiver_box.max - receiver_box.min).length().max(1e-300);
         // The cone must hold every receiver and all of B (every relevant caster lies in B).
-        let mut cone_points: Vec<DVec3> = body.iter().map(|p| to_pps(*p)).collect();
-        cone_points.extend_from_slice(&receiver_points);
+        let body_points: Vec<DVec3> = body.iter().map(|p| to_pps(*p)).collect();
+        let cone_points = || body_points.iter().chain(&receiver_points);
         // The axis used when the one toward the receivers leaves a point behind: every finite
         // point in front of the virtual camera lies on the -z side of a directional light's
         // vanishing point (z = f (d - n) / (d (f - n)) < f / (f - n)); for a spot light, the
@@ -197,7 +197,7 @@ impl Psm {
                 plane.truncate().normalize_or(-DVec3::Z)
             }
         };
-        let projector = pps_projector(l_h, center, extent, &cone_points, fallback_axis);
+        let projector = pps_projector(l_h, center, extent, cone_points(), fallback_axis);
 
         let mut receivers = Extents::EMPTY;
         for p in &receiver_points {
@@ -215,8 +215,7 @@ impl Psm {
         if let Projector::Point { frame, position } = &projector {
             // Every relevant point has d >= the smallest d over B and the receivers; cutting
             // at half of it keeps them all and keeps cut vertices off the singular plane d = 0.
-            let d_min = cone_points
-                .iter()
+            let d_min = cone_points()
                 .map(|p| (*p - *position).dot(frame.forward))
                 .fold(f64::INFINITY, f64::min);
             let pps_plane = frame
@@ -319,11 +318,11 @@ impl ShadowTechnique for Psm {
 /// vanishing point or position) is at (or practically at) infinity, else perspective from
 /// it, its axis toward the receivers, or `fallback_axis` when some of `points` would lie
 /// behind that axis.
-fn pps_projector(
+fn pps_projector<'p>(
     l_h: DVec4,
     center: DVec3,
     extent: f64,
-    points: &[DVec3],
+    points: impl Iterator<Item = &'p DVec3> + Clone,
     fallback_axis: DVec3,
 ) -> Projector {
     let direction = l_h.truncate();
@@ -337,7 +336,7 @@ fn pps_projector(
     let axis = (center - l).normalize();
     let in_front = |axis: DVec3| {
         points
-            .iter()
+            .clone()
             .all(|p| (*p - l).dot(axis) > 1e-9 * (*p - l).length())
     };
     let axis = if in_front(axis) { axis } else { fallback_axis };

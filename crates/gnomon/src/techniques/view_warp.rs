@@ -29,7 +29,7 @@
 use glam::{DMat4, DVec3, DVec4};
 
 use crate::error::SetupError;
-use crate::focus::{BoxSide, box_cut_vertices, classify_box};
+use crate::focus::{BoxSide, LightCorners, box_cut_vertices, classify_box};
 use crate::frame::LightBoxes;
 use crate::geometry::Plane;
 use crate::light::Light;
@@ -265,7 +265,9 @@ pub(crate) struct WarpSpace {
     eye_light: DVec3,
     depth_world: f64,
     near_depth: f64,
-    /// The visible receivers' vertices in light space.
+    /// The visible receivers in light space: whole boxes (centre, half extents), and the
+    /// vertices of cut ones (for a spot light, every vertex).
+    receiver_boxes: Vec<(DVec3, DVec3)>,
     receiver_points: Vec<DVec3>,
     /// Their linear depth range along the light.
     receivers_linear: (f64, f64),
@@ -369,12 +371,24 @@ impl WarpSpace {
 
         // Receivers: light-space vertices, and the linear depth range.
         let mut receiver_points = Vec::new();
+        let mut receiver_boxes = Vec::new();
         let mut receivers_light = Extents::EMPTY;
         let mut receivers_linear = (f64::INFINITY, f64::NEG_INFINITY);
         match space {
             LightSpace::Parallel(frame) => {
                 // Light space's Z is the linear depth along a directional light.
-                visible.vertices_in(input.scene, &frame, &mut receiver_points);
+                visible.parts_in(
+                    input.scene,
+                    &frame,
+                    &mut receiver_boxes,
+                    &mut receiver_points,
+                );
+                let corners = LightCorners::new(&frame);
+                for (c, h) in &receiver_boxes {
+                    for q in corners.corners(*c, *h) {
+                        receivers_light.add(q);
+                    }
+                }
                 for q in &receiver_points {
                     receivers_light.add(*q);
                 }
@@ -473,6 +487,7 @@ impl WarpSpace {
             eye_light,
             depth_world,
             near_depth,
+            receiver_boxes,
             receiver_points,
             receivers_linear,
             casters,
@@ -535,7 +550,13 @@ pub(crate) fn view_warp_setup(
     };
 
     // Receivers: warped extents.
-    let receivers = warp.points_extents(&ws.receiver_points);
+    let mut receivers = warp.points_extents(&ws.receiver_points);
+    if let LightSpace::Parallel(frame) = &ws.space {
+        let corners = LightCorners::new(frame);
+        for (c, h) in &ws.receiver_boxes {
+            receivers = receivers.union(&warp.points_extents(&corners.corners(*c, *h)));
+        }
+    }
     let receivers_linear = ws.receivers_linear;
     let receivers_z = receivers_linear.1;
     let mut body_warped = Extents::EMPTY;
