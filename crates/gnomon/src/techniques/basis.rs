@@ -175,3 +175,77 @@ impl<'f> FocusBasis<'f> {
         !self.caster_planes.is_empty()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+    use proptest::prelude::*;
+
+    use super::*;
+    use crate::bounds::{Aabb, SceneBounds};
+    use crate::camera::Lens;
+    use crate::light::{DirectionalLight, Light, SpotLight};
+    use crate::setup::MapSettings;
+
+    fn close_sets(a: &[DVec3], b: &[DVec3], eps: f64) -> bool {
+        a.iter().all(|p| b.iter().any(|q| p.distance(*q) <= eps))
+            && b.iter().all(|p| a.iter().any(|q| p.distance(*q) <= eps))
+    }
+
+    fn vertices(basis: &FocusBasis, scene: &SceneBounds) -> Vec<DVec3> {
+        let mut out = Vec::new();
+        basis.visible.for_each_vertex(scene, |p| out.push(p));
+        out
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// A slice refined from the frame sees what a frame of the slice's own camera sees:
+        /// the same receiver parts and the same B.
+        #[test]
+        fn a_slice_of_the_frame_is_the_slice_camera_s_frame(
+            boxes in prop::collection::vec((prop::array::uniform3(-40.0f64..40.0), prop::array::uniform3(0.5f64..15.0)), 1..40),
+            eye in prop::array::uniform3(-60.0f64..60.0),
+            target in prop::array::uniform3(-20.0f64..20.0),
+            light in prop::array::uniform3(-1.0f64..1.0),
+            spot in any::<bool>(),
+            cut in (0.0f64..1.0, 0.0f64..1.0),
+        ) {
+            let boxes: Vec<Aabb> = boxes.iter().map(|(lo, size)| {
+                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.2);
+                Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap()
+            }).collect();
+            let ground = Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
+            let mut receivers = boxes.clone();
+            receivers.push(ground);
+            let scene = SceneBounds::new(boxes, receivers, None).unwrap();
+            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
+            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
+            let lens = Lens { near: 0.5, far: 150.0, ..Lens::default() };
+            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+            let direction = DVec3::from_array(light);
+            prop_assume!(direction.length() > 0.1);
+            let light = if spot {
+                Light::Spot(SpotLight::new(DVec3::new(0.0, 80.0, 0.0), direction.with_y(-1.0), 50.0, 300.0).unwrap())
+            } else {
+                Light::Directional(DirectionalLight::new(direction.with_y(-direction.y.abs() - 0.1)).unwrap())
+            };
+            let whole = Camera::from_view_from_world(camera.view_from_world(), lens).unwrap();
+            let input = SetupInput { camera: &whole, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
+            let frame = Frame::new(&input);
+            let (a, b) = (lens.near + cut.0 * 100.0, lens.near + cut.1 * 100.0);
+            let (near, far) = (a.min(b), a.max(b) + 1.0);
+            let slice = Camera::from_view_from_world(camera.view_from_world(), Lens { near, far, ..lens }).unwrap();
+            let refined = FocusBasis::new(&frame, Part::Slice(&slice));
+            let slice_input = SetupInput { camera: &slice, ..input };
+            let own_frame = Frame::new(&slice_input);
+            let direct = FocusBasis::new(&own_frame, Part::Whole);
+            prop_assert_eq!(refined.visible.visible_receivers(), direct.visible.visible_receivers());
+            let eps = 1e-6 * (1.0 + eye.length());
+            prop_assert!(close_sets(&vertices(&refined, &scene), &vertices(&direct, &scene), eps));
+            prop_assert!(close_sets(&refined.body, &direct.body, 1e-5 * (1.0 + eye.length())),
+                "B {:?} vs {:?}", refined.body, direct.body);
+        }
+    }
+}
