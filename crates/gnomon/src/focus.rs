@@ -517,13 +517,19 @@ pub(crate) fn caster_extents(
         }
         relevant = kept.len();
     } else if cut_planes.is_empty() {
-        // One pass over the box arrays: project, cull, accumulate.
-        for i in 0..scene.casters().len() {
-            let box_ext = whole(i);
+        // One pass: project, cull, accumulate.
+        let mut add = |box_ext: Extents| {
             if receivers.xy_overlaps(&box_ext, xy_slack) && box_ext.min.z <= receivers.max.z {
                 relevant += 1;
                 ext = ext.union(&box_ext);
             }
+        };
+        match &parallel {
+            Some(projected) => (0..scene.casters().len()).for_each(|i| add(projected.extents(i))),
+            None => scene
+                .casters()
+                .iter()
+                .for_each(|c| add(projector.box_extents(c))),
         }
     } else {
         let mut scratch = Vec::new();
