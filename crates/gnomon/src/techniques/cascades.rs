@@ -12,11 +12,16 @@
 //! frame's view samples.
 //!
 //! The slices run from where the visible scene begins (the least view depth of P, the view
-//! frustum clipped by the scene box, at least the near plane) to where it ends or the shadow
+//! frustum clipped by the scene box and a spot light's frustum, at least the near plane) to where it ends or the shadow
 //! distance, whichever is nearer: a slice spent on empty space before or after the scene would
 //! waste its texels. Explicit split distances, and stable cascades (whose slices must not
 //! change with the view), run from the near plane to the shadow distance. Where the shadow distance cuts the visible scene, shadows fade out over
 //! its last 10%, and nothing beyond it is shadowed.
+//!
+//! Shared work: the frame's facts ([`crate::frame`]: P, each receiver against the view, the
+//! casters in light space, the view samples) are computed once; each slice is a
+//! [`crate::techniques::basis::Part::Slice`] of them, whose receivers are only tested again
+//! against its near and far planes.
 //!
 //! Blending: map i + 1 also covers the last `blend` fraction of slice i, where a pixel mixes
 //! both (the renderer's blend band), so its slice camera starts there.

@@ -27,10 +27,12 @@
 //! the camera and the light) on its side of the plane, and the plane recomputed; in the last
 //! iteration the plane is kept, so that I's part on the plane stays inside both focus regions
 //! and the sign of the plane alone picks the map.
-//! - The focused map is re-evaluated as the paper does: the focused technique is handed the
-//!   scene with every box cut to the half-space (the box around each cut part; the plane
-//!   contains the light's rays, so a caster's part on the other side cannot shadow a receiver
-//!   on this side). It is taken when it is no coarser in area than the focused map on all of
+//! - The focused map is re-evaluated as the paper does, on the frame's part on its side of
+//!   the plane ([`crate::techniques::basis::Part::Side`]: P, the visible receivers and the
+//!   casters cut by it; the plane contains the light's rays, so a caster's part on the other
+//!   side cannot shadow a receiver on this side). P, the receivers' classification against the
+//!   view and the casters in light space are computed once for the frame and shared by both
+//!   maps and every iteration. It is taken when it is no coarser in area than the focused map on all of
 //!   I anywhere on its side (it can pick another light frame), else that map is cropped
 //!   (below).
 //! - The perspective map keeps its warp and is cropped: the smallest rectangle of its square
