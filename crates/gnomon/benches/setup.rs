@@ -10,6 +10,7 @@ use glam::DVec3;
 use gnomon::{
     Aabb, Camera, Cascades, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, Psm,
     SceneBounds, SpotLight, Sppsm, Tsm, Uniform, ViewSamples, Xpsm, compute_setup,
+    compute_setup_with_samples,
 };
 
 /// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, on a ground slab: casters, and also
@@ -151,6 +152,43 @@ fn bench(c: &mut Criterion) {
             &scene,
             |b, s| {
                 b.iter(|| compute_setup(&cascades, black_box(&camera), &sun, s, settings).unwrap())
+            },
+        );
+        // The renderer's way: the frame's samples drawn on the GPU and handed in (here cast
+        // once outside the timing), so the setup does not cast its own from the boxes.
+        let samples = ViewSamples::new(&camera, &sun, &scene);
+        group.bench_with_input(
+            BenchmarkId::new("cascades_4_lispsm_directional_given_samples", n),
+            &scene,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup_with_samples(
+                        &cascades,
+                        black_box(&camera),
+                        &sun,
+                        s,
+                        settings,
+                        &samples,
+                    )
+                    .unwrap()
+                })
+            },
+        );
+        group.bench_with_input(
+            BenchmarkId::new("lispsm_directional_given_samples", n),
+            &scene,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup_with_samples(
+                        &Lispsm::default(),
+                        black_box(&camera),
+                        &sun,
+                        s,
+                        settings,
+                        &samples,
+                    )
+                    .unwrap()
+                })
             },
         );
         let stable = Cascades {

@@ -336,6 +336,7 @@ fn meet(a: &Plane, b: &Plane, c: &Plane) -> Option<DVec3> {
 
 /// What the camera sees of the scene, for one light: the view frustum inside the scene box
 /// (P) and the visible parts of the receivers.
+#[derive(Clone)]
 pub(crate) struct VisibleScene {
     /// P: the view frustum clipped by the scene box (and the light frustum for a spot light).
     pub view_body: ConvexPolyhedron,
@@ -345,6 +346,19 @@ pub(crate) struct VisibleScene {
     clipped: usize,
     /// The vertices of the visible parts of the partly visible receivers.
     points: Vec<DVec3>,
+    /// Each partly visible receiver, in order: (its index, where its vertices start and end
+    /// in `points`).
+    cuts: Vec<(u32, u32, u32)>,
+}
+
+/// A frame's cut receivers that a part of it may take instead of cutting them again: the
+/// frame's visible scene, its codes, and the bits of the planes the part changed. A receiver
+/// cut by the same planes in both (none of them changed) has the same visible part.
+#[derive(Clone, Copy)]
+pub(crate) struct ReuseCuts<'a> {
+    pub frame: &'a VisibleScene,
+    pub codes: &'a [u32],
+    pub changed: u32,
 }
 
 impl VisibleScene {
@@ -361,36 +375,48 @@ impl VisibleScene {
         if !view_body.is_empty() {
             classify_boxes(scene.receiver_arrays(), &planes, tolerance, &mut codes);
         }
-        Self::from_codes(view_body, scene, &planes, &codes, tolerance)
+        Self::from_codes(view_body, scene, &planes, &codes, tolerance, None)
     }
 
     /// The visible scene of P = `view_body` from each receiver's code against `planes` (as
     /// [`classify_boxes`] gives them; empty when P is): wholly visible boxes are kept, cut
-    /// ones cut.
+    /// ones cut (or taken from `reuse`).
     pub fn from_codes(
         view_body: ConvexPolyhedron,
         scene: &SceneBounds,
         planes: &[Plane],
         codes: &[u32],
         tolerance: f64,
+        reuse: Option<ReuseCuts<'_>>,
     ) -> Self {
         let mut whole = Vec::new();
-        let mut clipped = 0;
         let mut points = Vec::new();
+        let mut cuts = Vec::new();
         if !view_body.is_empty() {
             for (i, &code) in codes.iter().enumerate() {
                 match code {
                     OUTSIDE => {}
                     0 => whole.push(i),
                     mask => {
-                        if box_cut_vertices(
-                            &scene.receivers()[i],
-                            planes,
-                            mask,
-                            tolerance,
-                            &mut points,
-                        ) {
-                            clipped += 1;
+                        let start = points.len();
+                        let same = reuse
+                            .filter(|r| r.codes[i] == mask && mask & r.changed == 0)
+                            .and_then(|r| r.frame.cut_of(i));
+                        let kept = match same {
+                            Some(vertices) => {
+                                points.extend_from_slice(vertices);
+                                true
+                            }
+                            None => box_cut_vertices(
+                                &scene.receivers()[i],
+                                planes,
+                                mask,
+                                tolerance,
+                                &mut points,
+                            ),
+                        };
+                        if kept {
+                            cuts.push((i as u32, start as u32, points.len() as u32));
                         }
                     }
                 }
@@ -399,9 +425,17 @@ impl VisibleScene {
         Self {
             view_body,
             whole,
-            clipped,
+            clipped: cuts.len(),
             points,
+            cuts,
         }
+    }
+
+    /// The vertices of receiver `i`'s visible part when it is cut.
+    fn cut_of(&self, i: usize) -> Option<&[DVec3]> {
+        let k = self.cuts.binary_search_by_key(&(i as u32), |c| c.0).ok()?;
+        let (_, start, end) = self.cuts[k];
+        Some(&self.points[start as usize..end as usize])
     }
 
     /// How many receiver boxes have a visible part.

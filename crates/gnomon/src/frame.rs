@@ -16,7 +16,7 @@ use std::cell::{Cell, OnceCell};
 use glam::DVec3;
 
 use crate::bounds::{BoxArrays, SceneBounds};
-use crate::focus::{box_planes, classify_boxes};
+use crate::focus::{VisibleScene, box_planes, classify_boxes};
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, Projector};
@@ -52,6 +52,8 @@ pub(crate) struct Frame<'a> {
     /// How often each of the two was asked for: a frame that one setup reads once does not
     /// pay for the copy, so each is made on its second request.
     requests: [Cell<u32>; 2],
+    /// The whole view's visible scene, made on first use.
+    visible: OnceCell<VisibleScene>,
     /// The view samples when the input has none, cast on first use.
     cast_samples: OnceCell<ViewSamples>,
 }
@@ -94,6 +96,7 @@ impl<'a> Frame<'a> {
             aligned_casters: OnceCell::new(),
             fixed_casters: OnceCell::new(),
             requests: Default::default(),
+            visible: OnceCell::new(),
             cast_samples: OnceCell::new(),
         }
     }
@@ -121,6 +124,30 @@ impl<'a> Frame<'a> {
             }
         }
         Some(cache.get_or_init(|| LightBoxes::new(boxes, frame)))
+    }
+
+    /// What the whole view sees of the receivers, made once.
+    pub fn visible(&self) -> &VisibleScene {
+        self.visible.get_or_init(|| {
+            let planes = frame_planes(
+                self.input.camera.frustum_planes(),
+                self.light_planes.as_ref(),
+                None,
+            );
+            VisibleScene::from_codes(
+                self.view_body.clone(),
+                self.input.scene,
+                &planes,
+                &self.receiver_codes,
+                self.tolerance,
+                None,
+            )
+        })
+    }
+
+    /// Whether the whole view's visible scene has been made.
+    pub fn has_visible(&self) -> bool {
+        self.visible.get().is_some()
     }
 
     /// The frame's view samples: the input's, or cast against the receiver boxes once.

@@ -7,13 +7,14 @@
 //! A part is the whole view, a cascade's slice or one side of SPPSM's plane (see
 //! [`crate::frame`]).
 
+use std::borrow::Cow;
 use std::cell::OnceCell;
 
 use glam::DVec3;
 
 use crate::body::focus_body;
 use crate::camera::Camera;
-use crate::focus::{VisibleScene, refine_codes};
+use crate::focus::{ReuseCuts, VisibleScene, refine_codes};
 use crate::frame::{Frame, frame_planes};
 use crate::geometry::Plane;
 use crate::light_space::Projector;
@@ -52,7 +53,7 @@ pub(crate) struct FocusBasis<'f> {
     depth_range: Option<(f64, f64)>,
     /// P (the part's view frustum clipped by the scene box and a spot's frustum) and the
     /// visible parts of the receivers.
-    pub visible: VisibleScene,
+    pub visible: Cow<'f, VisibleScene>,
     /// B's vertices (LiSPSM paper, section 3.3), built in the fixed frame (B does not depend
     /// on the rotation about the light direction); empty when no receiver is visible.
     pub body: Vec<DVec3>,
@@ -72,20 +73,7 @@ impl<'f> FocusBasis<'f> {
         let scene = frame.input.scene;
         let mut caster_planes: Vec<Plane> = light_planes.iter().flatten().copied().collect();
         let (visible, depth_range) = match part {
-            Part::Whole => (
-                VisibleScene::from_codes(
-                    frame.view_body.clone(),
-                    scene,
-                    &frame_planes(
-                        frame.input.camera.frustum_planes(),
-                        light_planes.as_ref(),
-                        None,
-                    ),
-                    &frame.receiver_codes,
-                    tolerance,
-                ),
-                None,
-            ),
+            Part::Whole => (Cow::Borrowed(frame.visible()), None),
             Part::Slice(camera) => {
                 let lens = camera.lens();
                 let planes = frame_planes(camera.frustum_planes(), light_planes.as_ref(), None);
@@ -95,15 +83,23 @@ impl<'f> FocusBasis<'f> {
                     .clip(&planes[0], tolerance)
                     .clip(&planes[1], tolerance);
                 // The near and far planes (bits 0 and 1) are the slice's own.
+                let changed = 0b11;
                 let codes = refine_codes(
                     &frame.receiver_codes,
                     scene.receivers(),
                     &planes,
-                    0b11,
+                    changed,
                     tolerance,
                 );
+                let reuse = frame.has_visible().then(|| ReuseCuts {
+                    frame: frame.visible(),
+                    codes: &frame.receiver_codes,
+                    changed,
+                });
                 (
-                    VisibleScene::from_codes(body, scene, &planes, &codes, tolerance),
+                    Cow::Owned(VisibleScene::from_codes(
+                        body, scene, &planes, &codes, tolerance, reuse,
+                    )),
                     Some((lens.near, lens.far)),
                 )
             }
@@ -114,16 +110,31 @@ impl<'f> FocusBasis<'f> {
                     light_planes.as_ref(),
                     Some(side),
                 );
+                let changed = 1 << (planes.len() - 1);
                 let codes = refine_codes(
                     &frame.receiver_codes,
                     scene.receivers(),
                     &planes,
-                    1 << (planes.len() - 1),
+                    changed,
                     tolerance,
                 );
                 caster_planes.push(side);
+                // The receivers the view's frustum cuts and the side does not are cut as
+                // the whole view cuts them.
+                let reuse = ReuseCuts {
+                    frame: frame.visible(),
+                    codes: &frame.receiver_codes,
+                    changed,
+                };
                 (
-                    VisibleScene::from_codes(body, scene, &planes, &codes, tolerance),
+                    Cow::Owned(VisibleScene::from_codes(
+                        body,
+                        scene,
+                        &planes,
+                        &codes,
+                        tolerance,
+                        Some(reuse),
+                    )),
                     None,
                 )
             }
