@@ -53,6 +53,27 @@ fn main() {
             "lispsm" => Box::new(Lispsm::default()),
             "cascades" => Box::new(Cascades::default()),
             "sppsm" => Box::new(Sppsm::default()),
+            "cascfixed" => {
+                let samples = ViewSamples::new(&camera, &sun, &scene);
+                let reps: u32 = std::env::var("REPS")
+                    .ok()
+                    .and_then(|r| r.parse().ok())
+                    .unwrap_or(3000);
+                for _ in 0..reps {
+                    std::hint::black_box(
+                        compute_setup_with_samples(
+                            &Cascades::default(),
+                            &camera,
+                            &sun,
+                            &scene,
+                            settings,
+                            &samples,
+                        )
+                        .unwrap(),
+                    );
+                }
+                return;
+            }
             "psm" => Box::new(Psm {
                 limit: false,
                 ..Psm::default()

@@ -98,34 +98,34 @@ pub(crate) fn classify_boxes(
 pub(crate) fn refine_codes(
     frame_codes: &[u32],
     boxes: &[Aabb],
+    arrays: &BoxArrays,
     planes: &[Plane],
     changed: u32,
     tolerance: f64,
 ) -> Vec<u32> {
+    // Every box against the changed planes at once (the pass vectorises), their bits moved to
+    // the planes' places.
+    let indices: Vec<usize> = (0..planes.len())
+        .filter(|i| changed & (1 << i) != 0)
+        .collect();
+    let changed_planes: Vec<Plane> = indices.iter().map(|&i| planes[i]).collect();
+    // (A slice changes planes 0 and 1, a side one plane: the bits only shift.)
+    let first = indices.first().copied().unwrap_or(0);
+    let contiguous = indices.iter().enumerate().all(|(j, &i)| i == first + j);
+    let mut against_changed = Vec::new();
+    classify_boxes(arrays, &changed_planes, tolerance, &mut against_changed);
     frame_codes
         .iter()
+        .zip(&against_changed)
         .zip(boxes)
-        .map(|(&code, aabb)| match code {
-            OUTSIDE => OUTSIDE,
-            0 => {
-                let (c, e) = (aabb.center(), aabb.half_extents());
-                let mut mask = 0;
-                let mut bits = changed;
-                while bits != 0 {
-                    let i = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    let plane = &planes[i];
-                    let r = plane.normal.abs().dot(e);
-                    let s = plane.distance(c);
-                    if s + r <= tolerance {
-                        return OUTSIDE;
-                    }
-                    if s - r < -tolerance {
-                        mask |= 1 << i;
-                    }
-                }
-                mask
-            }
+        .map(|((&code, &new), aabb)| match (code, new) {
+            (OUTSIDE, _) | (_, OUTSIDE) => OUTSIDE,
+            (0, new) if contiguous => new << first,
+            (0, new) => indices
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| new & (1 << j) != 0)
+                .fold(0, |mask, (_, &i)| mask | 1 << i),
             _ => match classify_box(aabb, planes, tolerance) {
                 BoxSide::Outside => OUTSIDE,
                 BoxSide::Inside => 0,

@@ -87,6 +87,7 @@ impl<'f> FocusBasis<'f> {
                 let codes = refine_codes(
                     &frame.receiver_codes,
                     scene.receivers(),
+                    scene.receiver_arrays(),
                     &planes,
                     changed,
                     tolerance,
@@ -114,6 +115,7 @@ impl<'f> FocusBasis<'f> {
                 let codes = refine_codes(
                     &frame.receiver_codes,
                     scene.receivers(),
+                    scene.receiver_arrays(),
                     &planes,
                     changed,
                     tolerance,
