@@ -230,11 +230,44 @@ pub(crate) fn box_cut_vertices(
 ) -> bool {
     // Most cut boxes cross one or two planes: small arrays for them (so that a call does not
     // clear room for 32 planes), the full size for the rest.
-    if mask.count_ones() <= 4 {
+    if mask.count_ones() == 1 {
+        cut_by_one(
+            aabb,
+            &planes[mask.trailing_zeros() as usize],
+            tolerance,
+            out,
+        )
+    } else if mask.count_ones() <= 4 {
         cut_vertices::<4>(aabb, planes, mask, tolerance, out)
     } else {
         cut_vertices::<32>(aabb, planes, mask, tolerance, out)
     }
+}
+
+/// [`box_cut_vertices`] for one cutting plane (most cut boxes): the corners inside it and
+/// where the box's edges cross it.
+fn cut_by_one(aabb: &Aabb, plane: &Plane, tolerance: f64, out: &mut Vec<DVec3>) -> bool {
+    let start = out.len();
+    let corners = aabb.corners();
+    let dist = corners.map(|c| plane.distance(c));
+    for (c, d) in corners.iter().zip(&dist) {
+        if *d >= -tolerance {
+            out.push(*c);
+        }
+    }
+    for a in 0..8 {
+        for bit in [1, 2, 4] {
+            let b = a | bit;
+            if a & bit != 0 {
+                continue;
+            }
+            let (da, db) = (dist[a], dist[b]);
+            if (da < 0.0) != (db < 0.0) && da != db {
+                out.push(corners[a] + (corners[b] - corners[a]) * (da / (da - db)));
+            }
+        }
+    }
+    out.len() > start
 }
 
 /// [`box_cut_vertices`] with room for `N` cutting planes (at least the bits of `mask`).
