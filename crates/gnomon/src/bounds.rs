@@ -132,6 +132,21 @@ pub(crate) struct BoxArrays {
 }
 
 impl BoxArrays {
+    /// How many boxes.
+    pub fn len(&self) -> usize {
+        self.center[0].len()
+    }
+
+    /// The centre and half-extent arrays per axis, as slices of one length (so that loops
+    /// over them index without checks).
+    pub fn columns(&self) -> ([&[f64]; 3], [&[f64]; 3]) {
+        let n = self.len();
+        (
+            [0, 1, 2].map(|k| &self.center[k][..n]),
+            [0, 1, 2].map(|k| &self.half[k][..n]),
+        )
+    }
+
     fn new(boxes: &[Aabb]) -> Self {
         let mut arrays = Self::default();
         for b in boxes {

@@ -63,19 +63,10 @@ pub(crate) fn classify_boxes(
     tolerance: f64,
     out: &mut Vec<u32>,
 ) {
-    let n = boxes.center[0].len();
+    let n = boxes.len();
     out.clear();
     out.resize(n, 0);
-    let (cx, cy, cz) = (
-        &boxes.center[0][..n],
-        &boxes.center[1][..n],
-        &boxes.center[2][..n],
-    );
-    let (hx, hy, hz) = (
-        &boxes.half[0][..n],
-        &boxes.half[1][..n],
-        &boxes.half[2][..n],
-    );
+    let ([cx, cy, cz], [hx, hy, hz]) = boxes.columns();
     for (k, plane) in planes.iter().enumerate().take(31) {
         let (m, a, o) = (plane.normal, plane.normal.abs(), plane.offset);
         for i in 0..n {

@@ -198,17 +198,8 @@ impl LightBoxes {
     /// |R| times its half extents.
     pub fn new(boxes: &BoxArrays, frame: &LightFrame) -> Self {
         let axes = [frame.right, frame.up, frame.forward];
-        let n = boxes.center[0].len();
-        let (cx, cy, cz) = (
-            &boxes.center[0][..n],
-            &boxes.center[1][..n],
-            &boxes.center[2][..n],
-        );
-        let (hx, hy, hz) = (
-            &boxes.half[0][..n],
-            &boxes.half[1][..n],
-            &boxes.half[2][..n],
-        );
+        let n = boxes.len();
+        let ([cx, cy, cz], [hx, hy, hz]) = boxes.columns();
         // One pass per axis, so that it vectorises.
         let side = |axis: DVec3, sign: f64| -> Vec<f64> {
             let a = axis.abs() * sign;

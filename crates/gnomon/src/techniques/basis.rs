@@ -70,37 +70,21 @@ impl<'f> FocusBasis<'f> {
     pub fn new(frame: &'f Frame<'f>, part: Part<'_>) -> Self {
         let tolerance = frame.tolerance;
         let light_planes = frame.light_planes;
-        let scene = frame.input.scene;
         let mut caster_planes: Vec<Plane> = light_planes.iter().flatten().copied().collect();
         let (visible, depth_range) = match part {
             Part::Whole => (Cow::Borrowed(frame.visible()), None),
             Part::Slice(camera) => {
                 let lens = camera.lens();
                 let planes = frame_planes(camera.frustum_planes(), light_planes.as_ref(), None);
-                // The slice's P is the frame's between the slice's near and far planes.
+                // The slice's P is the frame's between the slice's near and far planes (0
+                // and 1, the slice's own); the whole view's cuts are taken where it has them.
                 let body = frame
                     .view_body
                     .clip(&planes[0], tolerance)
                     .clip(&planes[1], tolerance);
-                // The near and far planes (bits 0 and 1) are the slice's own.
-                let changed = 0b11;
-                let codes = refine_codes(
-                    &frame.receiver_codes,
-                    scene.receivers(),
-                    scene.receiver_arrays(),
-                    &planes,
-                    changed,
-                    tolerance,
-                );
-                let reuse = frame.has_visible().then(|| ReuseCuts {
-                    frame: frame.visible(),
-                    codes: &frame.receiver_codes,
-                    changed,
-                });
+                let reuse = frame.has_visible();
                 (
-                    Cow::Owned(VisibleScene::from_codes(
-                        body, scene, &planes, &codes, tolerance, reuse,
-                    )),
+                    Cow::Owned(refined(frame, body, &planes, 0b11, reuse)),
                     Some((lens.near, lens.far)),
                 )
             }
@@ -111,32 +95,12 @@ impl<'f> FocusBasis<'f> {
                     light_planes.as_ref(),
                     Some(side),
                 );
-                let changed = 1 << (planes.len() - 1);
-                let codes = refine_codes(
-                    &frame.receiver_codes,
-                    scene.receivers(),
-                    scene.receiver_arrays(),
-                    &planes,
-                    changed,
-                    tolerance,
-                );
                 caster_planes.push(side);
                 // The receivers the view's frustum cuts and the side does not are cut as
                 // the whole view cuts them.
-                let reuse = ReuseCuts {
-                    frame: frame.visible(),
-                    codes: &frame.receiver_codes,
-                    changed,
-                };
+                let changed = 1 << (planes.len() - 1);
                 (
-                    Cow::Owned(VisibleScene::from_codes(
-                        body,
-                        scene,
-                        &planes,
-                        &codes,
-                        tolerance,
-                        Some(reuse),
-                    )),
+                    Cow::Owned(refined(frame, body, &planes, changed, true)),
                     None,
                 )
             }
@@ -187,6 +151,33 @@ impl<'f> FocusBasis<'f> {
     pub fn cuts_casters(&self) -> bool {
         !self.caster_planes.is_empty()
     }
+}
+
+/// The visible scene of a part of `frame` whose P is `body`: the frame's receiver codes
+/// refined against `planes` (the frame's, but for those named in `changed`), the cut ones
+/// cut, or taken from the whole view's visible scene (`reuse`) where the same planes cut them.
+fn refined(
+    frame: &Frame<'_>,
+    body: crate::geometry::ConvexPolyhedron,
+    planes: &[Plane],
+    changed: u32,
+    reuse: bool,
+) -> VisibleScene {
+    let scene = frame.input.scene;
+    let codes = refine_codes(
+        &frame.receiver_codes,
+        scene.receivers(),
+        scene.receiver_arrays(),
+        planes,
+        changed,
+        frame.tolerance,
+    );
+    let reuse = reuse.then(|| ReuseCuts {
+        frame: frame.visible(),
+        codes: &frame.receiver_codes,
+        changed,
+    });
+    VisibleScene::from_codes(body, scene, planes, &codes, frame.tolerance, reuse)
 }
 
 #[cfg(test)]

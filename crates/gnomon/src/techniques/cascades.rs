@@ -48,6 +48,7 @@ use crate::setup::{
     MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
 use crate::techniques::basis::{FocusBasis, Part};
+use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};
 
 /// How the view is cut into slices.
@@ -117,16 +118,17 @@ impl CascadeFit {
         input: &SetupInput<'_>,
         basis: &FocusBasis,
     ) -> Result<ShadowSetup, SetupError> {
-        match self {
+        let warp: &dyn LimitedWarp = match self {
             Self::Focused => {
                 input.map.validate()?;
-                Ok(basis.focused(input).clone())
+                return Ok(basis.focused(input).clone());
             }
-            Self::Lispsm(t) => t.setup_with(input, basis),
-            Self::Tsm(t) => t.setup_with(input, basis),
-            Self::Xpsm(t) => t.setup_with(input, basis),
-            Self::Psm(t) => t.setup_with(input, basis),
-        }
+            Self::Lispsm(t) => t,
+            Self::Tsm(t) => t,
+            Self::Xpsm(t) => t,
+            Self::Psm(t) => t,
+        };
+        warp.setup_with(input, basis)
     }
 
     fn as_dyn(&self) -> &dyn ShadowTechnique {

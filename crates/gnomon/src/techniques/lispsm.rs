@@ -56,7 +56,7 @@ use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
-use crate::techniques::warp_limit::limit_warp;
+use crate::techniques::warp_limit::LimitedWarp;
 
 /// Light space perspective shadow map (LiSPSM, Wimmer et al. 2004): a perspective warp in
 /// light space along the view direction, with the paper's optimal warp strength n, then
@@ -82,8 +82,8 @@ impl Default for Lispsm {
     }
 }
 
-impl Lispsm {
-    fn validate(&self) -> Result<(), SetupError> {
+impl LimitedWarp for Lispsm {
+    fn check(&self) -> Result<(), SetupError> {
         match self.n {
             Some(n) if !(n.is_finite() && n > 0.0) => Err(SetupError::InvalidParameter {
                 name: "lispsm n",
@@ -93,20 +93,12 @@ impl Lispsm {
         }
     }
 
-    /// The setup on `basis` (a part of the frame; `input`'s camera is the part's).
-    pub(crate) fn setup_with(
-        &self,
-        input: &SetupInput<'_>,
-        basis: &FocusBasis,
-    ) -> Result<ShadowSetup, SetupError> {
-        self.validate()?;
-        limit_warp(input, basis, self.name(), self.limit, |strength| {
-            self.setup_at(input, basis, strength)
-        })
+    fn limited(&self) -> bool {
+        self.limit
     }
 
     /// The setup with 1 / n scaled by `strength` (1: the paper's).
-    fn setup_at(
+    fn at_strength(
         &self,
         input: &SetupInput<'_>,
         basis: &FocusBasis,

@@ -57,7 +57,7 @@ use crate::setup::{
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::warp_diagnostics;
-use crate::techniques::warp_limit::limit_warp;
+use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::{ANGULAR_PADDING, with_fallback};
 
 /// Perspective shadow map (PSM, Stamminger and Drettakis 2002, with Kozlov's fixes): a map
@@ -84,8 +84,8 @@ impl Default for Psm {
     }
 }
 
-impl Psm {
-    fn validate(&self) -> Result<(), SetupError> {
+impl LimitedWarp for Psm {
+    fn check(&self) -> Result<(), SetupError> {
         match self.slide_back {
             Some(s) if !(s.is_finite() && (0.0..=crate::MAX_COORDINATE).contains(&s)) => {
                 Err(SetupError::InvalidParameter {
@@ -97,21 +97,12 @@ impl Psm {
         }
     }
 
-    /// The setup on `basis` (a part of the frame; `input`'s camera is the part's).
-    pub(crate) fn setup_with(
-        &self,
-        input: &SetupInput<'_>,
-        basis: &FocusBasis,
-    ) -> Result<ShadowSetup, SetupError> {
-        input.map.validate()?;
-        self.validate()?;
-        limit_warp(input, basis, self.name(), self.limit, |strength| {
-            self.setup_at(input, basis, strength)
-        })
+    fn limited(&self) -> bool {
+        self.limit
     }
 
     /// The setup with the virtual eye's distance from B's near side divided by `strength`.
-    fn setup_at(
+    fn at_strength(
         &self,
         input: &SetupInput<'_>,
         basis: &FocusBasis,

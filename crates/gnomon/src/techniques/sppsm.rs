@@ -69,6 +69,7 @@ use crate::setup::{
     CastersBySide, Fallback, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
 use crate::techniques::basis::{FocusBasis, Part};
+use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};
 
 /// The perspective map of an SPPSM setup.
@@ -99,7 +100,7 @@ impl PerspectiveMap {
         })
     }
 
-    fn as_dyn(&self) -> &dyn ShadowTechnique {
+    fn as_warp(&self) -> &dyn LimitedWarp {
         match self {
             Self::Psm(t) => t,
             Self::Lispsm(t) => t,
@@ -110,21 +111,7 @@ impl PerspectiveMap {
 
     /// The technique's name.
     pub fn name(&self) -> &'static str {
-        self.as_dyn().name()
-    }
-
-    /// The setup on `basis`.
-    fn setup_with(
-        &self,
-        input: &SetupInput<'_>,
-        basis: &FocusBasis,
-    ) -> Result<ShadowSetup, SetupError> {
-        match self {
-            Self::Psm(t) => t.setup_with(input, basis),
-            Self::Lispsm(t) => t.setup_with(input, basis),
-            Self::Tsm(t) => t.setup_with(input, basis),
-            Self::Xpsm(t) => t.setup_with(input, basis),
-        }
+        self.as_warp().name()
     }
 
     /// The same map without the warp limit: SPPSM picks the finer map per point itself.
@@ -360,7 +347,11 @@ impl ShadowTechnique for Sppsm {
         let frame = Frame::new(input);
         let whole = FocusBasis::new(&frame, Part::Whole);
         let focused = whole.focused(input).clone();
-        let perspective = self.perspective.without_limit().setup_with(input, &whole)?;
+        let perspective = self
+            .perspective
+            .without_limit()
+            .as_warp()
+            .setup_with(input, &whole)?;
         let single = |mut setup: ShadowSetup, fallback: Option<Fallback>| {
             setup.technique = self.name();
             if let Some(f) = fallback {

@@ -53,7 +53,7 @@ use crate::light::Light;
 use crate::setup::{Fallback, MapProjection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
-use crate::techniques::warp_limit::limit_warp;
+use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::with_fallback;
 
 /// Trapezoidal shadow map (TSM, Martin and Tan 2004) over the focused map. See the module
@@ -85,8 +85,8 @@ impl Default for Tsm {
     }
 }
 
-impl Tsm {
-    fn validate(&self) -> Result<(), SetupError> {
+impl LimitedWarp for Tsm {
+    fn check(&self) -> Result<(), SetupError> {
         if !(self.xi > -1.0 && self.xi < 1.0) {
             return Err(SetupError::InvalidParameter {
                 name: "tsm xi",
@@ -102,21 +102,12 @@ impl Tsm {
         Ok(())
     }
 
-    /// The setup on `basis` (a part of the frame; `input`'s camera is the part's).
-    pub(crate) fn setup_with(
-        &self,
-        input: &SetupInput<'_>,
-        basis: &FocusBasis,
-    ) -> Result<ShadowSetup, SetupError> {
-        input.map.validate()?;
-        self.validate()?;
-        limit_warp(input, basis, self.name(), self.limit, |strength| {
-            self.setup_at(input, basis, strength)
-        })
+    fn limited(&self) -> bool {
+        self.limit
     }
 
     /// The setup with eta divided by `strength` (the projection point moved away).
-    fn setup_at(
+    fn at_strength(
         &self,
         input: &SetupInput<'_>,
         basis: &FocusBasis,

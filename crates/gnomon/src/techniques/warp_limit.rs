@@ -18,7 +18,7 @@
 //! fires), not for the frame's pixels. Each warp technique has a `limit` switch.
 
 use crate::error::SetupError;
-use crate::setup::{Fallback, SetupInput, ShadowSetup};
+use crate::setup::{Fallback, SetupInput, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::with_fallback;
 
@@ -32,11 +32,40 @@ pub(crate) const HALVINGS: u32 = 3;
 /// Below this many samples the frame says too little to judge, and the warp is kept.
 pub(crate) const MIN_SAMPLES: usize = 16;
 
+/// A perspective warp that the limit weakens (PSM, LiSPSM, TSM, XPSM): its parameters' check,
+/// whether the limit is on, and its setup at a strength (1: the paper's).
+pub(crate) trait LimitedWarp: ShadowTechnique {
+    /// Checks the technique's own parameters.
+    fn check(&self) -> Result<(), SetupError>;
+    /// Whether the limit is on.
+    fn limited(&self) -> bool;
+    /// The setup on `basis` with the warp's strength scaled by `strength`.
+    fn at_strength(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+        strength: f64,
+    ) -> Result<ShadowSetup, SetupError>;
+
+    /// The setup on `basis` (a part of the frame; `input`'s camera is the part's), limited.
+    fn setup_with(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+    ) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        self.check()?;
+        limit_warp(input, basis, self.name(), self.limited(), |strength| {
+            self.at_strength(input, basis, strength)
+        })
+    }
+}
+
 /// The setup `build` gives at the largest strength in 1, 1/2, ... 1/2^HALVINGS whose map
 /// samples `basis`'s share of the frame's view no more coarsely than the focused map, else
 /// the focused map; with `enabled` false, or when the full-strength setup is not a warp (a
 /// fallback), that setup. `build` and the focused map share the basis.
-pub(crate) fn limit_warp(
+fn limit_warp(
     input: &SetupInput<'_>,
     basis: &FocusBasis,
     technique: &'static str,

@@ -30,7 +30,7 @@ use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
-use crate::techniques::warp_limit::limit_warp;
+use crate::techniques::warp_limit::LimitedWarp;
 
 /// Extended perspective shadow map (XPSM, after Gussev): a perspective warp centred at the eye
 /// along the view direction projected onto the map, with the back-projection clamp. See the
@@ -58,8 +58,8 @@ impl Default for Xpsm {
     }
 }
 
-impl Xpsm {
-    fn validate(&self) -> Result<(), SetupError> {
+impl LimitedWarp for Xpsm {
+    fn check(&self) -> Result<(), SetupError> {
         if !(self.coef.is_finite() && self.coef > 0.0) {
             return Err(SetupError::InvalidParameter {
                 name: "xpsm coef",
@@ -75,20 +75,12 @@ impl Xpsm {
         Ok(())
     }
 
-    /// The setup on `basis` (a part of the frame; `input`'s camera is the part's).
-    pub(crate) fn setup_with(
-        &self,
-        input: &SetupInput<'_>,
-        basis: &FocusBasis,
-    ) -> Result<ShadowSetup, SetupError> {
-        self.validate()?;
-        limit_warp(input, basis, self.name(), self.limit, |strength| {
-            self.setup_at(input, basis, strength)
-        })
+    fn limited(&self) -> bool {
+        self.limit
     }
 
     /// The setup with len scaled by `strength` (1: the chapter's, clamped).
-    fn setup_at(
+    fn at_strength(
         &self,
         input: &SetupInput<'_>,
         basis: &FocusBasis,
