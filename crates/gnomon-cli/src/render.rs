@@ -160,7 +160,7 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
 /// A mesh file to render instead of a built-in scene.
 #[derive(Debug, Clone, Args)]
 pub struct MeshArgs {
-    /// Render this mesh (.off, .obj or .ply) standing on a ground slab instead of a built-in
+    /// Render this mesh (.off, .obj, .ply, .gltf or .glb) standing on a ground slab instead of a built-in
     /// scene (scripts/fetch-meshes.sh fetches the bunny and a knot into assets/meshes/).
     #[arg(long, conflicts_with = "scene")]
     pub mesh: Option<PathBuf>,
@@ -175,7 +175,11 @@ pub fn render_scene(name: &str, mesh: &MeshArgs) -> Result<RenderScene, CliError
     let Some(path) = &mesh.mesh else {
         return Ok(RenderScene::from_layout(&scene_layout(name)?));
     };
-    let loaded = gnomon_scene::Mesh::load(path).map_err(|e| CliError::usage(e.to_string()))?;
+    let (loaded, notes) =
+        gnomon_scene::Mesh::load_with_notes(path).map_err(|e| CliError::usage(e.to_string()))?;
+    for note in notes {
+        eprintln!("warning: {}: {note}", path.display());
+    }
     let name = path
         .file_stem()
         .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());

@@ -549,12 +549,12 @@ fn render_a_mesh_file_with_shadow_volumes() {
          4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n",
     )
     .unwrap();
-    let render = |stencil: &str| {
+    let render = |stencil: &str, mesh: &std::path::Path| {
         let mask = dir.join(format!("{stencil}.png"));
         let out = gnomon(&[
             "render",
             "--mesh",
-            cube.to_str().unwrap(),
+            mesh.to_str().unwrap(),
             "--mesh-height",
             "4",
             "--eye",
@@ -578,10 +578,36 @@ fn render_a_mesh_file_with_shadow_volumes() {
         assert!(out.status.success(), "{stderr}");
         (image::open(&mask).unwrap().into_luma8(), stderr)
     };
-    let (z_fail, _) = render("z-fail");
-    let (per_caster, report) = render("per-caster");
+    let (z_fail, _) = render("z-fail", &cube);
+    let (per_caster, report) = render("per-caster", &cube);
     assert!(report.contains("1 z-pass"), "{report}");
     assert_eq!(z_fail, per_caster);
+    // The same cube from a glTF file beside its buffer, under a mirroring and moving node:
+    // placed on the slab it is the same cube, so it casts the same shadow (the winding under
+    // a mirror is checked in gnomon-scene's tests).
+    let off_cube = gnomon_scene::Mesh::load(&cube).unwrap();
+    std::fs::write(dir.join("cube.bin"), gltf_buffer(&off_cube)).unwrap();
+    let gltf = dir.join("cube.gltf");
+    std::fs::write(
+        &gltf,
+        gltf_cube(r#""scale": [-1, 1, 1], "translation": [5, 0, 0]"#, ""),
+    )
+    .unwrap();
+    let (from_gltf, _) = render("z-fail", &gltf);
+    let differ = from_gltf
+        .pixels()
+        .zip(z_fail.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(differ * 1000 <= z_fail.len(), "{differ} pixels differ");
+    std::fs::write(
+        dir.join("draco.gltf"),
+        gltf_cube(
+            "",
+            r#", "extensionsRequired": ["KHR_draco_mesh_compression"]"#,
+        ),
+    )
+    .unwrap();
     let shadowed = z_fail.pixels().filter(|p| p.0[0] == 0).count();
     let lit = z_fail.pixels().filter(|p| p.0[0] == 255).count();
     assert!(
@@ -598,6 +624,10 @@ fn render_a_mesh_file_with_shadow_volumes() {
         (dir.join("missing.off"), "cannot read"),
         (dir.join("broken.ply"), "not a valid .ply file"),
         (dir.join("cube.stl"), "unknown mesh format"),
+        (
+            dir.join("draco.gltf"),
+            "requires the glTF extension KHR_draco_mesh_compression",
+        ),
     ] {
         let out = gnomon(&[
             "render",
@@ -618,6 +648,38 @@ fn render_a_mesh_file_with_shadow_volumes() {
         );
     }
     std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A mesh as a glTF buffer: its f32 positions (8 for a cube), then its u32 indices (36).
+fn gltf_buffer(mesh: &gnomon_scene::Mesh) -> Vec<u8> {
+    let mut out = Vec::new();
+    for p in &mesh.positions {
+        for x in p.to_array() {
+            out.extend_from_slice(&(x as f32).to_le_bytes());
+        }
+    }
+    for i in &mesh.indices {
+        out.extend_from_slice(&i.to_le_bytes());
+    }
+    out
+}
+
+/// A glTF document instancing the cube of `cube.bin` at one node with `node` (its members),
+/// and `extra` more top-level members.
+fn gltf_cube(node: &str, extra: &str) -> String {
+    format!(
+        r#"{{"asset": {{"version": "2.0"}},
+        "buffers": [{{"byteLength": 240, "uri": "cube.bin"}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": 96}},
+                        {{"buffer": 0, "byteOffset": 96, "byteLength": 144}}],
+        "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3",
+                        "min": [0, 0, 0], "max": [1, 1, 1]}},
+                      {{"bufferView": 1, "componentType": 5125, "count": 36, "type": "SCALAR"}}],
+        "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}}],
+        "nodes": [{{"mesh": 0{sep}{node}}}],
+        "scenes": [{{"nodes": [0]}}], "scene": 0{extra}}}"#,
+        sep = if node.is_empty() { "" } else { ", " }
+    )
 }
 
 /// `gnomon bench` times every named view with each technique asked for, in one run, and

@@ -1,7 +1,15 @@
-//! Loading triangle meshes from files: OFF (through `off-rs`), Wavefront OBJ (`tobj`) and
-//! PLY, ASCII or binary (`ply-rs-bw`). Polygons are split into fans of triangles; vertex
-//! normals are the area-weighted average of the triangles around each vertex (files' own
-//! normals are not read).
+//! Loading triangle meshes from files: OFF (through `off-rs`), Wavefront OBJ (`tobj`), PLY,
+//! ASCII or binary (`ply-rs-bw`), and glTF 2.0, `.gltf` with its buffers or `.glb` (`gltf`).
+//! Polygons are split into fans of triangles; vertex normals are the area-weighted average
+//! of the triangles around each vertex (files' own normals are not read).
+//!
+//! glTF: the default scene (else the first, else every root node) is flattened into one mesh
+//! in its world frame: each node's transform composed down the hierarchy, every triangle
+//! primitive of every mesh a node instances, the winding flipped under a mirroring transform
+//! (negative determinant) so that faces stay counter-clockwise from outside. Primitives of
+//! other modes (points, lines, strips and fans) are skipped and named in the load's notes; a
+//! file that requires an extension gnomon does not read (`KHR_draco_mesh_compression`, ...)
+//! is refused. Materials are not read.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -20,6 +28,9 @@ pub enum MeshFormat {
     /// Polygon File Format (`.ply`), ASCII or binary; the `vertex` element's x, y, z and the
     /// `face` element's `vertex_indices` (or `vertex_index`) list.
     Ply,
+    /// glTF 2.0: `.gltf` (JSON, buffers beside it or embedded) or `.glb` (binary); see the
+    /// module documentation.
+    Gltf,
 }
 
 impl MeshFormat {
@@ -30,6 +41,7 @@ impl MeshFormat {
             "off" => Some(Self::Off),
             "obj" => Some(Self::Obj),
             "ply" => Some(Self::Ply),
+            "gltf" | "glb" => Some(Self::Gltf),
             _ => None,
         }
     }
@@ -40,6 +52,7 @@ impl MeshFormat {
             Self::Off => "off",
             Self::Obj => "obj",
             Self::Ply => "ply",
+            Self::Gltf => "gltf",
         }
     }
 }
@@ -67,7 +80,7 @@ pub enum LoadError {
         /// What the system said.
         source: std::io::Error,
     },
-    /// The extension is none of `.off`, `.obj`, `.ply`.
+    /// The extension is none of `.off`, `.obj`, `.ply`, `.gltf`, `.glb`.
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -102,6 +115,13 @@ pub enum LoadError {
         /// The file.
         path: PathBuf,
     },
+    /// A glTF file requires an extension gnomon does not read.
+    UnsupportedExtension {
+        /// The file.
+        path: PathBuf,
+        /// The extension's name.
+        extension: String,
+    },
 }
 
 impl fmt::Display for LoadError {
@@ -119,7 +139,7 @@ impl fmt::Display for LoadError {
             Self::Io { path, source } => write!(f, "cannot read {}: {source}", path.display()),
             Self::UnknownFormat { path } => write!(
                 f,
-                "{}: unknown mesh format (known extensions: .off, .obj, .ply)",
+                "{}: unknown mesh format (known extensions: .off, .obj, .ply, .gltf, .glb)",
                 path.display()
             ),
             Self::Parse {
@@ -147,6 +167,11 @@ impl fmt::Display for LoadError {
                 path.display()
             ),
             Self::NoTriangles { path } => write!(f, "{}: no triangles", path.display()),
+            Self::UnsupportedExtension { path, extension } => write!(
+                f,
+                "{}: requires the glTF extension {extension}, which gnomon does not read",
+                path.display()
+            ),
         }
     }
 }
@@ -163,6 +188,12 @@ impl std::error::Error for LoadError {
 impl Mesh {
     /// Loads a mesh file, its format chosen by the extension (see [`MeshFormat`]).
     pub fn load(path: &Path) -> Result<Mesh, LoadError> {
+        Self::load_with_notes(path).map(|(mesh, _)| mesh)
+    }
+
+    /// [`Mesh::load`], and what the load left out (a glTF's primitives that are not
+    /// triangles), one line each, for the caller to show as warnings.
+    pub fn load_with_notes(path: &Path) -> Result<(Mesh, Vec<String>), LoadError> {
         let format = MeshFormat::from_path(path).ok_or_else(|| LoadError::UnknownFormat {
             path: path.to_path_buf(),
         })?;
@@ -188,22 +219,35 @@ impl Mesh {
                 path: path.to_path_buf(),
             });
         }
-        Self::parse(&bytes, format).map_err(|e| e.at(path))
+        let base = path.parent().filter(|p| !p.as_os_str().is_empty());
+        Self::parse_in(&bytes, format, Some(base.unwrap_or(Path::new(".")))).map_err(|e| e.at(path))
     }
 
-    /// Parses a mesh from a file's contents.
+    /// Parses a mesh from a file's contents (a glTF's buffers must be inside it: a `.glb`
+    /// or data URIs).
     pub fn parse(bytes: &[u8], format: MeshFormat) -> Result<Mesh, LoadError> {
+        Self::parse_in(bytes, format, None).map(|(mesh, _)| mesh)
+    }
+
+    /// [`Mesh::parse`] with the folder a glTF's buffer files are relative to, and the notes.
+    fn parse_in(
+        bytes: &[u8],
+        format: MeshFormat,
+        base: Option<&Path>,
+    ) -> Result<(Mesh, Vec<String>), LoadError> {
         let parse_error = |message: String| LoadError::Parse {
             path: PathBuf::new(),
             format,
             message,
         };
+        let mut notes = Vec::new();
         let (positions, faces) = match format {
             MeshFormat::Off => parse_off(bytes).map_err(parse_error)?,
             MeshFormat::Obj => parse_obj(bytes).map_err(parse_error)?,
             MeshFormat::Ply => parse_ply(bytes).map_err(parse_error)?,
+            MeshFormat::Gltf => crate::gltf::triangles(bytes, base, &mut notes)?,
         };
-        Self::from_polygons(positions, &faces)
+        Ok((Self::from_polygons(positions, &faces)?, notes))
     }
 
     /// A mesh from positions and polygons (vertex indices, counter-clockwise seen from
@@ -264,7 +308,8 @@ impl LoadError {
             | Self::Parse { path, .. }
             | Self::IndexOutOfRange { path, .. }
             | Self::NonFinite { path, .. }
-            | Self::NoTriangles { path } => *path = file.to_path_buf(),
+            | Self::NoTriangles { path }
+            | Self::UnsupportedExtension { path, .. } => *path = file.to_path_buf(),
         }
         self
     }
@@ -289,7 +334,7 @@ fn smooth_normals(positions: &[DVec3], indices: &[u32]) -> Vec<DVec3> {
     normals.iter().map(|n| n.normalize_or_zero()).collect()
 }
 
-type Polygons = (Vec<DVec3>, Vec<Vec<i64>>);
+pub(crate) type Polygons = (Vec<DVec3>, Vec<Vec<i64>>);
 
 /// The OFF header's vertex and face counts against the lines that follow it, so that a
 /// short file says so (the parser reads a face line as a vertex with a colour and reports a
@@ -451,11 +496,11 @@ fn parse_ply(bytes: &[u8]) -> Result<Polygons, String> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A unit cube as quads, counter-clockwise from outside.
-    const CUBE_OFF: &str = "OFF\n# a cube\n8 6 12\n\
+    pub(crate) const CUBE_OFF: &str = "OFF\n# a cube\n8 6 12\n\
         0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n\
         4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n";
 
@@ -512,7 +557,7 @@ mod tests {
     }
 
     /// Signed volume: 1 for the unit cube wound outward.
-    fn volume(m: &Mesh) -> f64 {
+    pub(crate) fn volume(m: &Mesh) -> f64 {
         m.indices
             .chunks_exact(3)
             .map(|t| {

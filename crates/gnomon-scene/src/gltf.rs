@@ -1,0 +1,376 @@
+//! glTF 2.0 triangles in the scene's world frame (see [`crate::load`]'s documentation).
+
+use std::path::{Path, PathBuf};
+
+use glam::{DMat4, DVec3};
+use gltf::mesh::Mode;
+
+use crate::load::{LoadError, MeshFormat, Polygons};
+
+/// Every triangle of the default scene (else the first, else every root node) of a glTF
+/// document in `bytes`, in world coordinates, as positions and triangles; primitives that
+/// are not triangle lists are skipped and named in `notes`. `base`: the folder buffer files
+/// are relative to (`None`: only buffers inside the file).
+pub(crate) fn triangles(
+    bytes: &[u8],
+    base: Option<&Path>,
+    notes: &mut Vec<String>,
+) -> Result<Polygons, LoadError> {
+    let parse_error = |message: String| LoadError::Parse {
+        path: PathBuf::new(),
+        format: MeshFormat::Gltf,
+        message,
+    };
+    // A required extension is refused before the crate's own validation, which reports it
+    // less plainly.
+    if let Some(extension) = required_extensions(bytes).into_iter().next() {
+        return Err(LoadError::UnsupportedExtension {
+            path: PathBuf::new(),
+            extension,
+        });
+    }
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_slice(bytes).map_err(|e| parse_error(e.to_string()))?;
+    let buffers = match base {
+        Some(base) => gltf::import_buffers(&document, Some(base), blob),
+        None if document.buffers().all(
+            |b| !matches!(b.source(), gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:")),
+        ) =>
+        {
+            gltf::import_buffers(&document, None, blob)
+        }
+        None => Err(gltf::Error::UnsupportedScheme),
+    }
+    .map_err(|e| parse_error(format!("cannot read its buffers: {e}")))?;
+
+    let mut out = Collector {
+        visited: vec![false; document.nodes().len()],
+        buffers: &buffers,
+        positions: Vec::new(),
+        triangles: Vec::new(),
+        notes,
+        error: None,
+    };
+    let roots: Vec<gltf::Node> = match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
+        Some(scene) => scene.nodes().collect(),
+        // No scene: every node that is no other node's child.
+        None => {
+            let children: std::collections::HashSet<usize> = document
+                .nodes()
+                .flat_map(|n| n.children().map(|c| c.index()).collect::<Vec<_>>())
+                .collect();
+            document
+                .nodes()
+                .filter(|n| !children.contains(&n.index()))
+                .collect()
+        }
+    };
+    for node in roots {
+        out.node(&node, DMat4::IDENTITY, 0);
+    }
+    if let Some(message) = out.error {
+        return Err(parse_error(message));
+    }
+    Ok((out.positions, out.triangles))
+}
+
+/// The names in the document's `extensionsRequired` (JSON or GLB); empty when there are none
+/// or the file does not parse (the parser then says why).
+fn required_extensions(bytes: &[u8]) -> Vec<String> {
+    let json: &[u8] = match gltf::Glb::from_slice(bytes) {
+        Ok(glb) => return json_required(&glb.json),
+        Err(_) => bytes,
+    };
+    json_required(json)
+}
+
+fn json_required(json: &[u8]) -> Vec<String> {
+    let Ok(root) = gltf::json::deserialize::from_slice::<gltf::json::Root>(json) else {
+        return Vec::new();
+    };
+    root.extensions_required
+}
+
+/// Nodes deeper than this are refused (a cycle, or a file built to exhaust the stack).
+const MAX_DEPTH: usize = 256;
+
+struct Collector<'a> {
+    /// The nodes met so far: glTF's nodes form trees, so a node met twice is a cycle or a
+    /// shared child, refused (either could multiply the work without bound).
+    visited: Vec<bool>,
+    buffers: &'a [gltf::buffer::Data],
+    positions: Vec<DVec3>,
+    triangles: Vec<Vec<i64>>,
+    notes: &'a mut Vec<String>,
+    error: Option<String>,
+}
+
+impl Collector<'_> {
+    fn node(&mut self, node: &gltf::Node, parent: DMat4, depth: usize) {
+        if self.error.is_some() {
+            return;
+        }
+        if depth > MAX_DEPTH {
+            self.error = Some(format!("its node hierarchy is deeper than {MAX_DEPTH}"));
+            return;
+        }
+        match self.visited.get_mut(node.index()) {
+            Some(seen) if !*seen => *seen = true,
+            _ => {
+                self.error = Some(format!(
+                    "node {} is reached twice (nodes must form trees: a cycle or a shared child)",
+                    node.index()
+                ));
+                return;
+            }
+        }
+        let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
+        let world = parent * local;
+        if let Some(mesh) = node.mesh() {
+            // A mirroring transform turns counter-clockwise triangles clockwise.
+            let mirrored = world.determinant() < 0.0;
+            for primitive in mesh.primitives() {
+                self.primitive(&mesh, &primitive, world, mirrored);
+            }
+        }
+        for child in node.children() {
+            self.node(&child, world, depth + 1);
+        }
+    }
+
+    fn primitive(
+        &mut self,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+        world: DMat4,
+        mirrored: bool,
+    ) {
+        let name = || format!("mesh {}", mesh.index());
+        if primitive.mode() != Mode::Triangles {
+            self.notes.push(format!(
+                "skipped a {:?} primitive of {} (only triangle lists are read)",
+                primitive.mode(),
+                name()
+            ));
+            return;
+        }
+        let reader = primitive.reader(|b| self.buffers.get(b.index()).map(|d| &d.0[..]));
+        let Some(positions) = reader.read_positions() else {
+            self.notes.push(format!(
+                "skipped a primitive of {} without positions",
+                name()
+            ));
+            return;
+        };
+        let start = self.positions.len() as i64;
+        self.positions
+            .extend(positions.map(|p| {
+                world.transform_point3(DVec3::new(p[0].into(), p[1].into(), p[2].into()))
+            }));
+        let count = self.positions.len() as i64 - start;
+        let indices: Vec<i64> = match reader.read_indices() {
+            Some(indices) => indices.into_u32().map(i64::from).collect(),
+            None => (0..count).collect(),
+        };
+        if !indices.len().is_multiple_of(3) {
+            self.error = Some(format!(
+                "a triangle primitive of {} has {} indices, not a multiple of three",
+                name(),
+                indices.len()
+            ));
+            return;
+        }
+        for t in indices.chunks_exact(3) {
+            if let Some(&bad) = t.iter().find(|&&i| i >= count) {
+                self.error = Some(format!(
+                    "a triangle of {} uses vertex {bad}, but the primitive has {count}",
+                    name()
+                ));
+                return;
+            }
+            let (a, b, c) = (start + t[0], start + t[1], start + t[2]);
+            self.triangles.push(if mirrored {
+                vec![a, c, b]
+            } else {
+                vec![a, b, c]
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::Mesh;
+    use crate::load::tests::{CUBE_OFF, volume};
+    use crate::load::{LoadError, MeshFormat};
+    use glam::DVec3;
+
+    /// A unit cube's buffer (the OFF tests' cube): 8 f32 positions, then 36 u32 indices
+    /// (counter-clockwise from outside).
+    fn cube_buffer() -> Vec<u8> {
+        let cube = Mesh::parse(CUBE_OFF.as_bytes(), MeshFormat::Off).unwrap();
+        let mut out = Vec::new();
+        for p in &cube.positions {
+            for x in p.to_array() {
+                out.extend_from_slice(&(x as f32).to_le_bytes());
+            }
+        }
+        for i in &cube.indices {
+            out.extend_from_slice(&i.to_le_bytes());
+        }
+        out
+    }
+
+    fn base64(bytes: &[u8]) -> String {
+        const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut out = String::new();
+        for chunk in bytes.chunks(3) {
+            let b = [
+                chunk[0],
+                *chunk.get(1).unwrap_or(&0),
+                *chunk.get(2).unwrap_or(&0),
+            ];
+            let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+            for k in 0..4 {
+                if k <= chunk.len() {
+                    out.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
+                } else {
+                    out.push('=');
+                }
+            }
+        }
+        out
+    }
+
+    /// A document: the cube instanced by two nodes under a parent scaled by 2, one of them
+    /// mirrored (scale -1 along x); `buffer` the buffer's JSON (uri or none), `extra` more
+    /// top-level members.
+    fn document(buffer: &str, extra: &str) -> String {
+        format!(
+            r#"{{"asset": {{"version": "2.0"}},
+            "buffers": [{buffer}],
+            "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 96}},
+                            {{"buffer": 0, "byteOffset": 96, "byteLength": 144}}],
+            "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3",
+                            "min": [0, 0, 0], "max": [1, 1, 1]}},
+                          {{"bufferView": 1, "componentType": 5125, "count": 36, "type": "SCALAR"}}],
+            "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}},
+                                        {{"attributes": {{"POSITION": 0}}, "mode": 1}}]}}],
+            "nodes": [{{"mesh": 0, "translation": [10, 0, 0]}},
+                      {{"mesh": 0, "translation": [-10, 0, 0], "scale": [-1, 1, 1]}},
+                      {{"children": [0, 1], "scale": [2, 2, 2]}}],
+            "scenes": [{{"nodes": [2]}}], "scene": 0{extra}}}"#
+        )
+    }
+
+    fn embedded(extra: &str) -> String {
+        let buffer = cube_buffer();
+        document(
+            &format!(
+                r#"{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}"#,
+                buffer.len(),
+                base64(&buffer)
+            ),
+            extra,
+        )
+    }
+
+    fn glb() -> Vec<u8> {
+        let buffer = cube_buffer();
+        let mut json = document(&format!(r#"{{"byteLength": {}}}"#, buffer.len()), "").into_bytes();
+        while !json.len().is_multiple_of(4) {
+            json.push(b' ');
+        }
+        let mut bin = buffer;
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        let total = 12 + 8 + json.len() + 8 + bin.len();
+        let mut out = Vec::new();
+        out.extend_from_slice(b"glTF");
+        out.extend_from_slice(&2u32.to_le_bytes());
+        out.extend_from_slice(&(total as u32).to_le_bytes());
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"JSON");
+        out.extend_from_slice(&json);
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&bin);
+        out
+    }
+
+    fn check_two_cubes(m: &Mesh) {
+        assert_eq!(m.triangle_count(), 24);
+        // Each cube is scaled by 2 (volume 8); the mirrored one is wound outward too.
+        assert!((volume(m) - 16.0).abs() < 1e-9, "volume {}", volume(m));
+        let (lo, hi) = m.bounds();
+        assert!((lo - DVec3::new(-22.0, 0.0, 0.0)).length() < 1e-9, "{lo}");
+        assert!((hi - DVec3::new(22.0, 2.0, 2.0)).length() < 1e-9, "{hi}");
+    }
+
+    #[test]
+    fn nodes_are_flattened_in_the_world_frame_with_mirrors_rewound() {
+        check_two_cubes(&Mesh::parse(embedded("").as_bytes(), MeshFormat::Gltf).unwrap());
+        check_two_cubes(&Mesh::parse(&glb(), MeshFormat::Gltf).unwrap());
+        // A .gltf beside its .bin, through the file loader; the line primitive is named.
+        let dir = std::env::temp_dir().join(format!("gnomon-gltf-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("cube.bin"), cube_buffer()).unwrap();
+        let text = document(r#"{"byteLength": 240, "uri": "cube.bin"}"#, "");
+        std::fs::write(dir.join("two cubes.gltf"), text).unwrap();
+        let (mesh, notes) = Mesh::load_with_notes(&dir.join("two cubes.gltf")).unwrap();
+        check_two_cubes(&mesh);
+        assert_eq!(notes.len(), 2, "{notes:?}");
+        assert!(notes[0].contains("Lines"), "{notes:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn bad_gltf_files_give_clear_errors() {
+        let draco = embedded(
+            r#", "extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"]"#,
+        );
+        let e = Mesh::parse(draco.as_bytes(), MeshFormat::Gltf).unwrap_err();
+        assert!(
+            matches!(&e, LoadError::UnsupportedExtension { extension, .. } if extension == "KHR_draco_mesh_compression"),
+            "{e}"
+        );
+        assert!(e.to_string().contains("KHR_draco_mesh_compression"), "{e}");
+        // Not JSON; a buffer file that is not there (only data URIs without a folder).
+        for bad in [
+            "{not json",
+            &document(r#"{"byteLength": 240, "uri": "missing.bin"}"#, ""),
+        ] {
+            let e = Mesh::parse(bad.as_bytes(), MeshFormat::Gltf).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    LoadError::Parse {
+                        format: MeshFormat::Gltf,
+                        ..
+                    }
+                ),
+                "{e}"
+            );
+        }
+        // Only lines: no triangles.
+        let lines = embedded("").replace(r#"{"attributes": {"POSITION": 0}, "indices": 1},"#, "");
+        let e = Mesh::parse(lines.as_bytes(), MeshFormat::Gltf).unwrap_err();
+        assert!(matches!(e, LoadError::NoTriangles { .. }), "{e}");
+        // An index past the positions.
+        let mut buffer = cube_buffer();
+        buffer[96..100].copy_from_slice(&9u32.to_le_bytes());
+        let text = document(
+            &format!(
+                r#"{{"byteLength": 240, "uri": "data:application/octet-stream;base64,{}"}}"#,
+                base64(&buffer)
+            ),
+            "",
+        );
+        let e = Mesh::parse(text.as_bytes(), MeshFormat::Gltf).unwrap_err();
+        assert!(e.to_string().contains("vertex 9"), "{e}");
+    }
+}
