@@ -160,7 +160,7 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
 /// A mesh file to render instead of a built-in scene.
 #[derive(Debug, Clone, Args)]
 pub struct MeshArgs {
-    /// Render this mesh (.off, .obj, .ply, .gltf or .glb) standing on a ground slab instead of a built-in
+    /// Render this mesh (.off, .obj, .ply, .stl, .gltf or .glb) standing on a ground slab instead of a built-in
     /// scene (scripts/fetch-meshes.sh fetches the bunny and a knot into assets/meshes/).
     #[arg(long, conflicts_with = "scene")]
     pub mesh: Option<PathBuf>,

@@ -623,7 +623,7 @@ fn render_a_mesh_file_with_shadow_volumes() {
     for (file, says) in [
         (dir.join("missing.off"), "cannot read"),
         (dir.join("broken.ply"), "not a valid .ply file"),
-        (dir.join("cube.stl"), "unknown mesh format"),
+        (dir.join("cube.3ds"), "unknown mesh format"),
         (
             dir.join("draco.gltf"),
             "requires the glTF extension KHR_draco_mesh_compression",

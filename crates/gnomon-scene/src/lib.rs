@@ -3,7 +3,8 @@
 //!
 //! The layouts carry no triangles: the renderer generates each shape's mesh from its
 //! [`Shape`] and `world_from_object` transform, so the bounds here and the geometry there
-//! describe the same objects. [`Mesh::load`] reads real meshes from OFF, OBJ, PLY and glTF 2.0 (`.gltf`, `.glb`) files.
+//! describe the same objects. [`Mesh::load`] reads real meshes from OFF, OBJ, PLY, STL and glTF 2.0 (`.gltf`, `.glb`)
+//! files.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]

@@ -1,5 +1,6 @@
 //! Loading triangle meshes from files: OFF (through `off-rs`), Wavefront OBJ (`tobj`), PLY,
-//! ASCII or binary (`ply-rs-bw`), and glTF 2.0, `.gltf` with its buffers or `.glb` (`gltf`).
+//! ASCII or binary (`ply-rs-bw`), glTF 2.0, `.gltf` with its buffers or `.glb` (`gltf`), and
+//! STL, ASCII or binary (`stl_io`).
 //! Polygons are split into fans of triangles; vertex normals are the area-weighted average
 //! of the triangles around each vertex (files' own normals are not read).
 //!
@@ -31,6 +32,9 @@ pub enum MeshFormat {
     /// glTF 2.0: `.gltf` (JSON, buffers beside it or embedded) or `.glb` (binary); see the
     /// module documentation.
     Gltf,
+    /// STL (`.stl`), ASCII or binary; facet normals are not read (the vertex order gives the
+    /// winding).
+    Stl,
 }
 
 impl MeshFormat {
@@ -42,6 +46,7 @@ impl MeshFormat {
             "obj" => Some(Self::Obj),
             "ply" => Some(Self::Ply),
             "gltf" | "glb" => Some(Self::Gltf),
+            "stl" => Some(Self::Stl),
             _ => None,
         }
     }
@@ -53,6 +58,7 @@ impl MeshFormat {
             Self::Obj => "obj",
             Self::Ply => "ply",
             Self::Gltf => "gltf",
+            Self::Stl => "stl",
         }
     }
 }
@@ -80,7 +86,7 @@ pub enum LoadError {
         /// What the system said.
         source: std::io::Error,
     },
-    /// The extension is none of `.off`, `.obj`, `.ply`, `.gltf`, `.glb`.
+    /// The extension is none of `.off`, `.obj`, `.ply`, `.gltf`, `.glb`, `.stl`.
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -139,7 +145,7 @@ impl fmt::Display for LoadError {
             Self::Io { path, source } => write!(f, "cannot read {}: {source}", path.display()),
             Self::UnknownFormat { path } => write!(
                 f,
-                "{}: unknown mesh format (known extensions: .off, .obj, .ply, .gltf, .glb)",
+                "{}: unknown mesh format (known extensions: .off, .obj, .ply, .gltf, .glb, .stl)",
                 path.display()
             ),
             Self::Parse {
@@ -246,6 +252,7 @@ impl Mesh {
             MeshFormat::Obj => parse_obj(bytes).map_err(parse_error)?,
             MeshFormat::Ply => parse_ply(bytes).map_err(parse_error)?,
             MeshFormat::Gltf => crate::gltf::triangles(bytes, base, &mut notes)?,
+            MeshFormat::Stl => parse_stl(bytes).map_err(parse_error)?,
         };
         Ok((Self::from_polygons(positions, &faces)?, notes))
     }
@@ -495,6 +502,21 @@ fn parse_ply(bytes: &[u8]) -> Result<Polygons, String> {
     Ok((positions, faces))
 }
 
+fn parse_stl(bytes: &[u8]) -> Result<Polygons, String> {
+    let mesh = stl_io::read_stl(&mut std::io::Cursor::new(bytes)).map_err(|e| e.to_string())?;
+    let positions = mesh
+        .vertices
+        .iter()
+        .map(|v| DVec3::new(v[0].into(), v[1].into(), v[2].into()))
+        .collect();
+    let faces = mesh
+        .faces
+        .iter()
+        .map(|f| f.vertices.iter().map(|&i| i as i64).collect())
+        .collect();
+    Ok((positions, faces))
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -556,6 +578,21 @@ pub(crate) mod tests {
         out
     }
 
+    /// The cube as ASCII STL: each quad of [`CUBE_OFF`] as two facets.
+    fn cube_stl() -> String {
+        let cube = Mesh::parse(CUBE_OFF.as_bytes(), MeshFormat::Off).unwrap();
+        let mut out = String::from("solid cube\n");
+        for t in cube.indices.chunks_exact(3) {
+            out.push_str("facet normal 0 0 0\nouter loop\n");
+            for &i in t {
+                let p = cube.positions[i as usize];
+                out.push_str(&format!("vertex {} {} {}\n", p.x, p.y, p.z));
+            }
+            out.push_str("endloop\nendfacet\n");
+        }
+        out + "endsolid cube\n"
+    }
+
     /// Signed volume: 1 for the unit cube wound outward.
     pub(crate) fn volume(m: &Mesh) -> f64 {
         m.indices
@@ -574,6 +611,7 @@ pub(crate) mod tests {
             Mesh::parse(cube_obj().as_bytes(), MeshFormat::Obj).unwrap(),
             Mesh::parse(cube_ply_ascii().as_bytes(), MeshFormat::Ply).unwrap(),
             Mesh::parse(&cube_ply_binary(), MeshFormat::Ply).unwrap(),
+            Mesh::parse(cube_stl().as_bytes(), MeshFormat::Stl).unwrap(),
         ];
         for m in &meshes {
             assert_eq!(m.positions.len(), 8);
@@ -633,7 +671,7 @@ pub(crate) mod tests {
         let e = Mesh::load(Path::new("/nonexistent/bunny.off")).unwrap_err();
         assert!(matches!(e, LoadError::Io { .. }));
         assert!(e.to_string().contains("/nonexistent/bunny.off"), "{e}");
-        let e = Mesh::load(Path::new("bunny.stl")).unwrap_err();
+        let e = Mesh::load(Path::new("bunny.3ds")).unwrap_err();
         assert!(matches!(e, LoadError::UnknownFormat { .. }), "{e}");
     }
 }
