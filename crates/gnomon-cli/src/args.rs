@@ -1,5 +1,7 @@
 //! Options shared by the subcommands that take a view and a light, and `gnomon setup`.
 
+use std::path::PathBuf;
+
 use clap::{Args, ValueEnum};
 use glam::DVec3;
 use gnomon::{
@@ -7,6 +9,7 @@ use gnomon::{
     SceneBounds, ShadowSetup, SpotLight, Technique, ViewSamples, compute_setup,
     compute_setup_with_samples,
 };
+use gnomon_render::RenderScene;
 
 use crate::CliError;
 use crate::report;
@@ -572,6 +575,8 @@ pub struct SetupArgs {
     #[arg(long, default_value = "demo")]
     pub scene: String,
     #[command(flatten)]
+    pub mesh: MeshArgs,
+    #[command(flatten)]
     pub view: ViewArgs,
     #[command(flatten)]
     pub light: LightArgs,
@@ -618,14 +623,45 @@ pub fn timed_setup(
     Ok((setup, start.elapsed().as_secs_f64() * 1e6))
 }
 
-/// A built-in scene's bounds.
-pub fn scene_bounds(name: &str) -> Result<SceneBounds, CliError> {
-    Ok(scene_layout(name)?.bounds()?)
+/// A mesh file to use instead of a built-in scene.
+#[derive(Debug, Clone, Args)]
+pub struct MeshArgs {
+    /// This mesh (.off, .obj, .ply, .stl, .gltf or .glb) standing on a ground slab instead of
+    /// a built-in scene (scripts/fetch-meshes.sh fetches the bunny and a knot into
+    /// assets/meshes/).
+    #[arg(long, conflicts_with = "scene")]
+    pub mesh: Option<PathBuf>,
+    /// The mesh's height in world units once placed (it is scaled uniformly).
+    #[arg(long, default_value_t = 10.0, requires = "mesh")]
+    pub mesh_height: f64,
+}
+
+/// The scene of a command: the mesh on a ground slab where one is given, else the built-in
+/// scene `name`. Its meshes are what is drawn, and its bounds (`RenderScene::bounds`, the
+/// drawn vertices' boxes) are what every command hands the core, so that `setup` prints the
+/// matrices `render` draws with.
+pub fn render_scene(name: &str, mesh: &MeshArgs) -> Result<RenderScene, CliError> {
+    let Some(path) = &mesh.mesh else {
+        return Ok(RenderScene::from_layout(&scene_layout(name)?));
+    };
+    let (loaded, notes) =
+        gnomon_scene::Mesh::load_with_notes(path).map_err(|e| CliError::usage(e.to_string()))?;
+    for note in notes {
+        eprintln!("warning: {}: {note}", path.display());
+    }
+    let name = path
+        .file_stem()
+        .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
+    Ok(RenderScene::mesh_on_ground(
+        &name,
+        loaded,
+        mesh.mesh_height,
+    )?)
 }
 
 /// Runs `gnomon setup`.
 pub fn run_setup(args: &SetupArgs) -> Result<(), CliError> {
-    let scene = scene_bounds(&args.scene)?;
+    let scene = render_scene(&args.scene, &args.mesh)?.bounds()?;
     let camera = args.view.camera()?;
     let light = args.light.light(&args.view)?;
     let technique = args.params.apply(args.technique);

@@ -13,9 +13,10 @@ use gnomon_scene::DEMO_VIEWS;
 use serde_json::json;
 
 use crate::CliError;
+use crate::args::{MeshArgs, render_scene};
 use crate::args::{TechniqueParams, timed_setup};
 use crate::names::Drawn;
-use crate::render::{MeshArgs, open_renderer, parse_size, render_scene};
+use crate::render::{open_renderer, parse_size};
 
 /// `gnomon bench`.
 #[derive(Debug, Clone, Args)]

@@ -8,7 +8,9 @@ use gnomon_render::{
     DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer, StencilMode,
 };
 
-use crate::args::{LightArgs, TechniqueParams, ViewArgs, scene_layout, timed_setup};
+use crate::args::{
+    LightArgs, MeshArgs, TechniqueParams, ViewArgs, render_scene, scene_layout, timed_setup,
+};
 use crate::names::Drawn;
 use crate::{CliError, heatmap};
 
@@ -155,39 +157,6 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
         ));
     }
     Ok((w, h))
-}
-
-/// A mesh file to render instead of a built-in scene.
-#[derive(Debug, Clone, Args)]
-pub struct MeshArgs {
-    /// Render this mesh (.off, .obj, .ply, .stl, .gltf or .glb) standing on a ground slab instead of a built-in
-    /// scene (scripts/fetch-meshes.sh fetches the bunny and a knot into assets/meshes/).
-    #[arg(long, conflicts_with = "scene")]
-    pub mesh: Option<PathBuf>,
-    /// The mesh's height in world units once placed (it is scaled uniformly).
-    #[arg(long, default_value_t = 10.0, requires = "mesh")]
-    pub mesh_height: f64,
-}
-
-/// The scene to render: the mesh on a ground slab where one is given, else the built-in
-/// scene `name`.
-pub fn render_scene(name: &str, mesh: &MeshArgs) -> Result<RenderScene, CliError> {
-    let Some(path) = &mesh.mesh else {
-        return Ok(RenderScene::from_layout(&scene_layout(name)?));
-    };
-    let (loaded, notes) =
-        gnomon_scene::Mesh::load_with_notes(path).map_err(|e| CliError::usage(e.to_string()))?;
-    for note in notes {
-        eprintln!("warning: {}: {note}", path.display());
-    }
-    let name = path
-        .file_stem()
-        .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
-    Ok(RenderScene::mesh_on_ground(
-        &name,
-        loaded,
-        mesh.mesh_height,
-    )?)
 }
 
 /// Writes a text file.

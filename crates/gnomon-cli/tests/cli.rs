@@ -542,27 +542,19 @@ fn render_with_shadow_volumes_writes_a_mask_like_the_maps() {
 #[test]
 fn render_a_mesh_file_with_shadow_volumes() {
     let dir = temp_dir("mesh");
-    let cube = dir.join("cube.off");
-    std::fs::write(
-        &cube,
-        "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n\
-         4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n",
-    )
-    .unwrap();
+    let cube = write_off_cube(&dir);
     let render = |stencil: &str, mesh: &std::path::Path| {
         let mask = dir.join(format!("{stencil}.png"));
-        let out = gnomon(&[
+        let mut args = vec![
             "render",
             "--mesh",
             mesh.to_str().unwrap(),
             "--mesh-height",
             "4",
-            "--eye",
-            "12,9,14",
-            "--target",
-            "0,1,0",
-            "--light-dir",
-            "0.6,-1,-0.2",
+        ];
+        let frame = dir.join("frame.png");
+        args.extend(CUBE_VIEW);
+        args.extend([
             "--technique",
             "volumes",
             "--stencil",
@@ -570,10 +562,11 @@ fn render_a_mesh_file_with_shadow_volumes() {
             "--size",
             "160x90",
             "--out",
-            dir.join("frame.png").to_str().unwrap(),
+            frame.to_str().unwrap(),
             "--mask",
             mask.to_str().unwrap(),
         ]);
+        let out = gnomon(&args);
         let stderr = String::from_utf8_lossy(&out.stderr).to_string();
         assert!(out.status.success(), "{stderr}");
         (image::open(&mask).unwrap().into_luma8(), stderr)
@@ -629,17 +622,9 @@ fn render_a_mesh_file_with_shadow_volumes() {
             "requires the glTF extension KHR_draco_mesh_compression",
         ),
     ] {
-        let out = gnomon(&[
-            "render",
-            "--mesh",
-            file.to_str().unwrap(),
-            "--eye",
-            "12,9,14",
-            "--target",
-            "0,1,0",
-            "--light-dir",
-            "0.6,-1,-0.2",
-        ]);
+        let mut args = vec!["render", "--mesh", file.to_str().unwrap()];
+        args.extend(CUBE_VIEW);
+        let out = gnomon(&args);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{stderr}");
         assert!(
@@ -647,6 +632,70 @@ fn render_a_mesh_file_with_shadow_volumes() {
             "{stderr}"
         );
     }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The view and sun the mesh tests look at their cube with.
+const CUBE_VIEW: [&str; 6] = [
+    "--eye",
+    "12,9,14",
+    "--target",
+    "0,1,0",
+    "--light-dir",
+    "0.6,-1,-0.2",
+];
+
+/// A unit cube as an OFF file in `dir`, counter-clockwise quads.
+fn write_off_cube(dir: &std::path::Path) -> std::path::PathBuf {
+    let cube = dir.join("cube.off");
+    std::fs::write(
+        &cube,
+        "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n\
+         4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n",
+    )
+    .unwrap();
+    cube
+}
+
+/// `gnomon setup --mesh` prints the matrices for a mesh file on its slab (bounds from the
+/// drawn vertices, the same as `render` hands the core), without a GPU; a missing file is a
+/// usage error naming it, and `--mesh` with `--scene` is refused.
+#[test]
+fn setup_reads_a_mesh_file() {
+    let dir = temp_dir("setup-mesh");
+    let cube = write_off_cube(&dir);
+    let setup = |extra: &[&str]| {
+        let mut args = vec!["setup", "--json"];
+        args.extend(CUBE_VIEW);
+        args.extend_from_slice(extra);
+        gnomon(&args)
+    };
+    let out = setup(&["--mesh", cube.to_str().unwrap(), "--mesh-height", "4"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let diagnostics = &json["diagnostics"];
+    assert_eq!(diagnostics["relevant_casters"], 1, "{json}");
+    assert_eq!(diagnostics["visible_receivers"], 2, "{json}");
+    // The cube stands 4 high over the origin: its top centre lands inside the map.
+    let m: Vec<f64> = json["maps"][0]["clip_from_world"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let clip = DMat4::from_cols_slice(&m) * DVec4::new(0.0, 4.0, 0.0, 1.0);
+    assert!(clip.x.abs() < clip.w && clip.y.abs() < clip.w, "{clip}");
+    let missing = dir.join("missing.off");
+    let out = setup(&["--mesh", missing.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains(missing.to_str().unwrap()), "{stderr}");
+    let out = setup(&["--mesh", cube.to_str().unwrap(), "--scene", "demo"]);
+    assert_eq!(out.status.code(), Some(2));
     std::fs::remove_dir_all(dir).unwrap();
 }
 

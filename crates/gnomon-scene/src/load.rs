@@ -402,12 +402,10 @@ fn parse_off(bytes: &[u8]) -> Result<Polygons, String> {
             )
         })
         .collect();
-    let faces = mesh
-        .faces
-        .iter()
-        .map(|f| f.vertices.iter().map(|&i| i as i64).collect())
-        .collect();
-    Ok((positions, faces))
+    Ok((
+        positions,
+        index_lists(mesh.faces.iter().map(|f| &f.vertices[..])),
+    ))
 }
 
 fn parse_obj(bytes: &[u8]) -> Result<Polygons, String> {
@@ -502,6 +500,13 @@ fn parse_ply(bytes: &[u8]) -> Result<Polygons, String> {
     Ok((positions, faces))
 }
 
+/// Faces' vertex indices as the polygons [`Mesh::from_polygons`] takes.
+fn index_lists<'a>(faces: impl Iterator<Item = &'a [usize]>) -> Vec<Vec<i64>> {
+    faces
+        .map(|f| f.iter().map(|&i| i as i64).collect())
+        .collect()
+}
+
 fn parse_stl(bytes: &[u8]) -> Result<Polygons, String> {
     let mesh = stl_io::read_stl(&mut std::io::Cursor::new(bytes)).map_err(|e| e.to_string())?;
     let positions = mesh
@@ -509,12 +514,10 @@ fn parse_stl(bytes: &[u8]) -> Result<Polygons, String> {
         .iter()
         .map(|v| DVec3::new(v[0].into(), v[1].into(), v[2].into()))
         .collect();
-    let faces = mesh
-        .faces
-        .iter()
-        .map(|f| f.vertices.iter().map(|&i| i as i64).collect())
-        .collect();
-    Ok((positions, faces))
+    Ok((
+        positions,
+        index_lists(mesh.faces.iter().map(|f| &f.vertices[..])),
+    ))
 }
 
 #[cfg(test)]
