@@ -21,27 +21,30 @@ use glam::DVec2;
 
 use crate::bounds::SceneBounds;
 use crate::camera::Camera;
-use crate::focus::VisibleScene;
+use crate::frame::Frame;
 use crate::geometry::{ConvexPolyhedron, Plane, convex_hull_2d};
 use crate::light::Light;
 use crate::light_space::Projector;
-use crate::techniques::{fixed_projector, tolerance};
+use crate::setup::{MapSettings, SetupInput};
 
 /// The convex body B for a camera, a light and a scene (LiSPSM paper, section 3.3): the view
 /// frustum inside the scene box, extended toward the light, clipped by the scene box and, for
 /// a spot light, by the light frustum. Empty when the camera sees nothing of the scene (or
 /// the spot light sees nothing of the view).
 pub fn convex_body_b(camera: &Camera, light: &Light, scene: &SceneBounds) -> ConvexPolyhedron {
-    let tolerance = tolerance(scene, Some(camera), light);
-    let projector = fixed_projector(light);
-    let light_planes = match light {
-        Light::Directional(_) => None,
-        Light::Spot(spot) => Some(spot.frustum_planes(projector.frame().up)),
-    };
-    let visible = VisibleScene::new(camera, scene, light_planes.as_ref(), tolerance);
-    let region = ConvexPolyhedron::from_box(&scene.scene_box())
-        .clip_all(light_planes.iter().flatten(), tolerance);
-    focus_body(&visible.view_body, &region, &projector, tolerance)
+    let frame = Frame::new(&SetupInput {
+        camera,
+        light,
+        scene,
+        map: MapSettings::default(),
+        samples: None,
+    });
+    focus_body(
+        &frame.view_body,
+        &frame.region,
+        &frame.fixed,
+        frame.tolerance,
+    )
 }
 
 /// The convex body B: `region` (the scene box, or the scene box clipped by the light frustum)

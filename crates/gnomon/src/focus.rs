@@ -13,7 +13,6 @@
 use glam::DVec3;
 
 use crate::bounds::{Aabb, BoxArrays, SceneBounds};
-use crate::camera::Camera;
 use crate::geometry::{ConvexPolyhedron, Plane};
 
 use crate::light_space::{Extents, LightFrame, Projector};
@@ -386,22 +385,6 @@ pub(crate) struct ReuseCuts<'a> {
 }
 
 impl VisibleScene {
-    /// What `camera` sees; `light_planes`: the spot light's frustum, if any.
-    pub fn new(
-        camera: &Camera,
-        scene: &SceneBounds,
-        light_planes: Option<&[Plane; 6]>,
-        tolerance: f64,
-    ) -> Self {
-        let view_body = crate::frame::view_body(camera, scene, light_planes, tolerance);
-        let planes = crate::frame::frame_planes(camera.frustum_planes(), light_planes, None);
-        let mut codes = Vec::new();
-        if !view_body.is_empty() {
-            classify_boxes(scene.receiver_arrays(), &planes, tolerance, &mut codes);
-        }
-        Self::from_codes(view_body, scene, &planes, &codes, tolerance, None)
-    }
-
     /// The visible scene of P = `view_body` from each receiver's code against `planes` (as
     /// [`classify_boxes`] gives them; empty when P is): wholly visible boxes are kept, cut
     /// ones cut (or taken from `reuse`).

@@ -39,8 +39,10 @@ pub(crate) struct Frame<'a> {
     pub region: ConvexPolyhedron,
     /// P of the whole view.
     pub view_body: ConvexPolyhedron,
-    /// Each receiver against the view frustum's and the light's planes, in that order
-    /// ([`classify_boxes`]'s codes).
+    /// The planes receivers are classified against: the view frustum's, then the light's
+    /// ([`frame_planes`]).
+    pub receiver_planes: Vec<Plane>,
+    /// Each receiver against `receiver_planes` ([`classify_boxes`]'s codes; empty when P is).
     pub receiver_codes: Vec<u32>,
     /// The light frame aligned with the view (directional lights; `None` when the view is
     /// parallel to the light or the light is a spot).
@@ -74,12 +76,13 @@ impl<'a> Frame<'a> {
         let region = ConvexPolyhedron::from_box(&scene_box)
             .clip_all(light_planes.iter().flatten(), tolerance);
         let view_body = view_body(input.camera, input.scene, light_planes.as_ref(), tolerance);
+        let receiver_planes =
+            frame_planes(input.camera.frustum_planes(), light_planes.as_ref(), None);
         let mut receiver_codes = Vec::new();
         if !view_body.is_empty() {
-            let planes = frame_planes(input.camera.frustum_planes(), light_planes.as_ref(), None);
             classify_boxes(
                 input.scene.receiver_arrays(),
-                &planes,
+                &receiver_planes,
                 tolerance,
                 &mut receiver_codes,
             );
@@ -91,6 +94,7 @@ impl<'a> Frame<'a> {
             light_planes,
             region,
             view_body,
+            receiver_planes,
             receiver_codes,
             aligned,
             aligned_casters: OnceCell::new(),
@@ -129,15 +133,10 @@ impl<'a> Frame<'a> {
     /// What the whole view sees of the receivers, made once.
     pub fn visible(&self) -> &VisibleScene {
         self.visible.get_or_init(|| {
-            let planes = frame_planes(
-                self.input.camera.frustum_planes(),
-                self.light_planes.as_ref(),
-                None,
-            );
             VisibleScene::from_codes(
                 self.view_body.clone(),
                 self.input.scene,
-                &planes,
+                &self.receiver_planes,
                 &self.receiver_codes,
                 self.tolerance,
                 None,

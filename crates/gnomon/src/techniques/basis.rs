@@ -17,7 +17,6 @@ use crate::camera::Camera;
 use crate::focus::{ReuseCuts, VisibleScene, refine_codes};
 use crate::frame::{Frame, frame_planes};
 use crate::geometry::Plane;
-use crate::light_space::Projector;
 use crate::samples::ViewSamples;
 use crate::setup::{Fallback, SetupInput, ShadowSetup};
 use crate::techniques::focused::Focused;
@@ -38,14 +37,8 @@ pub(crate) enum Part<'c> {
 
 /// The visible scene and B of one part of a frame.
 pub(crate) struct FocusBasis<'f> {
-    /// The frame this part belongs to.
+    /// The frame this part belongs to (its tolerance, the light's fixed frame and frustum).
     pub frame: &'f Frame<'f>,
-    /// The setup's world-space tolerance.
-    pub tolerance: f64,
-    /// The light's projector in the frame fixed by the light alone.
-    pub fixed: Projector,
-    /// A spot light's frustum.
-    pub light_planes: Option<[Plane; 6]>,
     /// The planes casters are cut by: a spot light's frustum (its near plane first), then a
     /// side's plane.
     pub caster_planes: Vec<Plane>,
@@ -90,11 +83,8 @@ impl<'f> FocusBasis<'f> {
             }
             Part::Side(side) => {
                 let body = frame.view_body.clip(&side, tolerance);
-                let planes = frame_planes(
-                    frame.input.camera.frustum_planes(),
-                    light_planes.as_ref(),
-                    Some(side),
-                );
+                let mut planes = frame.receiver_planes.clone();
+                planes.push(side);
                 caster_planes.push(side);
                 // The receivers the view's frustum cuts and the side does not are cut as
                 // the whole view cuts them.
@@ -113,9 +103,6 @@ impl<'f> FocusBasis<'f> {
         };
         Self {
             frame,
-            tolerance,
-            fixed: frame.fixed,
-            light_planes,
             caster_planes,
             depth_range,
             visible,

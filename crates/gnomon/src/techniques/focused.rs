@@ -56,7 +56,7 @@ impl Focused {
     /// The focused map of `input` on its (shared) visible scene and B.
     pub(crate) fn setup_on(&self, input: &SetupInput<'_>, basis: &FocusBasis) -> ShadowSetup {
         let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
-        let tolerance = basis.tolerance;
+        let tolerance = basis.frame.tolerance;
         let map = match focus(input, basis, &mut diagnostics) {
             Some((projector, region)) => {
                 let xy_padding = match projector {
@@ -82,7 +82,11 @@ pub(crate) fn focus(
     basis: &FocusBasis,
     diagnostics: &mut Diagnostics,
 ) -> Option<(Projector, Extents)> {
-    let (tolerance, visible, light_planes) = (basis.tolerance, &basis.visible, &basis.light_planes);
+    let (tolerance, visible, light_planes) = (
+        basis.frame.tolerance,
+        &basis.visible,
+        &basis.frame.light_planes,
+    );
     diagnostics.visible_receivers = visible.visible_receivers();
     if visible.view_body.is_empty() && light_planes.is_some() {
         diagnostics.fallbacks.push(Fallback::SpotLightMissesView);
@@ -100,7 +104,7 @@ pub(crate) fn focus(
     }
     let body = &basis.body;
     diagnostics.focus_body_vertices = body.len();
-    let projector = choose_frame(input, body, basis.fixed, diagnostics);
+    let projector = choose_frame(input, body, basis.frame.fixed, diagnostics);
     let receivers = visible.receiver_extents(input.scene, &projector);
     let body_extents = usable_body_extents(body, &projector, &receivers, tolerance);
     if body_extents.is_none() {

@@ -403,13 +403,14 @@ impl ShadowTechnique for Sppsm {
         for iteration in 2..=self.iterations {
             // Each map on its side of the current plane; if a side has no receiver or a map
             // falls back, the result so far stays.
-            let negative_points = points_on_side(body, body_tolerance, -plane);
             let positive_points = points_on_side(body, body_tolerance, plane);
-            if negative_points.is_empty() || positive_points.is_empty() {
+            if positive_points.is_empty() {
                 break;
             }
             let negative = FocusBasis::new(&frame, Part::Side(side_plane(-plane)));
-            if negative.visible.visible_receivers() == 0 {
+            // P's part on the negative side is the side's own P.
+            let negative_points = negative.visible.view_body.vertices(body_tolerance);
+            if negative_points.is_empty() || negative.visible.visible_receivers() == 0 {
                 break;
             }
             let f = Focused.setup_on(input, &negative);

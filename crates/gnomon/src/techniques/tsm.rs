@@ -132,7 +132,7 @@ impl LimitedWarp for Tsm {
         }
         let focused = setup.maps[0];
         // P's vertices (a directional light: no light frustum cuts it).
-        let tolerance = basis.tolerance;
+        let tolerance = basis.frame.tolerance;
         let body = basis.visible.view_body.vertices(tolerance);
         let ndc = |p: DVec3| focused.project(p).map(|v| v.truncate());
         let Some(q_polygon) = clipped_hull(

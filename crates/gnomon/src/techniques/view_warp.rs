@@ -231,7 +231,7 @@ pub(crate) fn warp_diagnostics(
     let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
     let visible = &basis.visible;
     diagnostics.visible_receivers = visible.visible_receivers();
-    let nothing_to_see = if visible.view_body.is_empty() && basis.light_planes.is_some() {
+    let nothing_to_see = if visible.view_body.is_empty() && basis.frame.light_planes.is_some() {
         Some(Fallback::SpotLightMissesView)
     } else if visible.visible_receivers() == 0 {
         Some(Fallback::NoVisibleReceiver)
@@ -321,7 +321,7 @@ impl WarpSpace {
                 )
             }
         };
-        let (visible, body, tolerance) = (&basis.visible, &basis.body, basis.tolerance);
+        let (visible, body, tolerance) = (&basis.visible, &basis.body, basis.frame.tolerance);
         let linear_row = input.light.linear_depth_row();
         let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
 
@@ -618,7 +618,7 @@ pub(crate) fn view_warp_setup(
         linear_range,
         linear_row,
         input.map,
-        basis.tolerance,
+        basis.frame.tolerance,
     );
     Ok(ShadowSetup {
         technique,
