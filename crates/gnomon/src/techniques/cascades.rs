@@ -357,13 +357,26 @@ impl ShadowTechnique for Cascades {
                 depths[i] - self.blend * (depths[i] - depths[i - 1])
             };
             let far = depths[i + 1];
-            let slice_lens = Lens { near, far, ..lens };
-            let camera = Camera::from_view_from_world(view_from_world, slice_lens)?;
             if let Some(direction) = stable_sun {
+                let camera =
+                    Camera::from_view_from_world(view_from_world, Lens { near, far, ..lens })?;
                 maps.push(stable_map(&camera, direction, input.scene, settings));
                 diagnostics.light_frame = LightFrameKind::Fixed;
                 continue;
             }
+            // A fitted map covers its slice and a millionth of the slice's length beyond each
+            // end (within the view), so that a point the selection routes to it at a border
+            // lands inside: a receiver that only touches a slice's near or far plane is not
+            // the slice's (touching counts as outside), yet its points on that plane are read
+            // there (a flat ground exactly at a border in the light_straight_down property
+            // case).
+            let margin = 1e-6 * (far - near);
+            let slice_lens = Lens {
+                near: (near - margin).max(lens.near),
+                far: (far + margin).min(lens.far),
+                ..lens
+            };
+            let camera = Camera::from_view_from_world(view_from_world, slice_lens)?;
             let slice_input = SetupInput {
                 camera: &camera,
                 map: settings,
