@@ -10,6 +10,7 @@ use gnomon::{
     compute_setup_with_samples,
 };
 use gnomon_render::RenderScene;
+use gnomon_scene::{NamedView, ViewLight};
 
 use crate::CliError;
 use crate::report;
@@ -17,12 +18,13 @@ use crate::report;
 /// Every command's default shadow-map size (texels on a side): one default for all.
 pub const DEFAULT_SHADOW_MAP: u32 = 2048;
 
-/// A camera, given by a named view of the demo scene and/or eye, target and up, and its
+/// A camera, given by a named view of the command's scene and/or eye, target and up, and its
 /// lens: explicit options override the named view's.
 #[derive(Debug, Clone, Args)]
 pub struct ViewArgs {
-    /// A named view of the demo scene (its eye, target, far plane and sun; the options below
-    /// override them).
+    /// A named view of the scene (the demo's, a scene file's `[[view]]`, or a mesh's:
+    /// oblique, low_sun, dueling_frusta): its camera and light; the options below override
+    /// them.
     #[arg(long)]
     pub view: Option<String>,
     /// Camera position, X,Y,Z.
@@ -31,15 +33,15 @@ pub struct ViewArgs {
     /// The point the camera looks at, X,Y,Z.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub target: Option<DVec3>,
-    /// The image's up direction, X,Y,Z.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
-    pub up: DVec3,
-    /// Vertical field of view in degrees.
-    #[arg(long, default_value_t = 60.0, allow_hyphen_values = true)]
-    pub fov: f64,
-    /// Near plane distance.
-    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
-    pub near: f64,
+    /// The image's up direction, X,Y,Z (default: the named view's, else 0,1,0).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub up: Option<DVec3>,
+    /// Vertical field of view in degrees (default: the named view's, else 60).
+    #[arg(long, allow_hyphen_values = true)]
+    pub fov: Option<f64>,
+    /// Near plane distance (default: the named view's, else 1).
+    #[arg(long, allow_hyphen_values = true)]
+    pub near: Option<f64>,
     /// Far plane distance (default: the named view's, else 400).
     #[arg(long, allow_hyphen_values = true)]
     pub far: Option<f64>,
@@ -48,39 +50,45 @@ pub struct ViewArgs {
     pub aspect: Option<f64>,
 }
 
-impl ViewArgs {
-    /// The named view, if one is given.
-    pub fn named(&self) -> Result<Option<&'static gnomon_scene::DemoView>, CliError> {
-        let Some(name) = &self.view else {
-            return Ok(None);
-        };
-        gnomon_scene::DEMO_VIEWS
-            .iter()
-            .find(|v| v.name == name.trim())
-            .map(Some)
-            .ok_or_else(|| {
-                CliError::usage(format!(
-                    "unknown view '{name}' (known: {})",
-                    gnomon_scene::DEMO_VIEWS
-                        .iter()
-                        .map(|v| v.name)
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ))
-            })
-    }
+/// `name` among `views`, or a usage error listing them.
+pub fn find_view<'a>(views: &'a [NamedView], name: &str) -> Result<&'a NamedView, CliError> {
+    views.iter().find(|v| v.name == name.trim()).ok_or_else(|| {
+        if views.is_empty() {
+            CliError::usage(format!(
+                "unknown view '{name}': the scene has no named views"
+            ))
+        } else {
+            CliError::usage(format!(
+                "unknown view '{name}' (known: {})",
+                views
+                    .iter()
+                    .map(|v| v.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        }
+    })
+}
 
-    /// The validated camera (16:9 unless `--aspect` says otherwise).
-    pub fn camera(&self) -> Result<Camera, CliError> {
-        self.camera_with_aspect(16.0 / 9.0)
+impl ViewArgs {
+    /// The named view among the scene's `views`, if one is given.
+    pub fn named<'a>(&self, views: &'a [NamedView]) -> Result<Option<&'a NamedView>, CliError> {
+        self.view
+            .as_deref()
+            .map(|name| find_view(views, name))
+            .transpose()
     }
 
     /// The validated camera, of aspect `default_aspect` unless `--aspect` says otherwise.
-    pub fn camera_with_aspect(&self, default_aspect: f64) -> Result<Camera, CliError> {
-        let named = self.named()?;
+    pub fn camera_with_aspect(
+        &self,
+        views: &[NamedView],
+        default_aspect: f64,
+    ) -> Result<Camera, CliError> {
+        let named = self.named(views)?;
         let (eye, target) = match (
-            self.eye.or(named.map(|v| DVec3::from_array(v.eye))),
-            self.target.or(named.map(|v| DVec3::from_array(v.target))),
+            self.eye.or(named.map(|v| v.eye)),
+            self.target.or(named.map(|v| v.target)),
         ) {
             (Some(eye), Some(target)) => (eye, target),
             _ => {
@@ -89,17 +97,22 @@ impl ViewArgs {
                 ));
             }
         };
+        let defaults = Lens::default();
         let lens = Lens {
-            fov_y_degrees: self.fov,
+            fov_y_degrees: self
+                .fov
+                .or(named.map(|v| v.fov_y_degrees))
+                .unwrap_or(defaults.fov_y_degrees),
             aspect: self.aspect.unwrap_or(default_aspect),
-            near: self.near,
+            near: self.near.or(named.map(|v| v.near)).unwrap_or(defaults.near),
             far: self.far.or(named.map(|v| v.far)).unwrap_or(400.0),
         };
-        Ok(Camera::look_at(eye, target, self.up, lens)?)
+        let up = self.up.or(named.map(|v| v.up)).unwrap_or(DVec3::Y);
+        Ok(Camera::look_at(eye, target, up, lens)?)
     }
 }
 
-/// The light: directional or spot, at most one (without either, the named view's sun).
+/// The light: directional or spot, at most one (without either, the named view's).
 #[derive(Debug, Clone, Args)]
 #[group(required = false, multiple = false)]
 pub struct LightArgs {
@@ -113,9 +126,9 @@ pub struct LightArgs {
 }
 
 impl LightArgs {
-    /// The validated light: the one given, else the named view's sun.
-    pub fn light(&self, view: &ViewArgs) -> Result<Light, CliError> {
-        match (self.light_dir, self.spot, view.named()?) {
+    /// The validated light: the one given, else the named view's among `views`.
+    pub fn light(&self, view: &ViewArgs, views: &[NamedView]) -> Result<Light, CliError> {
+        match (self.light_dir, self.spot, view.named(views)?) {
             (Some(d), None, _) => Ok(Light::Directional(DirectionalLight::new(d)?)),
             (None, Some(s), _) => Ok(Light::Spot(SpotLight::new(
                 DVec3::new(s[0], s[1], s[2]),
@@ -123,13 +136,44 @@ impl LightArgs {
                 s[6],
                 s[7],
             )?)),
-            (None, None, Some(named)) => Ok(Light::Directional(DirectionalLight::new(
-                DVec3::from_array(named.light_direction),
-            )?)),
+            (None, None, Some(named)) => Ok(named.light.light()?),
             _ => Err(CliError::usage(
                 "give one of --light-dir and --spot, or a named --view",
             )),
         }
+    }
+}
+
+/// Which of the scene's named views a command goes over.
+#[derive(Debug, Clone, Args)]
+pub struct ViewListArgs {
+    /// The views: `all` or names, comma-separated.
+    #[arg(
+        long,
+        visible_alias = "view",
+        value_delimiter = ',',
+        default_value = "all"
+    )]
+    pub views: Vec<String>,
+}
+
+impl ViewListArgs {
+    /// The views named, in the order given (`all`: every view of the scene, in its order).
+    pub fn select<'a>(&self, views: &'a [NamedView]) -> Result<Vec<&'a NamedView>, CliError> {
+        let chosen: Vec<&NamedView> = if self.views.iter().any(|v| v.trim() == "all") {
+            views.iter().collect()
+        } else {
+            self.views
+                .iter()
+                .map(|name| find_view(views, name))
+                .collect::<Result<_, _>>()?
+        };
+        if chosen.is_empty() {
+            return Err(CliError::usage(
+                "the scene has no named views (a scene file gives them as [[view]] tables)",
+            ));
+        }
+        Ok(chosen)
     }
 }
 
@@ -286,25 +330,56 @@ pub struct TechniqueParams {
     pub equal_texels: bool,
 }
 
-/// The `gnomon render` command that draws named view `view` as a report's cell: `technique`
-/// a map technique (`None`: the exact volumes) with those of `params` it reads, the rest as
-/// the report drew it. Every figure can be reproduced from its report.
+/// The `gnomon render` command that draws named view `view` of the scene given by
+/// `scene_options` ([`LoadedScene::options`]) as a report's cell: `technique` a map technique
+/// (`None`: the exact volumes) with those of `params` it reads, the rest as the report drew it.
+/// Every figure can be reproduced from its report.
 pub fn render_command(
-    view: &gnomon_scene::DemoView,
+    scene_options: &str,
+    view: &NamedView,
     technique: Option<&Technique>,
     params: &TechniqueParams,
     shadow_map: u32,
     size: (u32, u32),
     extra: &str,
 ) -> String {
-    let v = |a: [f64; 3]| format!("{},{},{}", a[0], a[1], a[2]);
-    let mut command = format!(
-        "gnomon render --eye={} --target={} --far {} --light-dir={} --technique {}",
-        v(view.eye),
-        v(view.target),
-        view.far,
-        v(view.light_direction),
-        technique.map_or("volumes", gnomon::ShadowTechnique::name),
+    let v = |a: DVec3| format!("{},{},{}", a.x, a.y, a.z);
+    let mut command = "gnomon render".to_string();
+    if !scene_options.is_empty() {
+        command += &format!(" {scene_options}");
+    }
+    command += &format!(" --eye={} --target={}", v(view.eye), v(view.target));
+    let defaults = Lens::default();
+    if view.up != DVec3::Y {
+        command += &format!(" --up={}", v(view.up));
+    }
+    if view.fov_y_degrees != defaults.fov_y_degrees {
+        command += &format!(" --fov {}", view.fov_y_degrees);
+    }
+    if view.near != defaults.near {
+        command += &format!(" --near {}", view.near);
+    }
+    command += &format!(" --far {}", view.far);
+    match view.light {
+        ViewLight::Directional { direction } => {
+            command += &format!(" --light-dir={}", v(direction));
+        }
+        ViewLight::Spot {
+            position,
+            direction,
+            half_angle_degrees,
+            range,
+        } => {
+            command += &format!(
+                " --spot={},{},{half_angle_degrees},{range}",
+                v(position),
+                v(direction)
+            );
+        }
+    }
+    command += &format!(
+        " --technique {}",
+        technique.map_or("volumes", gnomon::ShadowTechnique::name)
     );
     if let Some(technique) = technique {
         command += &format!(" --shadow-map {shadow_map}");
@@ -571,11 +646,8 @@ impl TechniqueParams {
 /// `gnomon setup`.
 #[derive(Debug, Clone, Args)]
 pub struct SetupArgs {
-    /// The scene: a built-in scene's name.
-    #[arg(long, default_value = "demo")]
-    pub scene: String,
     #[command(flatten)]
-    pub mesh: MeshArgs,
+    pub scene: SceneArgs,
     #[command(flatten)]
     pub view: ViewArgs,
     #[command(flatten)]
@@ -628,7 +700,7 @@ pub fn timed_setup(
 pub struct MeshArgs {
     /// This mesh (.off, .obj, .ply, .stl, .gltf or .glb) standing on a ground slab instead of
     /// a built-in scene (scripts/fetch-meshes.sh fetches the bunny and a knot into
-    /// assets/meshes/).
+    /// assets/meshes/); its named views: oblique, low_sun, dueling_frusta.
     #[arg(long, conflicts_with = "scene")]
     pub mesh: Option<PathBuf>,
     /// The mesh's height in world units once placed (it is scaled uniformly).
@@ -636,34 +708,110 @@ pub struct MeshArgs {
     pub mesh_height: f64,
 }
 
-/// The scene of a command: the mesh on a ground slab where one is given, else the built-in
-/// scene `name`. Its meshes are what is drawn, and its bounds (`RenderScene::bounds`, the
-/// drawn vertices' boxes) are what every command hands the core, so that `setup` prints the
-/// matrices `render` draws with.
-pub fn render_scene(name: &str, mesh: &MeshArgs) -> Result<RenderScene, CliError> {
-    let Some(path) = &mesh.mesh else {
-        return Ok(RenderScene::from_layout(&scene_layout(name)?));
-    };
-    let (loaded, notes) =
-        gnomon_scene::Mesh::load_with_notes(path).map_err(|e| CliError::usage(e.to_string()))?;
-    for note in notes {
-        eprintln!("warning: {}: {note}", path.display());
+/// Where a command's scene comes from: a built-in scene, a mesh file on a ground slab, or a
+/// scene file. One definition for every command.
+#[derive(Debug, Clone, Args)]
+pub struct SceneArgs {
+    /// The scene: a built-in scene's name.
+    #[arg(long, default_value = "demo")]
+    pub scene: String,
+    #[command(flatten)]
+    pub mesh: MeshArgs,
+    /// A scene file (TOML: mesh files placed as objects, a ground slab, named views; the
+    /// format is in the README) instead of a built-in scene.
+    #[arg(long, conflicts_with_all = ["scene", "mesh"])]
+    pub scene_file: Option<PathBuf>,
+}
+
+/// A command's scene, loaded.
+#[derive(Debug, Clone)]
+pub struct LoadedScene {
+    /// Its name, for reports.
+    pub name: String,
+    /// What is drawn. Its bounds (`RenderScene::bounds`, the drawn vertices' boxes) are what
+    /// every command hands the core, so that `setup` prints the matrices `render` draws with.
+    pub scene: RenderScene,
+    /// Its named views (what `--view` takes).
+    pub views: Vec<NamedView>,
+    /// The options that give this scene on the command line (empty for the demo), for the
+    /// commands that reproduce a figure.
+    pub options: String,
+}
+
+/// `path` as one shell word.
+fn shell_word(path: &std::path::Path) -> String {
+    let text = path.display().to_string();
+    if !text.is_empty()
+        && text
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "/._-+,:=@".contains(c))
+    {
+        text
+    } else {
+        format!("'{}'", text.replace('\'', "'\\''"))
     }
-    let name = path
-        .file_stem()
-        .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
-    Ok(RenderScene::mesh_on_ground(
-        &name,
-        loaded,
-        mesh.mesh_height,
-    )?)
+}
+
+impl SceneArgs {
+    /// Loads the scene: reads the mesh or scene file (warnings for what a load left out).
+    pub fn load(&self) -> Result<LoadedScene, CliError> {
+        if let Some(path) = &self.scene_file {
+            let file =
+                gnomon_scene::SceneFile::load(path).map_err(|e| CliError::usage(e.to_string()))?;
+            for note in &file.notes {
+                eprintln!("warning: {note}");
+            }
+            return Ok(LoadedScene {
+                name: file.name.clone(),
+                scene: RenderScene::from_scene_file(&file),
+                views: file.views,
+                options: format!("--scene-file {}", shell_word(path)),
+            });
+        }
+        let Some(path) = &self.mesh.mesh else {
+            let layout = scene_layout(&self.scene)?;
+            return Ok(LoadedScene {
+                name: layout.name.clone(),
+                scene: RenderScene::from_layout(&layout),
+                views: if self.scene == "demo" {
+                    gnomon_scene::demo_views()
+                } else {
+                    Vec::new()
+                },
+                options: if self.scene == "demo" {
+                    String::new()
+                } else {
+                    format!("--scene {}", self.scene)
+                },
+            });
+        };
+        let (loaded, notes) = gnomon_scene::Mesh::load_with_notes(path)
+            .map_err(|e| CliError::usage(e.to_string()))?;
+        for note in notes {
+            eprintln!("warning: {}: {note}", path.display());
+        }
+        let name = path
+            .file_stem()
+            .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
+        Ok(LoadedScene {
+            scene: RenderScene::mesh_on_ground(&name, loaded, self.mesh.mesh_height)?,
+            name,
+            views: gnomon_scene::mesh_views(self.mesh.mesh_height),
+            options: format!(
+                "--mesh {} --mesh-height {}",
+                shell_word(path),
+                self.mesh.mesh_height
+            ),
+        })
+    }
 }
 
 /// Runs `gnomon setup`.
 pub fn run_setup(args: &SetupArgs) -> Result<(), CliError> {
-    let scene = render_scene(&args.scene, &args.mesh)?.bounds()?;
-    let camera = args.view.camera()?;
-    let light = args.light.light(&args.view)?;
+    let loaded = args.scene.load()?;
+    let scene = loaded.scene.bounds()?;
+    let camera = args.view.camera_with_aspect(&loaded.views, 16.0 / 9.0)?;
+    let light = args.light.light(&args.view, &loaded.views)?;
     let technique = args.params.apply(args.technique);
     args.params.check_used_by(&[technique])?;
     let setup = compute_setup(

@@ -6,26 +6,22 @@
 use std::time::Instant;
 
 use clap::Args;
-use glam::DVec3;
-use gnomon::{Camera, DirectionalLight, Lens, Light, Technique};
-use gnomon_render::{RenderScene, RenderSettings, Timings};
-use gnomon_scene::DEMO_VIEWS;
+use gnomon::{Camera, Light, Technique};
+use gnomon_render::{RenderSettings, Timings};
 use serde_json::json;
 
 use crate::CliError;
-use crate::args::{MeshArgs, render_scene};
-use crate::args::{TechniqueParams, timed_setup};
+use crate::args::{SceneArgs, TechniqueParams, ViewListArgs, timed_setup};
 use crate::names::Drawn;
 use crate::render::{open_renderer, parse_size};
 
 /// `gnomon bench`.
 #[derive(Debug, Clone, Args)]
 pub struct BenchArgs {
-    /// The scene: a built-in scene's name (its named views are timed).
-    #[arg(long, default_value = "demo")]
-    pub scene: String,
     #[command(flatten)]
-    pub mesh: MeshArgs,
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub views: ViewListArgs,
     /// What to time, comma-separated: shadow-map techniques and compare's rows (uniform,
     /// focused, lispsm, tsm, xpsm, psm, sppsm, cascades, sppsm-same-texels, cascades-stable,
     /// cascades-lispsm, cascades-best) and shadow volumes (volumes = z-fail, volumes-z-pass,
@@ -76,42 +72,6 @@ impl Entry {
 
 /// A view to time: name, camera, light.
 type View = (String, Camera, Light);
-
-/// The views: the demo's named views, or one oblique view of a mesh on its ground.
-fn views(args: &BenchArgs, aspect: f64) -> Result<Vec<View>, CliError> {
-    if args.mesh.mesh.is_some() {
-        let h = args.mesh.mesh_height;
-        let lens = Lens {
-            aspect,
-            near: 0.05 * h,
-            far: 20.0 * h,
-            ..Lens::default()
-        };
-        let camera = Camera::look_at(
-            DVec3::new(1.4, 1.2, 2.0) * h,
-            DVec3::new(0.0, 0.3 * h, 0.0),
-            DVec3::Y,
-            lens,
-        )?;
-        let light = Light::Directional(DirectionalLight::new(DVec3::new(0.5, -1.0, -0.3))?);
-        return Ok(vec![("oblique".into(), camera, light)]);
-    }
-    if args.scene != "demo" {
-        // Only the demo has named views; an unknown name is reported as such.
-        crate::args::scene_layout(&args.scene)?;
-        return Err(CliError::usage(format!(
-            "scene '{}' has no named views to time",
-            args.scene
-        )));
-    }
-    DEMO_VIEWS
-        .iter()
-        .map(|v| {
-            let (camera, light) = v.camera_and_light(aspect)?;
-            Ok((v.name.to_string(), camera, light))
-        })
-        .collect()
-}
 
 /// Mean and standard deviation.
 fn mean_sd(values: &[f64]) -> (f64, f64) {
@@ -173,16 +133,25 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     if args.frames == 0 {
         return Err(CliError::usage("--frames must be at least 1"));
     }
-    let scene: RenderScene = render_scene(&args.scene, &args.mesh)?;
-    let bounds = scene.bounds()?;
-    let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
+    let loaded = args.scene.load()?;
+    let aspect = args.size.0 as f64 / args.size.1 as f64;
+    let views: Vec<View> = args
+        .views
+        .select(&loaded.views)?
+        .into_iter()
+        .map(|v| {
+            let (camera, light) = v.camera_and_light(aspect)?;
+            Ok((v.name.clone(), camera, light))
+        })
+        .collect::<Result<_, CliError>>()?;
+    let bounds = loaded.scene.bounds()?;
+    let mut renderer = open_renderer(&loaded.scene, args.size, Some(args.shadow_map))?;
     renderer.use_wall_clock(args.wall_clock);
     let settings = RenderSettings {
         width: args.size.0,
         height: args.size.1,
         ..RenderSettings::default()
     };
-    let views = views(args, args.size.0 as f64 / args.size.1 as f64)?;
     eprintln!(
         "gnomon bench: {} views x {} techniques x {} frames at {}x{} on {}; pass times from {}",
         views.len(),

@@ -8,14 +8,11 @@ use std::time::Instant;
 
 use clap::Args;
 
-use gnomon_render::{
-    Filter, Frame, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderScene, RenderSettings, StencilMode,
-};
-use gnomon_scene::DEMO_VIEWS;
+use gnomon_render::{Filter, Frame, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderSettings, StencilMode};
 use serde_json::{Value, json};
 
 use crate::args::render_command;
-use crate::args::{TechniqueParams, scene_layout, timed_setup};
+use crate::args::{SceneArgs, TechniqueParams, ViewListArgs, timed_setup};
 use crate::render::{open_renderer, parse_size, write_png, write_text};
 use crate::{CliError, heatmap};
 
@@ -24,12 +21,10 @@ const MAX_COMPARE_SIZE: u32 = 4096;
 /// `gnomon compare`.
 #[derive(Debug, Clone, Args)]
 pub struct CompareArgs {
-    /// The scene: a built-in scene with named views.
-    #[arg(long, default_value = "demo")]
-    pub scene: String,
-    /// The views: `all` or names, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "all")]
-    pub views: Vec<String>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub views: ViewListArgs,
     /// The shadow-map techniques: `all` or names, comma-separated (the exact shadow volumes
     /// are always drawn: they are the reference).
     #[arg(long, value_delimiter = ',', default_value = "all")]
@@ -93,32 +88,8 @@ fn mask_errors(map: &Frame, exact: &Frame) -> (MaskErrors, Vec<u8>) {
 /// Runs `gnomon compare`.
 pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     let started = Instant::now();
-    let layout = scene_layout(&args.scene)?;
-    if args.scene != "demo" {
-        return Err(CliError::usage(format!(
-            "scene '{}' has no named views to compare",
-            args.scene
-        )));
-    }
-    let views: Vec<_> = if args.views.iter().any(|v| v == "all") {
-        DEMO_VIEWS.iter().collect()
-    } else {
-        args.views
-            .iter()
-            .map(|name| {
-                DEMO_VIEWS.iter().find(|v| v.name == name).ok_or_else(|| {
-                    CliError::usage(format!(
-                        "unknown view '{name}' (known: all, {})",
-                        DEMO_VIEWS
-                            .iter()
-                            .map(|v| v.name)
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ))
-                })
-            })
-            .collect::<Result<_, _>>()?
-    };
+    let loaded = args.scene.load()?;
+    let views = args.views.select(&loaded.views)?;
     let techniques = crate::rows::rows(&args.techniques, &args.params, args.shadow_map, true)?;
     if techniques.is_empty() || views.is_empty() {
         return Err(CliError::usage("nothing to compare"));
@@ -131,11 +102,11 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             args.size.0, args.size.1
         )));
     }
-    let scene = RenderScene::from_layout(&layout);
+    let scene = &loaded.scene;
     let bounds = scene.bounds()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
-    let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
+    let mut renderer = open_renderer(scene, args.size, Some(args.shadow_map))?;
     let (width, height) = args.size;
     let settings = RenderSettings {
         width,
@@ -161,7 +132,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
          Each grid has one row per technique in the table's order, then the exact shadow \
          volumes; columns: the frame, the mask errors (red: false shadow, blue: missed \
          shadow), the sampling error map.\n",
-        layout.name,
+        loaded.name,
         width,
         height,
         args.shadow_map,
@@ -235,6 +206,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
                 .push(undersampling["p99"].as_f64().unwrap_or(f64::NAN));
             // sppsm-same-texels is sppsm at its own map size.
             let command = render_command(
+                &loaded.options,
                 view,
                 Some(&entry.technique),
                 &entry.params,
@@ -304,6 +276,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             );
         }
         let volumes_command = render_command(
+            &loaded.options,
             view,
             None,
             &args.params,
@@ -337,10 +310,13 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         report.push(json!({
             "view": view.name,
             "description": view.description,
-            "eye": view.eye,
-            "target": view.target,
+            "eye": view.eye.to_array(),
+            "target": view.target.to_array(),
             "far": view.far,
-            "light_direction": view.light_direction,
+            "up": view.up.to_array(),
+            "fov": view.fov_y_degrees,
+            "near": view.near,
+            "light": crate::report::view_light_json(&view.light),
             "volumes_command": volumes_command,
             "volumes_frame_ms": exact_ms,
             "techniques": rows,
@@ -366,7 +342,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     write(
         "report.json",
         &serde_json::to_string_pretty(&json!({
-            "scene": layout.name,
+            "scene": loaded.name,
             "size": [width, height],
             "shadow_map": args.shadow_map,
             "device": renderer.gpu().describe(),

@@ -5,19 +5,22 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use gnomon_render::{RenderScene, RenderSettings, StencilMode};
-use gnomon_scene::DEMO_VIEWS;
+use gnomon_render::{RenderSettings, StencilMode};
 use serde_json::json;
 
 use crate::CliError;
 use crate::args::render_command;
-use crate::args::{TechniqueParams, timed_setup};
+use crate::args::{SceneArgs, TechniqueParams, ViewListArgs, timed_setup};
 use crate::render::{open_renderer, write_frame, write_text};
 use crate::report;
 
 /// `gnomon demo`.
 #[derive(Debug, Clone, Args)]
 pub struct DemoArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub views: ViewListArgs,
     /// Where to write the results.
     #[arg(long, default_value = "gnomon-demo")]
     pub out: PathBuf,
@@ -34,14 +37,15 @@ pub struct DemoArgs {
 /// Runs `gnomon demo`.
 pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let started = Instant::now();
-    let layout = gnomon_scene::demo();
-    let scene = RenderScene::from_layout(&layout);
+    let loaded = args.scene.load()?;
+    let views = args.views.select(&loaded.views)?;
+    let scene = &loaded.scene;
     let bounds = scene.bounds()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
     let width = args.width;
     let height = width * 9 / 16;
-    let mut renderer = open_renderer(&scene, (width, height), Some(args.shadow_map))?;
+    let mut renderer = open_renderer(scene, (width, height), Some(args.shadow_map))?;
     eprintln!("gnomon demo: rendering on {}", renderer.gpu().describe());
     let settings = RenderSettings {
         width,
@@ -53,12 +57,12 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let techniques = crate::rows::rows(&["all".to_string()], &args.params, args.shadow_map, true)?;
     // Every map technique, then the shadow volumes.
     let per_view = techniques.len() + 1;
-    let total = DEMO_VIEWS.len() * per_view;
+    let total = views.len() * per_view;
     let mut rows = String::new();
     let mut all = Vec::new();
     let mut sums = [0.0f64; 3];
     let mut volume_sums = [0.0f64; 2];
-    for (v, view) in DEMO_VIEWS.iter().enumerate() {
+    for (v, view) in views.iter().enumerate() {
         let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
         let mut cells = String::new();
         // What the pixels see, once per view, shared by every technique.
@@ -96,6 +100,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 timings.main_pass_ms,
             );
             let command = render_command(
+                &loaded.options,
                 view,
                 Some(&row.technique),
                 &row.params,
@@ -153,6 +158,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             timings.shadow_pass_ms,
             timings.main_pass_ms,
             render_command(
+                &loaded.options,
                 view,
                 None,
                 &args.params,
@@ -189,7 +195,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
          shadows of stenciled shadow volumes. {}x{} pixels, {}x{} shadow maps, \
          rendered on {}.</p><table><tr><th>view</th>{header}</tr>{rows}</table>\
          <p>Setups and timings: <a href=setups.json>setups.json</a></p>",
-        layout.name,
+        loaded.name,
         width,
         height,
         args.shadow_map,
@@ -202,8 +208,8 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         "setups.json",
         &serde_json::to_string_pretty(&all).expect("JSON of plain values"),
     )?;
-    let maps = (DEMO_VIEWS.len() * techniques.len()) as f64;
-    let views = DEMO_VIEWS.len() as f64;
+    let maps = (views.len() * techniques.len()) as f64;
+    let views = views.len() as f64;
     eprintln!(
         "mean over {maps} shadow-map frames: setup {:.1} us, shadow pass {:.1} ms, main pass {:.1} ms; \
          over {views} shadow-volume frames: extrusion and stencil {:.1} ms, shading {:.1} ms; \

@@ -24,7 +24,9 @@ use gnomon_render::{MASK_LIT, RenderSettings, ShadowedLight, StencilMode};
 use serde_json::json;
 
 use crate::CliError;
-use crate::args::{DEFAULT_SHADOW_MAP, LightArgs, TechniqueParams, ViewArgs, timed_setup};
+use crate::args::{
+    DEFAULT_SHADOW_MAP, LightArgs, SceneArgs, TechniqueParams, ViewArgs, timed_setup,
+};
 use crate::render::{open_renderer, parse_size};
 
 /// How the camera or the light moves.
@@ -63,9 +65,8 @@ pub struct FlickerArgs {
         default_value = "focused,lispsm,sppsm,cascades-lispsm,cascades-stable"
     )]
     pub techniques: Vec<String>,
-    /// The built-in scene.
-    #[arg(long, default_value = "demo")]
-    pub scene: String,
+    #[command(flatten)]
+    pub scene: SceneArgs,
     #[command(flatten)]
     pub view: ViewArgs,
     #[command(flatten)]
@@ -143,11 +144,14 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
             "--size {width}x{height}: at most 512 on a side (one point per pixel)"
         )));
     }
-    let camera = args.view.camera_with_aspect(width as f64 / height as f64)?;
-    let light = args.light.light(&args.view)?;
-    let target = match (args.view.target, args.view.named()?) {
+    let loaded = args.scene.load()?;
+    let camera = args
+        .view
+        .camera_with_aspect(&loaded.views, width as f64 / height as f64)?;
+    let light = args.light.light(&args.view, &loaded.views)?;
+    let target = match (args.view.target, args.view.named(&loaded.views)?) {
         (Some(t), _) => t,
-        (None, Some(v)) => DVec3::from_array(v.target),
+        (None, Some(v)) => v.target,
         (None, None) => camera.eye() + camera.forward(),
     };
     let step = match args.step {
@@ -167,9 +171,8 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
         .map(|t| frame_at(args.path, step, &camera, &light, target, t))
         .collect::<Result<_, _>>()?;
     let rows = crate::rows::rows(&args.techniques, &args.params, args.shadow_map, false)?;
-    let scene = gnomon_render::RenderScene::from_layout(&crate::args::scene_layout(&args.scene)?);
-    let bounds = scene.bounds()?;
-    let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
+    let bounds = loaded.scene.bounds()?;
+    let mut renderer = open_renderer(&loaded.scene, args.size, Some(args.shadow_map))?;
     let settings = RenderSettings {
         width,
         height,
@@ -319,11 +322,16 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
                     sp.range()
                 ),
             };
+            let scene_options = if loaded.options.is_empty() {
+                String::new()
+            } else {
+                format!(" {}", loaded.options)
+            };
             let mut command = format!(
-                "gnomon flicker --eye={} --target={} --up={} --fov {} --near {} --far {} {light_option} --path {path_name} --frames {} --step {step} --size {width}x{height} --shadow-map {} --techniques {}",
+                "gnomon flicker{scene_options} --eye={} --target={} --up={} --fov {} --near {} --far {} {light_option} --path {path_name} --frames {} --step {step} --size {width}x{height} --shadow-map {} --techniques {}",
                 v(camera.eye()),
                 v(target),
-                v(args.view.up),
+                v(camera.up()),
                 camera.lens().fov_y_degrees,
                 camera.lens().near,
                 camera.lens().far,

@@ -8,9 +8,7 @@ use gnomon_render::{
     DepthBias, Filter, Frame, Gpu, RenderScene, RenderSettings, Renderer, StencilMode,
 };
 
-use crate::args::{
-    LightArgs, MeshArgs, TechniqueParams, ViewArgs, render_scene, scene_layout, timed_setup,
-};
+use crate::args::{LightArgs, SceneArgs, TechniqueParams, ViewArgs, timed_setup};
 use crate::names::Drawn;
 use crate::{CliError, heatmap};
 
@@ -52,11 +50,8 @@ pub enum StencilArg {
 /// `gnomon render`.
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
-    /// The scene: a built-in scene's name.
-    #[arg(long, default_value = "demo")]
-    pub scene: String,
     #[command(flatten)]
-    pub mesh: MeshArgs,
+    pub scene: SceneArgs,
     #[command(flatten)]
     pub view: ViewArgs,
     #[command(flatten)]
@@ -253,12 +248,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         }
     }
     crate::output::check_outputs(&outputs)?;
-    let scene = render_scene(&args.scene, &args.mesh)?;
+    let loaded = args.scene.load()?;
+    let scene = loaded.scene;
     let bounds = scene.bounds()?;
     // The lens's aspect follows the image unless given.
     let camera = args
         .view
-        .camera_with_aspect(args.size.0 as f64 / args.size.1 as f64)?;
+        .camera_with_aspect(&loaded.views, args.size.0 as f64 / args.size.1 as f64)?;
     if camera.lens().far > gnomon_render::MAX_VIEW_DISTANCE {
         return Err(CliError::usage(format!(
             "--far {} is beyond what the renderer draws precisely (at most {})",
@@ -266,7 +262,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             gnomon_render::MAX_VIEW_DISTANCE
         )));
     }
-    let light = args.light.light(&args.view)?;
+    let light = args.light.light(&args.view, &loaded.views)?;
     let technique = match args.technique {
         Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &light, mode),
         Drawn::Map(technique) => technique,
@@ -438,9 +434,8 @@ fn run_volumes(
 /// `gnomon export`.
 #[derive(Debug, Clone, Args)]
 pub struct ExportArgs {
-    /// The scene: a built-in scene's name.
-    #[arg(long, default_value = "demo")]
-    pub scene: String,
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Where to write the scene's world-space triangles as Wavefront OBJ.
     #[arg(long)]
     pub obj: PathBuf,
@@ -448,12 +443,13 @@ pub struct ExportArgs {
 
 /// Runs `gnomon export`.
 pub fn export(args: &ExportArgs) -> Result<(), CliError> {
-    let layout = scene_layout(&args.scene)?;
-    write_text(&args.obj, &layout.to_obj())?;
+    crate::output::check_outputs(&[("--obj", args.obj.as_path(), &["obj"])])?;
+    let loaded = args.scene.load()?;
+    write_text(&args.obj, &loaded.scene.to_obj(&loaded.name))?;
     eprintln!(
         "wrote {} ({} triangles)",
         args.obj.display(),
-        layout.world_triangles().len()
+        loaded.scene.triangle_count()
     );
     Ok(())
 }

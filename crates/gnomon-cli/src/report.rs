@@ -145,3 +145,24 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
     }
     s
 }
+
+/// A named view's light: `{"directional": [x, y, z]}` (the direction it travels) or
+/// `{"spot": {"position", "direction", "half_angle_degrees", "range"}}`.
+pub fn view_light_json(light: &gnomon_scene::ViewLight) -> Value {
+    match *light {
+        gnomon_scene::ViewLight::Directional { direction } => {
+            json!({ "directional": direction.to_array() })
+        }
+        gnomon_scene::ViewLight::Spot {
+            position,
+            direction,
+            half_angle_degrees,
+            range,
+        } => json!({ "spot": {
+            "position": position.to_array(),
+            "direction": direction.to_array(),
+            "half_angle_degrees": half_angle_degrees,
+            "range": range,
+        }}),
+    }
+}

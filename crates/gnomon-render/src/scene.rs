@@ -2,7 +2,7 @@ use std::ops::Range;
 
 use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
-use gnomon_scene::{Mesh, SceneLayout, Shape};
+use gnomon_scene::{Mesh, SceneFile, SceneLayout, Shape};
 
 use crate::RenderError;
 use crate::records::GpuInstance;
@@ -50,6 +50,26 @@ impl RenderScene {
             });
         }
         scene
+    }
+
+    /// A scene file's objects: its meshes (one per distinct file: instanced) and placed
+    /// objects, coloured as the file says or from the palette by name.
+    pub fn from_scene_file(file: &SceneFile) -> Self {
+        Self {
+            meshes: file.meshes.clone(),
+            instances: file
+                .objects
+                .iter()
+                .map(|object| Instance {
+                    name: object.name.clone(),
+                    mesh: object.mesh,
+                    world_from_object: object.world_from_object,
+                    casts: object.casts,
+                    receives: object.receives,
+                    color: object.color.unwrap_or_else(|| palette(&object.name)),
+                })
+                .collect(),
+        }
     }
 
     /// A mesh standing on a ground slab: scaled uniformly to `height` (its y extent), its
@@ -129,6 +149,24 @@ impl RenderScene {
             }
         }
         SceneBounds::new(casters, receivers, None)
+    }
+
+    /// How many triangles are drawn (every instance's mesh).
+    pub fn triangle_count(&self) -> usize {
+        self.instances
+            .iter()
+            .map(|i| self.meshes[i.mesh].triangle_count())
+            .sum()
+    }
+
+    /// The scene as a Wavefront OBJ text (world-space triangles, one object per instance).
+    pub fn to_obj(&self, name: &str) -> String {
+        gnomon_scene::obj_text(
+            name,
+            self.instances
+                .iter()
+                .map(|i| (i.name.as_str(), &self.meshes[i.mesh], i.world_from_object)),
+        )
     }
 
     /// Every triangle in world space, with its instance's index.

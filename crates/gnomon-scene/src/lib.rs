@@ -3,8 +3,9 @@
 //!
 //! The layouts carry no triangles: the renderer generates each shape's mesh from its
 //! [`Shape`] and `world_from_object` transform, so the bounds here and the geometry there
-//! describe the same objects. [`Mesh::load`] reads real meshes from OFF, OBJ, PLY, STL and glTF 2.0 (`.gltf`, `.glb`)
-//! files.
+//! describe the same objects. [`Mesh::load`] reads real meshes from OFF, OBJ, PLY, STL and
+//! glTF 2.0 (`.gltf`, `.glb`) files; [`SceneFile`] reads a TOML scene of mesh files, a ground
+//! slab and [`NamedView`]s.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -13,13 +14,17 @@ mod demo;
 mod gltf;
 mod load;
 mod mesh;
+mod scene_file;
+mod view;
 
 use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
 
 pub use demo::{DEMO_VIEWS, DemoView, GROUND_HALF_SIZE, demo};
 pub use load::{LoadError, MAX_MESH_BYTES, MeshFormat};
-pub use mesh::Mesh;
+pub use mesh::{Mesh, obj_text};
+pub use scene_file::{FileObject, MAX_SCENE_FILE_BYTES, SceneFile, SceneFileError};
+pub use view::{NamedView, ViewLight, demo_views, mesh_views};
 
 /// The shape of an object, in its own space (centred on the origin unless said otherwise).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -227,23 +227,41 @@ impl SceneLayout {
 
     /// The scene as a Wavefront OBJ text (world-space triangles, one group per object).
     pub fn to_obj(&self) -> String {
-        use std::fmt::Write;
-        let mut s = format!("# gnomon scene '{}': world-space triangles\n", self.name);
-        let mut base = 1;
-        for object in &self.objects {
-            let mesh = object.shape.mesh();
-            let _ = writeln!(s, "o {}", object.name);
-            for p in &mesh.positions {
-                let w = object.world_from_object.transform_point3(*p);
-                let _ = writeln!(s, "v {} {} {}", w.x, w.y, w.z);
-            }
-            for t in mesh.indices.chunks_exact(3) {
-                let _ = writeln!(s, "f {} {} {}", base + t[0], base + t[1], base + t[2]);
-            }
-            base += mesh.positions.len() as u32;
-        }
-        s
+        let meshes: Vec<Mesh> = self.objects.iter().map(|o| o.shape.mesh()).collect();
+        obj_text(
+            &self.name,
+            self.objects
+                .iter()
+                .zip(&meshes)
+                .map(|(o, m)| (o.name.as_str(), m, o.world_from_object)),
+        )
     }
+}
+
+/// Placed meshes as a Wavefront OBJ text: world-space triangles, one object (`o`) per part,
+/// under a comment naming the scene. A part whose transform mirrors (negative determinant)
+/// is rewound, so that every face stays outward.
+pub fn obj_text<'a>(
+    scene: &str,
+    parts: impl IntoIterator<Item = (&'a str, &'a Mesh, DMat4)>,
+) -> String {
+    use std::fmt::Write;
+    let mut s = format!("# gnomon scene '{scene}': world-space triangles\n");
+    let mut base = 1;
+    for (name, mesh, world_from_object) in parts {
+        let _ = writeln!(s, "o {name}");
+        for p in &mesh.positions {
+            let w = world_from_object.transform_point3(*p);
+            let _ = writeln!(s, "v {} {} {}", w.x, w.y, w.z);
+        }
+        let mirrored = world_from_object.determinant() < 0.0;
+        for t in mesh.indices.chunks_exact(3) {
+            let (b, c) = if mirrored { (t[2], t[1]) } else { (t[1], t[2]) };
+            let _ = writeln!(s, "f {} {} {}", base + t[0], base + b, base + c);
+        }
+        base += mesh.positions.len() as u32;
+    }
+    s
 }
 
 #[cfg(test)]

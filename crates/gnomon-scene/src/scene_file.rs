@@ -1,0 +1,644 @@
+//! Scene files (TOML): objects made of mesh files, an optional ground slab and named views.
+//!
+//! ```toml
+//! [ground]                 # optional: a square slab centred on the origin
+//! size = 200.0             # its edge
+//! height = 0.0             # the y of its top (default 0)
+//!
+//! [[object]]
+//! mesh = "models/bunny.off"   # relative to the scene file
+//! name = "bunny"              # optional (default: the file's stem)
+//! translate = [0, 0, 0]       # optional
+//! scale = 10.0                # optional, uniform, > 0
+//! rotate_y_degrees = 30       # optional
+//! casts = true                # optional
+//! receives = true             # optional
+//! color = [0.8, 0.6, 0.4]     # optional, linear RGB in [0, 1]
+//!
+//! [[view]]
+//! name = "front"
+//! eye = [0, 5, 30]
+//! target = [0, 3, 0]
+//! up = [0, 1, 0]              # optional (default +y)
+//! fov = 60                    # optional, vertical, degrees (default 60)
+//! near = 1                    # optional (default 1)
+//! far = 400                   # optional (default 400)
+//! light_dir = [0.3, -1, 0.2]  # or spot = [px, py, pz, dx, dy, dz, half_angle, range]
+//! description = "..."         # optional
+//! ```
+//!
+//! An object is `world_from_object = translate * rotate_y * scale`. A mesh file used by
+//! several objects is read once and shared (instanced). Every error is one line naming the
+//! file, the line and the key ([`SceneFileError`]).
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use glam::{DMat4, DQuat, DVec3};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::view::{NamedView, ViewLight};
+use crate::{Mesh, Shape};
+
+/// The largest scene file read (the meshes it names have their own limit).
+pub const MAX_SCENE_FILE_BYTES: u64 = 16 << 20;
+
+/// The largest coordinate, scale or distance a scene file may give (the core's range).
+const MAX_COORDINATE: f64 = 1e7;
+
+/// A scene file, loaded: its meshes read, its objects placed, its views checked.
+#[derive(Debug, Clone)]
+pub struct SceneFile {
+    /// The scene's name (the `name` key, else the file's stem).
+    pub name: String,
+    /// The file.
+    pub path: PathBuf,
+    /// The meshes in object space: one per distinct file, and the ground's slab.
+    pub meshes: Vec<Mesh>,
+    /// The placed objects (the ground first where there is one).
+    pub objects: Vec<FileObject>,
+    /// The named views, in the file's order.
+    pub views: Vec<NamedView>,
+    /// What the mesh loads left out (one line each), for the caller to show as warnings.
+    pub notes: Vec<String>,
+}
+
+/// One placed mesh of a scene file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FileObject {
+    /// Its name.
+    pub name: String,
+    /// Index into [`SceneFile::meshes`].
+    pub mesh: usize,
+    /// Object to world.
+    pub world_from_object: DMat4,
+    /// Whether it casts shadows.
+    pub casts: bool,
+    /// Whether it receives shadows.
+    pub receives: bool,
+    /// Its colour (linear RGB), if the file gives one.
+    pub color: Option<[f32; 3]>,
+}
+
+/// A scene file that cannot be used: one line, `FILE:LINE: key 'KEY': what is wrong`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneFileError {
+    /// The file.
+    pub path: PathBuf,
+    /// The line (from 1), where the error has one.
+    pub line: Option<usize>,
+    /// The key, where the error has one.
+    pub key: Option<String>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for SceneFileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.path.display())?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        write!(f, ": ")?;
+        if let Some(key) = &self.key {
+            write!(f, "key '{key}': ")?;
+        }
+        write!(f, "{}", self.message.replace('\n', " "))
+    }
+}
+
+impl std::error::Error for SceneFileError {}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    name: Option<String>,
+    ground: Option<RawGround>,
+    #[serde(default)]
+    object: Vec<Spanned<RawObject>>,
+    #[serde(default)]
+    view: Vec<Spanned<RawView>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawGround {
+    size: Spanned<f64>,
+    height: Option<Spanned<f64>>,
+    color: Option<Spanned<[f64; 3]>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawObject {
+    mesh: Spanned<String>,
+    name: Option<String>,
+    translate: Option<Spanned<[f64; 3]>>,
+    scale: Option<Spanned<f64>>,
+    rotate_y_degrees: Option<Spanned<f64>>,
+    casts: Option<bool>,
+    receives: Option<bool>,
+    color: Option<Spanned<[f64; 3]>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawView {
+    name: Spanned<String>,
+    description: Option<String>,
+    eye: Spanned<[f64; 3]>,
+    target: Spanned<[f64; 3]>,
+    up: Option<Spanned<[f64; 3]>>,
+    fov: Option<Spanned<f64>>,
+    near: Option<Spanned<f64>>,
+    far: Option<Spanned<f64>>,
+    light_dir: Option<Spanned<[f64; 3]>>,
+    spot: Option<Spanned<[f64; 8]>>,
+}
+
+/// Errors at places in one file's text.
+struct Located<'a> {
+    path: &'a Path,
+    text: &'a str,
+}
+
+impl Located<'_> {
+    fn line_of(&self, offset: usize) -> usize {
+        let end = offset.min(self.text.len());
+        self.text.as_bytes()[..end]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1
+    }
+
+    fn at(&self, offset: usize, key: &str, message: impl Into<String>) -> SceneFileError {
+        SceneFileError {
+            path: self.path.to_path_buf(),
+            line: Some(self.line_of(offset)),
+            key: Some(key.into()),
+            message: message.into(),
+        }
+    }
+
+    /// A TOML or type error: its line, and the key written on that line where there is one.
+    fn parse_error(&self, e: &toml::de::Error) -> SceneFileError {
+        let (line, key) = match e.span() {
+            Some(span) => {
+                let start = self.text[..span.start.min(self.text.len())]
+                    .rfind('\n')
+                    .map_or(0, |i| i + 1);
+                let line_text = self.text[start..].lines().next().unwrap_or_default();
+                let key = line_text
+                    .split_once('=')
+                    .map(|(k, _)| k.trim().trim_matches('"').to_string())
+                    .filter(|k| !k.is_empty() && !k.starts_with('#') && !k.starts_with('['));
+                (Some(self.line_of(span.start)), key)
+            }
+            None => (None, None),
+        };
+        SceneFileError {
+            path: self.path.to_path_buf(),
+            line,
+            key,
+            message: e.message().trim().to_string(),
+        }
+    }
+
+    /// A finite number in `range`, or an error naming `key`.
+    fn number(
+        &self,
+        value: &Spanned<f64>,
+        key: &str,
+        ok: impl Fn(f64) -> bool,
+        what: &str,
+    ) -> Result<f64, SceneFileError> {
+        let v = *value.get_ref();
+        if v.is_finite() && ok(v) {
+            Ok(v)
+        } else {
+            Err(self.at(value.span().start, key, format!("{v} is not {what}")))
+        }
+    }
+
+    /// A vector of finite numbers within the core's range.
+    fn vector<const N: usize>(
+        &self,
+        value: &Spanned<[f64; N]>,
+        key: &str,
+    ) -> Result<[f64; N], SceneFileError> {
+        let v = *value.get_ref();
+        match v
+            .iter()
+            .find(|x| !(x.is_finite() && x.abs() <= MAX_COORDINATE))
+        {
+            Some(bad) => Err(self.at(
+                value.span().start,
+                key,
+                format!("{bad} is not a finite number up to {MAX_COORDINATE:e}"),
+            )),
+            None => Ok(v),
+        }
+    }
+
+    fn vec3(&self, value: &Spanned<[f64; 3]>, key: &str) -> Result<DVec3, SceneFileError> {
+        self.vector(value, key).map(DVec3::from_array)
+    }
+
+    fn color(&self, value: &Spanned<[f64; 3]>, key: &str) -> Result<[f32; 3], SceneFileError> {
+        let v = *value.get_ref();
+        if v.iter().all(|c| (0.0..=1.0).contains(c)) {
+            Ok(v.map(|c| c as f32))
+        } else {
+            Err(self.at(
+                value.span().start,
+                key,
+                "a colour is three numbers from 0 to 1 (linear RGB)",
+            ))
+        }
+    }
+}
+
+impl SceneFile {
+    /// Reads the scene file at `path` and every mesh it names.
+    pub fn load(path: &Path) -> Result<Self, SceneFileError> {
+        let whole = |message: String| SceneFileError {
+            path: path.to_path_buf(),
+            line: None,
+            key: None,
+            message,
+        };
+        let meta = std::fs::metadata(path).map_err(|e| whole(e.to_string()))?;
+        if !meta.is_file() {
+            return Err(whole("not a regular file".into()));
+        }
+        if meta.len() > MAX_SCENE_FILE_BYTES {
+            return Err(whole(format!(
+                "larger than a scene file may be ({} MiB)",
+                MAX_SCENE_FILE_BYTES >> 20
+            )));
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| whole(e.to_string()))?;
+        Self::parse(path, &text)
+    }
+
+    /// A scene file's text, as read from `path` (mesh paths are relative to its folder).
+    pub fn parse(path: &Path, text: &str) -> Result<Self, SceneFileError> {
+        let at = Located { path, text };
+        let raw: RawFile = toml::from_str(text).map_err(|e| at.parse_error(&e))?;
+        let folder = path.parent().unwrap_or(Path::new(""));
+        let mut file = SceneFile {
+            name: raw.name.clone().unwrap_or_else(|| {
+                path.file_stem()
+                    .map_or("scene".into(), |s| s.to_string_lossy().into_owned())
+            }),
+            path: path.to_path_buf(),
+            meshes: Vec::new(),
+            objects: Vec::new(),
+            views: Vec::new(),
+            notes: Vec::new(),
+        };
+        if let Some(ground) = &raw.ground {
+            let size = at.number(
+                &ground.size,
+                "ground.size",
+                |s| s > 0.0 && s <= MAX_COORDINATE,
+                "a positive size up to 1e7",
+            )?;
+            let height = match &ground.height {
+                Some(h) => at.number(
+                    h,
+                    "ground.height",
+                    |h| h.abs() <= MAX_COORDINATE,
+                    "a height within 1e7 of 0",
+                )?,
+                None => 0.0,
+            };
+            let color = match &ground.color {
+                Some(c) => Some(at.color(c, "ground.color")?),
+                None => None,
+            };
+            let half = 0.5 * size;
+            let thickness = 0.025 * size;
+            file.meshes.push(
+                Shape::Cuboid {
+                    half_extents: DVec3::new(half, 0.5 * thickness, half),
+                }
+                .mesh(),
+            );
+            file.objects.push(FileObject {
+                name: "ground".into(),
+                mesh: file.meshes.len() - 1,
+                world_from_object: DMat4::from_translation(DVec3::new(
+                    0.0,
+                    height - 0.5 * thickness,
+                    0.0,
+                )),
+                casts: false,
+                receives: true,
+                color,
+            });
+        }
+        // Each distinct mesh file once: (resolved path, mesh index).
+        let mut loaded: Vec<(PathBuf, usize)> = Vec::new();
+        for object in &raw.object {
+            let object = object.get_ref();
+            let mesh_start = object.mesh.span().start;
+            let relative = object.mesh.get_ref();
+            if relative.trim().is_empty() {
+                return Err(at.at(mesh_start, "mesh", "names no file"));
+            }
+            let mesh_path = folder.join(relative);
+            let mesh = match loaded.iter().find(|(p, _)| *p == mesh_path) {
+                Some(&(_, k)) => k,
+                None => {
+                    let (mesh, notes) = Mesh::load_with_notes(&mesh_path)
+                        .map_err(|e| at.at(mesh_start, "mesh", e.to_string()))?;
+                    file.notes.extend(
+                        notes
+                            .into_iter()
+                            .map(|n| format!("{}: {n}", mesh_path.display())),
+                    );
+                    file.meshes.push(mesh);
+                    loaded.push((mesh_path.clone(), file.meshes.len() - 1));
+                    file.meshes.len() - 1
+                }
+            };
+            let translate = match &object.translate {
+                Some(t) => at.vec3(t, "translate")?,
+                None => DVec3::ZERO,
+            };
+            let scale = match &object.scale {
+                Some(s) => at.number(
+                    s,
+                    "scale",
+                    |s| s > 0.0 && s <= MAX_COORDINATE,
+                    "a positive scale up to 1e7",
+                )?,
+                None => 1.0,
+            };
+            let angle = match &object.rotate_y_degrees {
+                Some(a) => at.number(a, "rotate_y_degrees", |_| true, "a finite angle")?,
+                None => 0.0,
+            };
+            let color = match &object.color {
+                Some(c) => Some(at.color(c, "color")?),
+                None => None,
+            };
+            let name = object.name.clone().unwrap_or_else(|| {
+                Path::new(relative)
+                    .file_stem()
+                    .map_or("mesh".into(), |s| s.to_string_lossy().into_owned())
+            });
+            file.objects.push(FileObject {
+                name,
+                mesh,
+                world_from_object: DMat4::from_scale_rotation_translation(
+                    DVec3::splat(scale),
+                    DQuat::from_rotation_y(angle.to_radians()),
+                    translate,
+                ),
+                casts: object.casts.unwrap_or(true),
+                receives: object.receives.unwrap_or(true),
+                color,
+            });
+        }
+        for view in &raw.view {
+            let start = view.span().start;
+            let view = view.get_ref();
+            let name = view.name.get_ref().trim().to_string();
+            if name.is_empty() {
+                return Err(at.at(view.name.span().start, "name", "a view needs a name"));
+            }
+            if file.views.iter().any(|v| v.name == name) {
+                return Err(at.at(
+                    view.name.span().start,
+                    "name",
+                    format!("a second view named '{name}'"),
+                ));
+            }
+            let defaults = gnomon::Lens::default();
+            let distance = |v: &Option<Spanned<f64>>, key: &str, default: f64| match v {
+                Some(v) => at.number(
+                    v,
+                    key,
+                    |d| d > 0.0 && d <= MAX_COORDINATE,
+                    "a positive distance up to 1e7",
+                ),
+                None => Ok(default),
+            };
+            let light = match (&view.light_dir, &view.spot) {
+                (Some(d), None) => ViewLight::Directional {
+                    direction: at.vec3(d, "light_dir")?,
+                },
+                (None, Some(s)) => {
+                    let s = at.vector(s, "spot")?;
+                    ViewLight::Spot {
+                        position: DVec3::new(s[0], s[1], s[2]),
+                        direction: DVec3::new(s[3], s[4], s[5]),
+                        half_angle_degrees: s[6],
+                        range: s[7],
+                    }
+                }
+                (Some(_), Some(s)) => {
+                    return Err(at.at(
+                        s.span().start,
+                        "spot",
+                        format!("view '{name}' gives both light_dir and spot; give one"),
+                    ));
+                }
+                (None, None) => {
+                    return Err(at.at(
+                        start,
+                        "view",
+                        format!("view '{name}' needs a light: light_dir or spot"),
+                    ));
+                }
+            };
+            let named = NamedView {
+                name: name.clone(),
+                description: view.description.clone().unwrap_or_default(),
+                eye: at.vec3(&view.eye, "eye")?,
+                target: at.vec3(&view.target, "target")?,
+                up: match &view.up {
+                    Some(u) => at.vec3(u, "up")?,
+                    None => DVec3::Y,
+                },
+                fov_y_degrees: match &view.fov {
+                    Some(f) => at.number(
+                        f,
+                        "fov",
+                        |f| f > 0.0 && f < 180.0,
+                        "a field of view in (0, 180) degrees",
+                    )?,
+                    None => defaults.fov_y_degrees,
+                },
+                near: distance(&view.near, "near", defaults.near)?,
+                far: distance(&view.far, "far", 400.0)?,
+                light,
+            };
+            // The camera and light as the core checks them (eye at the target, up along the
+            // view, near beyond far, a bad spot), at this view's line.
+            named
+                .camera_and_light(16.0 / 9.0)
+                .map_err(|e| at.at(start, "view", format!("view '{name}': {e}")))?;
+            file.views.push(named);
+        }
+        if file.objects.is_empty() {
+            return Err(SceneFileError {
+                path: path.to_path_buf(),
+                line: None,
+                key: Some("object".into()),
+                message: "the scene has no objects: give at least one [[object]] or a [ground]"
+                    .into(),
+            });
+        }
+        Ok(file)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<SceneFile, SceneFileError> {
+        SceneFile::parse(Path::new("/nonexistent/scene.toml"), text)
+    }
+
+    #[test]
+    fn a_ground_and_views_without_meshes() {
+        let file = parse(
+            "[ground]\nsize = 100\nheight = 2\n\n[[view]]\nname = \"a\"\neye = [0, 10, 30]\n\
+             target = [0, 0, 0]\nlight_dir = [0.3, -1, 0.2]\n\n[[view]]\nname = \"b\"\n\
+             eye = [5, 5, 5]\ntarget = [0, 0, 0]\nfov = 40\nnear = 0.5\nfar = 90\n\
+             spot = [0, 20, 0, 0, -1, 0, 30, 50]\n",
+        )
+        .unwrap();
+        assert_eq!(file.name, "scene");
+        assert_eq!(file.objects.len(), 1);
+        let ground = &file.objects[0];
+        assert!(!ground.casts && ground.receives);
+        // The slab's top is at the height.
+        let top = file.meshes[0]
+            .positions
+            .iter()
+            .map(|p| ground.world_from_object.transform_point3(*p).y)
+            .fold(f64::MIN, f64::max);
+        assert!((top - 2.0).abs() < 1e-12);
+        assert_eq!(file.views.len(), 2);
+        assert_eq!(file.views[1].fov_y_degrees, 40.0);
+        assert_eq!(file.views[1].far, 90.0);
+        assert!(matches!(
+            file.views[1].light,
+            ViewLight::Spot { range: 50.0, .. }
+        ));
+        assert_eq!(file.views[0].far, 400.0);
+    }
+
+    /// Each broken file: the line and key named, one line of text.
+    #[test]
+    fn errors_name_the_line_and_key() {
+        let cases: &[(&str, usize, Option<&str>, &str)] = &[
+            (
+                "[ground]\nsize = 10\ncolour = [1, 1, 1]\n",
+                3,
+                None,
+                "unknown field",
+            ),
+            (
+                "[ground]\nsize = \"big\"\n",
+                2,
+                Some("size"),
+                "invalid type",
+            ),
+            (
+                "[ground]\nsize = -3\n",
+                2,
+                Some("ground.size"),
+                "is not a positive size",
+            ),
+            ("[ground]\nsize = nan\n", 2, Some("ground.size"), "is not"),
+            (
+                "[[object]]\nmesh = \"missing.off\"\n",
+                2,
+                Some("mesh"),
+                "missing.off",
+            ),
+            ("[[object]]\nscale = 2\n", 1, None, "missing field `mesh`"),
+            (
+                "[ground]\nsize = 10\n[[view]]\nname = \"v\"\neye = [0, 1, 2]\ntarget = [0, 0, 0]\n",
+                3,
+                Some("view"),
+                "needs a light",
+            ),
+            (
+                "[ground]\nsize = 10\n[[view]]\nname = \"v\"\neye = [0, 1]\n",
+                5,
+                Some("eye"),
+                "",
+            ),
+            (
+                "[ground]\nsize = 10\n[[view]]\nname = \"v\"\neye = [0, 0, 0]\ntarget = [0, 0, 0]\nlight_dir = [0, -1, 0]\n",
+                3,
+                Some("view"),
+                "view 'v'",
+            ),
+            (
+                "[ground]\nsize = 10\n[[view]]\nname = \"v\"\neye = [0, 1, 2]\ntarget = [0, 0, 0]\nlight_dir = [0, -1, 0]\nfov = 200\n",
+                8,
+                Some("fov"),
+                "field of view",
+            ),
+            (
+                "[ground]\nsize = 10\ncolor = [2, 0, 0]\n",
+                3,
+                Some("ground.color"),
+                "colour",
+            ),
+            ("name = \"x\"\n", 0, Some("object"), "no objects"),
+            ("[ground\nsize = 1\n", 1, None, ""),
+        ];
+        for &(text, line, key, words) in cases {
+            let e = parse(text).expect_err(text);
+            if line > 0 {
+                assert_eq!(e.line, Some(line), "{text}: {e}");
+            }
+            if key.is_some() {
+                assert_eq!(e.key.as_deref(), key, "{text}: {e}");
+            }
+            let shown = e.to_string();
+            assert!(shown.contains(words), "{text}: {shown}");
+            assert!(!shown.contains('\n'), "{shown}");
+            assert!(shown.starts_with("/nonexistent/scene.toml"), "{shown}");
+        }
+    }
+
+    #[test]
+    fn objects_share_a_mesh_file_and_place_it() {
+        let dir = std::env::temp_dir().join(format!("gnomon-scene-file-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("m")).unwrap();
+        std::fs::write(
+            dir.join("m/tri.off"),
+            "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+        )
+        .unwrap();
+        let text = "[[object]]\nmesh = \"m/tri.off\"\n\n[[object]]\nmesh = \"m/tri.off\"\n\
+                    name = \"second\"\ntranslate = [10, 0, 0]\nscale = 2\nrotate_y_degrees = 90\n\
+                    casts = false\ncolor = [1, 0, 0]\n";
+        let file = SceneFile::parse(&dir.join("s.toml"), text).unwrap();
+        assert_eq!(file.meshes.len(), 1);
+        assert_eq!(file.objects.len(), 2);
+        assert_eq!(file.objects[0].name, "tri");
+        let second = &file.objects[1];
+        assert_eq!(second.name, "second");
+        assert!(!second.casts && second.receives);
+        assert_eq!(second.color, Some([1.0, 0.0, 0.0]));
+        // (1, 0, 0) scaled by 2, turned 90 degrees about y (x goes to -z), moved by 10 in x.
+        let p = second
+            .world_from_object
+            .transform_point3(DVec3::new(1.0, 0.0, 0.0));
+        assert!((p - DVec3::new(10.0, 0.0, -2.0)).length() < 1e-12, "{p}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
