@@ -1598,3 +1598,316 @@ fn stable_cascades_do_not_flicker() {
         assert!(stderr.contains(expected), "{bad:?}: {stderr}");
     }
 }
+
+/// A scene file in `dir`: two cubes from one OFF file (one scaled, one turned and coloured)
+/// on a ground slab, a view under the sun and one under a spot light.
+fn write_scene_file(dir: &std::path::Path) -> std::path::PathBuf {
+    write_off_cube(dir);
+    let path = dir.join("two cubes.toml");
+    std::fs::write(
+        &path,
+        r#"name = "two cubes"
+
+[ground]
+size = 40
+
+[[object]]
+mesh = "cube.off"
+translate = [-3, 0, 0]
+scale = 2
+
+[[object]]
+mesh = "cube.off"
+name = "turned"
+translate = [4, 0, 2]
+rotate_y_degrees = 30
+scale = 3
+color = [0.9, 0.2, 0.2]
+
+[[view]]
+name = "sun"
+eye = [14, 10, 16]
+target = [0, 1, 0]
+far = 100
+light_dir = [0.6, -1, -0.2]
+
+[[view]]
+name = "lamp"
+description = "a spot light over the cubes"
+eye = [14, 10, 16]
+target = [0, 1, 0]
+fov = 50
+near = 0.5
+far = 100
+spot = [0, 12, -6, 0, -1, 0.5, 40, 60]
+"#,
+    )
+    .unwrap();
+    path
+}
+
+/// `--scene-file` in setup (no GPU): its named views give the camera and the light, explicit
+/// options override them, and an unknown view lists the file's.
+#[test]
+fn setup_reads_a_scene_file_and_its_views() {
+    let dir = temp_dir("scene-file-setup");
+    let file = write_scene_file(&dir);
+    let file = file.to_str().unwrap();
+    let setup = |extra: &[&str]| -> Value {
+        let mut args = vec!["setup", "--scene-file", file, "--json"];
+        args.extend_from_slice(extra);
+        serde_json::from_slice(&gnomon_ok(&args).stdout).unwrap()
+    };
+    let sun = setup(&["--view", "sun"]);
+    assert_eq!(sun["diagnostics"]["relevant_casters"], 2, "{sun}");
+    assert_eq!(sun["diagnostics"]["visible_receivers"], 3, "{sun}");
+    let explicit = setup(&[
+        "--eye",
+        "14,10,16",
+        "--target",
+        "0,1,0",
+        "--far",
+        "100",
+        "--light-dir",
+        "0.6,-1,-0.2",
+    ]);
+    assert_eq!(sun["maps"], explicit["maps"]);
+    // The spot view: a perspective map; its field of view applies unless given.
+    let lamp = setup(&["--view", "lamp"]);
+    assert_eq!(lamp["maps"][0]["projection"], "perspective", "{lamp}");
+    let wider = setup(&["--view", "lamp", "--fov", "70"]);
+    assert_ne!(lamp["maps"], wider["maps"]);
+    let same = setup(&["--view", "lamp", "--fov", "50", "--near", "0.5"]);
+    assert_eq!(lamp["maps"], same["maps"]);
+    let out = gnomon(&["setup", "--scene-file", file, "--view", "nope"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("known: sun, lamp"), "{stderr}");
+    let out = gnomon(&[
+        "setup",
+        "--scene-file",
+        file,
+        "--mesh",
+        file,
+        "--view",
+        "sun",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A broken scene file (unknown key, missing mesh, bad number, no light) is one line naming
+/// the file, the line and the key, and exit code 2, in every command.
+#[test]
+fn broken_scene_files_give_one_line_and_exit_code_2() {
+    let dir = temp_dir("scene-file-errors");
+    write_off_cube(&dir);
+    let cases = [
+        (
+            "[ground]\nsize = 10\n\n[[object]]\nmesh = \"cube.off\"\nscael = 2\n",
+            6,
+            "scael",
+            "unknown field",
+        ),
+        (
+            "[[object]]\nmesh = \"cube.off\"\n\n[[object]]\nmesh = \"gone.off\"\n",
+            5,
+            "mesh",
+            "gone.off",
+        ),
+        (
+            "[[object]]\nmesh = \"cube.off\"\nscale = \"two\"\n",
+            3,
+            "scale",
+            "invalid type",
+        ),
+        (
+            "[[object]]\nmesh = \"cube.off\"\nscale = -2\n",
+            3,
+            "scale",
+            "positive",
+        ),
+        (
+            "[[object]]\nmesh = \"cube.off\"\ntranslate = [0, inf, 0]\n",
+            3,
+            "translate",
+            "finite",
+        ),
+        (
+            "[[object]]\nmesh = \"cube.off\"\n\n[[view]]\nname = \"v\"\neye = [5, 5, 5]\ntarget = [0, 0, 0]\n",
+            4,
+            "view",
+            "needs a light",
+        ),
+    ];
+    for (k, (text, line, key, says)) in cases.iter().enumerate() {
+        let path = dir.join(format!("broken{k}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let p = path.to_str().unwrap();
+        for command in [
+            vec![
+                "setup",
+                "--scene-file",
+                p,
+                "--eye",
+                "5,5,5",
+                "--target",
+                "0,0,0",
+                "--light-dir",
+                "0,-1,0",
+            ],
+            vec!["render", "--scene-file", p, "--view", "v"],
+            vec!["export", "--scene-file", p, "--obj", "out.obj"],
+        ] {
+            let out = gnomon(&command);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{text}: {stderr}");
+            assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+            let place = format!("{p}:{line}: key '{key}'");
+            assert!(
+                stderr.contains(&place) && stderr.contains(says),
+                "{text}: expected '{place}' and '{says}' in {stderr}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A scene file through the commands that draw: render's map mask agrees with its exact
+/// volumes, export writes every object, compare's cells carry `--scene-file` and their
+/// commands run, and demo, bench and flicker go over its views.
+#[test]
+fn scene_files_work_in_every_command() {
+    let dir = temp_dir("scene-file-commands");
+    let file = write_scene_file(&dir);
+    let file = file.to_str().unwrap();
+    let mask = |technique: &str, view: &str| {
+        let path = dir.join(format!("{technique}-{view}.png"));
+        let frame = dir.join("frame.png");
+        gnomon_ok(&[
+            "render",
+            "--scene-file",
+            file,
+            "--view",
+            view,
+            "--technique",
+            technique,
+            "--size",
+            "256x144",
+            "--out",
+            frame.to_str().unwrap(),
+            "--mask",
+            path.to_str().unwrap(),
+        ]);
+        image::open(&path).unwrap().into_luma8()
+    };
+    for view in ["sun", "lamp"] {
+        let exact = mask("volumes", view);
+        let map = mask("lispsm", view);
+        let (mut judged, mut differ) = (0, 0);
+        for (a, b) in exact.pixels().zip(map.pixels()) {
+            if a.0[0] != 128 && b.0[0] != 128 {
+                judged += 1;
+                differ += usize::from(a != b);
+            }
+        }
+        let shadowed = exact.pixels().filter(|p| p.0[0] == 0).count();
+        assert!(shadowed > 500, "{view}: {shadowed} shadowed pixels");
+        assert!(
+            differ * 100 <= judged,
+            "{view}: {differ} of {judged} pixels differ"
+        );
+    }
+    let obj = dir.join("scene.obj");
+    gnomon_ok(&[
+        "export",
+        "--scene-file",
+        file,
+        "--obj",
+        obj.to_str().unwrap(),
+    ]);
+    let text = std::fs::read_to_string(&obj).unwrap();
+    assert_eq!(text.lines().filter(|l| l.starts_with("f ")).count(), 3 * 12);
+    assert_eq!(text.lines().filter(|l| l.starts_with("o ")).count(), 3);
+    let report = dir.join("compare");
+    gnomon_ok(&[
+        "compare",
+        "--scene-file",
+        file,
+        "--views",
+        "sun,lamp",
+        "--techniques",
+        "focused",
+        "--size",
+        "128x72",
+        "--shadow-map",
+        "512",
+        "--out",
+        report.to_str().unwrap(),
+    ]);
+    let json: Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("report.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["scene"], "two cubes");
+    assert!(json["views"][1]["light"]["spot"]["range"] == 60.0, "{json}");
+    let command = json["views"][1]["techniques"][0]["command"]
+        .as_str()
+        .unwrap();
+    assert!(command.contains("--scene-file '"), "{command}");
+    // The command as a shell runs it (the file's name has a space: it is quoted).
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(command.replacen("gnomon", env!("CARGO_BIN_EXE_gnomon"), 1))
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{command}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let demo = dir.join("demo");
+    gnomon_ok(&[
+        "demo",
+        "--scene-file",
+        file,
+        "--views",
+        "lamp",
+        "--width",
+        "64",
+        "--shadow-map",
+        "256",
+        "--out",
+        demo.to_str().unwrap(),
+    ]);
+    let html = std::fs::read_to_string(demo.join("index.html")).unwrap();
+    assert!(html.contains("two cubes") && html.contains("a spot light over the cubes"));
+    let out = gnomon_ok(&[
+        "bench",
+        "--scene-file",
+        file,
+        "--frames",
+        "1",
+        "--techniques",
+        "focused",
+        "--size",
+        "64x36",
+        "--json",
+    ]);
+    let bench: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(bench.to_string().contains("\"lamp\""), "{bench}");
+    gnomon_ok(&[
+        "flicker",
+        "--scene-file",
+        file,
+        "--view",
+        "sun",
+        "--frames",
+        "2",
+        "--techniques",
+        "focused",
+        "--size",
+        "64x36",
+    ]);
+    std::fs::remove_dir_all(dir).unwrap();
+}
