@@ -211,15 +211,17 @@ mod tests {
     /// A unit cube's buffer (the OFF tests' cube): 8 f32 positions, then 36 u32 indices
     /// (counter-clockwise from outside).
     fn cube_buffer() -> Vec<u8> {
-        let cube = Mesh::parse(CUBE_OFF.as_bytes(), MeshFormat::Off).unwrap();
+        let (positions, faces) = crate::load::parse_off(CUBE_OFF.as_bytes()).unwrap();
         let mut out = Vec::new();
-        for p in &cube.positions {
+        for p in &positions {
             for x in p.to_array() {
                 out.extend_from_slice(&(x as f32).to_le_bytes());
             }
         }
-        for i in &cube.indices {
-            out.extend_from_slice(&i.to_le_bytes());
+        for quad in &faces {
+            for i in [0, 1, 2, 0, 2, 3] {
+                out.extend_from_slice(&(quad[i] as u32).to_le_bytes());
+            }
         }
         out
     }

@@ -258,7 +258,9 @@ impl Mesh {
     }
 
     /// A mesh from positions and polygons (vertex indices, counter-clockwise seen from
-    /// outside), each polygon split into a fan of triangles; smooth normals.
+    /// outside), each polygon split into a fan of triangles; normals smooth across edges
+    /// where the faces meet at less than [`CREASE_DEGREES`], and a vertex split where they
+    /// meet at more (a box keeps flat faces, a scanned surface stays smooth).
     pub fn from_polygons(positions: Vec<DVec3>, polygons: &[Vec<i64>]) -> Result<Mesh, LoadError> {
         if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
             return Err(LoadError::NonFinite {
@@ -286,12 +288,7 @@ impl Mesh {
                 path: PathBuf::new(),
             });
         }
-        let normals = smooth_normals(&positions, &indices);
-        Ok(Mesh {
-            positions,
-            normals,
-            indices,
-        })
+        Ok(creased(&positions, &indices))
     }
 
     /// The smallest box around the vertices: (min, max).
@@ -322,23 +319,76 @@ impl LoadError {
     }
 }
 
-/// Angle-weighted vertex normals (each triangle's unit normal weighted by its angle at the
-/// vertex, so that how a polygon was split does not matter), unit length; zero where a
-/// vertex touches only degenerate triangles.
-fn smooth_normals(positions: &[DVec3], indices: &[u32]) -> Vec<DVec3> {
-    let mut normals = vec![DVec3::ZERO; positions.len()];
-    for t in indices.chunks_exact(3) {
-        let p = [t[0], t[1], t[2]].map(|i| positions[i as usize]);
-        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+/// Faces meeting at an edge at more than this angle (between their normals) keep a crease:
+/// their shared vertices are split, each side with its own normal.
+pub const CREASE_DEGREES: f64 = 60.0;
+
+/// The mesh of `positions` and triangles `indices` with angle-weighted normals per corner
+/// (each triangle's unit normal weighted by its angle at the vertex, so that how a polygon
+/// was split does not matter), over the triangles around the vertex whose normal is within
+/// [`CREASE_DEGREES`] of the corner's triangle; corners of a vertex with the same normal
+/// share one vertex. Unit normals; zero where a vertex touches only degenerate triangles.
+fn creased(positions: &[DVec3], indices: &[u32]) -> Mesh {
+    let cos_crease = CREASE_DEGREES.to_radians().cos();
+    let triangles = indices.len() / 3;
+    let corner = |t: usize, k: usize| indices[3 * t + k] as usize;
+    let face: Vec<DVec3> = (0..triangles)
+        .map(|t| {
+            let [a, b, c] = [0, 1, 2].map(|k| positions[corner(t, k)]);
+            (b - a).cross(c - a).normalize_or_zero()
+        })
+        .collect();
+    let angle = |t: usize, k: usize| {
+        let p = positions[corner(t, k)];
+        let e1 = positions[corner(t, (k + 1) % 3)] - p;
+        let e2 = positions[corner(t, (k + 2) % 3)] - p;
+        let a = e1.angle_between(e2);
+        if a.is_finite() { a } else { 0.0 }
+    };
+    // The corners (triangle, k) around each vertex, in one array.
+    let mut start = vec![0usize; positions.len() + 1];
+    for &i in indices {
+        start[i as usize + 1] += 1;
+    }
+    for v in 0..positions.len() {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut around = vec![(0usize, 0usize); indices.len()];
+    for t in 0..triangles {
         for k in 0..3 {
-            let (e1, e2) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
-            let angle = e1.angle_between(e2);
-            if angle.is_finite() {
-                normals[t[k] as usize] += n * angle;
-            }
+            let v = corner(t, k);
+            around[fill[v]] = (t, k);
+            fill[v] += 1;
         }
     }
-    normals.iter().map(|n| n.normalize_or_zero()).collect()
+    let mut mesh = Mesh {
+        positions: Vec::with_capacity(positions.len()),
+        normals: Vec::with_capacity(positions.len()),
+        indices: vec![0; indices.len()],
+    };
+    for v in 0..positions.len() {
+        let corners = &around[start[v]..start[v + 1]];
+        let first = mesh.positions.len();
+        for &(t, k) in corners {
+            let n = corners
+                .iter()
+                .filter(|&&(u, _)| face[t] == DVec3::ZERO || face[u].dot(face[t]) >= cos_crease)
+                .map(|&(u, j)| face[u] * angle(u, j))
+                .sum::<DVec3>()
+                .normalize_or_zero();
+            let index = match mesh.normals[first..].iter().position(|m| *m == n) {
+                Some(j) => first + j,
+                None => {
+                    mesh.positions.push(positions[v]);
+                    mesh.normals.push(n);
+                    mesh.normals.len() - 1
+                }
+            };
+            mesh.indices[3 * t + k] = index as u32;
+        }
+    }
+    mesh
 }
 
 pub(crate) type Polygons = (Vec<DVec3>, Vec<Vec<i64>>);
@@ -380,7 +430,7 @@ fn check_off_counts(text: &str) -> Result<(), String> {
     Ok(())
 }
 
-fn parse_off(bytes: &[u8]) -> Result<Polygons, String> {
+pub(crate) fn parse_off(bytes: &[u8]) -> Result<Polygons, String> {
     let text = std::str::from_utf8(bytes).map_err(|e| format!("not text: {e}"))?;
     check_off_counts(text)?;
     let options = off_rs::parser::options::Options {
@@ -617,13 +667,63 @@ pub(crate) mod tests {
             Mesh::parse(cube_stl().as_bytes(), MeshFormat::Stl).unwrap(),
         ];
         for m in &meshes {
-            assert_eq!(m.positions.len(), 8);
+            // Each corner split in three by the creases: one vertex per face and corner.
+            assert_eq!(m.positions.len(), 24);
             assert_eq!(m.triangle_count(), 12);
             assert!((volume(m) - 1.0).abs() < 1e-12, "volume {}", volume(m));
             assert_eq!(m.bounds(), (DVec3::ZERO, DVec3::ONE));
-            // Smooth normals at a corner point out along the diagonal.
-            let n = m.normals[6];
-            assert!((n - DVec3::ONE.normalize()).length() < 1e-9, "{n}");
+            // Flat faces: every corner's normal is its triangle's.
+            for t in m.indices.chunks_exact(3) {
+                let [a, b, c] = [t[0], t[1], t[2]].map(|i| m.positions[i as usize]);
+                let face = (b - a).cross(c - a).normalize();
+                for &i in t {
+                    assert!((m.normals[i as usize] - face).length() < 1e-12);
+                }
+            }
+        }
+        // The same triangles with the same normals (the formats order vertices differently).
+        let triangles = |m: &Mesh| {
+            let mut all: Vec<String> = m
+                .indices
+                .chunks_exact(3)
+                .map(|t| {
+                    let corners: Vec<String> = t
+                        .iter()
+                        .map(|&i| format!("{} {}", m.positions[i as usize], m.normals[i as usize]))
+                        .collect();
+                    let first = (0..3).min_by_key(|&k| &corners[k]).unwrap();
+                    (0..3).map(|k| corners[(first + k) % 3].clone()).collect::<Vec<_>>().join(" | ")
+                })
+                .collect();
+            all.sort();
+            all
+        };
+        for m in &meshes[1..] {
+            assert_eq!(triangles(m), triangles(&meshes[0]));
+        }
+    }
+
+    #[test]
+    fn normals_are_smooth_below_the_crease_angle() {
+        // A ring of 16 quads (22.5 degrees apart): one normal per vertex, pointing outward.
+        let n = 16;
+        let mut positions = Vec::new();
+        for k in 0..n {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            positions.push(DVec3::new(a.cos(), 0.0, -a.sin()));
+            positions.push(DVec3::new(a.cos(), 1.0, -a.sin()));
+        }
+        let quads: Vec<Vec<i64>> = (0..n as i64)
+            .map(|k| {
+                let j = (k + 1) % n as i64;
+                vec![2 * k, 2 * j, 2 * j + 1, 2 * k + 1]
+            })
+            .collect();
+        let m = Mesh::from_polygons(positions, &quads).unwrap();
+        assert_eq!(m.positions.len(), 2 * n);
+        for (p, normal) in m.positions.iter().zip(&m.normals) {
+            let out = DVec3::new(p.x, 0.0, p.z).normalize();
+            assert!((*normal - out).length() < 1e-9, "{p}: {normal}");
         }
     }
 

@@ -9,7 +9,7 @@
 //! mesh = "models/bunny.off"   # relative to the scene file
 //! name = "bunny"              # optional (default: the file's stem)
 //! translate = [0, 0, 0]       # optional
-//! scale = 10.0                # optional, uniform, > 0
+//! scale = 10.0                # optional, > 0: uniform, or [sx, sy, sz] along the mesh's axes
 //! rotate_y_degrees = 30       # optional
 //! casts = true                # optional
 //! receives = true             # optional
@@ -135,11 +135,19 @@ struct RawObject {
     mesh: Spanned<String>,
     name: Option<String>,
     translate: Option<Spanned<[f64; 3]>>,
-    scale: Option<Spanned<f64>>,
+    scale: Option<Spanned<Scale>>,
     rotate_y_degrees: Option<Spanned<f64>>,
     casts: Option<bool>,
     receives: Option<bool>,
     color: Option<Spanned<[f64; 3]>>,
+}
+
+/// `scale = s` (uniform) or `scale = [sx, sy, sz]`.
+#[derive(Deserialize, Clone, Copy)]
+#[serde(untagged)]
+enum Scale {
+    Uniform(f64),
+    Axes([f64; 3]),
 }
 
 #[derive(Deserialize)]
@@ -198,11 +206,18 @@ impl Located<'_> {
             }
             None => (None, None),
         };
+        let message = e.message().trim();
+        // serde's words for an untagged enum name a type the file's writer never sees.
+        let message = if message.contains("untagged enum Scale") {
+            "a scale is a positive number or three of them, [sx, sy, sz]"
+        } else {
+            message
+        };
         SceneFileError {
             path: self.path.to_path_buf(),
             line,
             key,
-            message: e.message().trim().to_string(),
+            message: message.to_string(),
         }
     }
 
@@ -349,6 +364,41 @@ impl SceneFile {
             if relative.trim().is_empty() {
                 return Err(at.at(mesh_start, "mesh", "names no file"));
             }
+            // The numbers first (cheap), then the mesh file.
+            let translate = match &object.translate {
+                Some(t) => at.vec3(t, "translate")?,
+                None => DVec3::ZERO,
+            };
+            let scale = match &object.scale {
+                Some(s) => {
+                    let axes = match *s.get_ref() {
+                        Scale::Uniform(v) => [v; 3],
+                        Scale::Axes(v) => v,
+                    };
+                    match axes
+                        .iter()
+                        .find(|v| !(v.is_finite() && **v > 0.0 && **v <= MAX_COORDINATE))
+                    {
+                        Some(bad) => {
+                            return Err(at.at(
+                                s.span().start,
+                                "scale",
+                                format!("{bad} is not a positive scale up to 1e7"),
+                            ));
+                        }
+                        None => DVec3::from_array(axes),
+                    }
+                }
+                None => DVec3::ONE,
+            };
+            let angle = match &object.rotate_y_degrees {
+                Some(a) => at.number(a, "rotate_y_degrees", |_| true, "a finite angle")?,
+                None => 0.0,
+            };
+            let color = match &object.color {
+                Some(c) => Some(at.color(c, "color")?),
+                None => None,
+            };
             let mesh_path = folder.join(relative);
             let mesh = match loaded.iter().find(|(p, _)| *p == mesh_path) {
                 Some(&(_, k)) => k,
@@ -365,27 +415,6 @@ impl SceneFile {
                     file.meshes.len() - 1
                 }
             };
-            let translate = match &object.translate {
-                Some(t) => at.vec3(t, "translate")?,
-                None => DVec3::ZERO,
-            };
-            let scale = match &object.scale {
-                Some(s) => at.number(
-                    s,
-                    "scale",
-                    |s| s > 0.0 && s <= MAX_COORDINATE,
-                    "a positive scale up to 1e7",
-                )?,
-                None => 1.0,
-            };
-            let angle = match &object.rotate_y_degrees {
-                Some(a) => at.number(a, "rotate_y_degrees", |_| true, "a finite angle")?,
-                None => 0.0,
-            };
-            let color = match &object.color {
-                Some(c) => Some(at.color(c, "color")?),
-                None => None,
-            };
             let name = object.name.clone().unwrap_or_else(|| {
                 Path::new(relative)
                     .file_stem()
@@ -395,7 +424,7 @@ impl SceneFile {
                 name,
                 mesh,
                 world_from_object: DMat4::from_scale_rotation_translation(
-                    DVec3::splat(scale),
+                    scale,
                     DQuat::from_rotation_y(angle.to_radians()),
                     translate,
                 ),
@@ -598,6 +627,8 @@ mod tests {
             ),
             ("name = \"x\"\n", 0, Some("object"), "no objects"),
             ("[ground\nsize = 1\n", 1, None, ""),
+            ("[[object]]\nmesh = \"a.off\"\nscale = [1, 0, 1]\n", 3, Some("scale"), "0 is not a positive scale"),
+            ("[[object]]\nmesh = \"a.off\"\nscale = \"big\"\n", 3, Some("scale"), "a scale is a positive number"),
         ];
         for &(text, line, key, words) in cases {
             let e = parse(text).expect_err(text);
