@@ -4,7 +4,8 @@
 #
 # Where Mesa's software drivers are missing it first installs them: lavapipe for Vulkan and
 # llvmpipe for GL through EGL (this needs root and apt-get, as on CI); it fetches the real
-# meshes the shadow-volume tests use (scripts/fetch-meshes.sh).
+# meshes the shadow-volume tests use (scripts/fetch-meshes.sh) and the suite's Debian models
+# (scripts/fetch-suite.sh --small).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Mesa's device-select layer warns about XDG_RUNTIME_DIR on headless machines; harmless.
@@ -26,8 +27,15 @@ if [ "${#missing[@]}" != 0 ]; then
     fi
 fi
 
-# The shadow-volume tests on real meshes need the bunny and the knot (not committed).
+# The shadow-volume tests on real meshes need the bunny and the knot, and the suite test the
+# Debian models of assets/suite (none committed; the monastery's 103 MB wheel only with
+# GNOMON_SUITE_FULL=1).
 bash scripts/fetch-meshes.sh
+if [ -n "${GNOMON_SUITE_FULL:-}" ]; then
+    bash scripts/fetch-suite.sh
+else
+    bash scripts/fetch-suite.sh --small
+fi
 
 echo "test.sh: cargo fmt --check"
 cargo fmt --all --check

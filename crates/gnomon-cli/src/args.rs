@@ -698,7 +698,7 @@ pub fn timed_setup(
 /// A mesh file to use instead of a built-in scene.
 #[derive(Debug, Clone, Args)]
 pub struct MeshArgs {
-    /// This mesh (.off, .obj, .ply, .stl, .gltf or .glb) standing on a ground slab instead of
+    /// This mesh (.off, .obj, .ply, .stl, .gltf, .glb or a .ter heightfield) standing on a ground slab instead of
     /// a built-in scene (scripts/fetch-meshes.sh fetches the bunny and a knot into
     /// assets/meshes/); its named views: oblique, low_sun, dueling_frusta.
     #[arg(long, conflicts_with = "scene")]
@@ -752,21 +752,71 @@ fn shell_word(path: &std::path::Path) -> String {
     }
 }
 
+impl LoadedScene {
+    /// The scene file at `path` (warnings for what its mesh loads left out).
+    pub fn from_scene_file(path: &std::path::Path) -> Result<Self, CliError> {
+        let file =
+            gnomon_scene::SceneFile::load(path).map_err(|e| CliError::usage(e.to_string()))?;
+        for note in &file.notes {
+            eprintln!("warning: {note}");
+        }
+        Ok(LoadedScene {
+            name: file.name.clone(),
+            scene: RenderScene::from_scene_file(&file),
+            views: file.views,
+            options: format!("--scene-file {}", shell_word(path)),
+        })
+    }
+}
+
+/// Every scene file (`*.toml`) in `folder`, by name, loaded (each file's stem and scene);
+/// a scene without named views, or a folder without scene files, is a usage error.
+pub fn suite_scenes(folder: &std::path::Path) -> Result<Vec<(String, LoadedScene)>, CliError> {
+    let entries = std::fs::read_dir(folder)
+        .map_err(|e| CliError::usage(format!("--suite {}: {e}", folder.display())))?;
+    let mut paths: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml") && p.is_file())
+        .collect();
+    paths.sort();
+    if paths.is_empty() {
+        return Err(CliError::usage(format!(
+            "--suite {}: no scene files (*.toml) there",
+            folder.display()
+        )));
+    }
+    paths
+        .iter()
+        .map(|path| {
+            let loaded = LoadedScene::from_scene_file(path).map_err(|e| {
+                if e.message.contains("cannot read") {
+                    CliError::usage(format!(
+                        "{} (scripts/fetch-suite.sh fetches the suite's models)",
+                        e.message
+                    ))
+                } else {
+                    e
+                }
+            })?;
+            if loaded.views.is_empty() {
+                return Err(CliError::usage(format!(
+                    "{}: a suite's scene needs named views ([[view]])",
+                    path.display()
+                )));
+            }
+            let stem = path
+                .file_stem()
+                .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+            Ok((stem, loaded))
+        })
+        .collect()
+}
+
 impl SceneArgs {
     /// Loads the scene: reads the mesh or scene file (warnings for what a load left out).
     pub fn load(&self) -> Result<LoadedScene, CliError> {
         if let Some(path) = &self.scene_file {
-            let file =
-                gnomon_scene::SceneFile::load(path).map_err(|e| CliError::usage(e.to_string()))?;
-            for note in &file.notes {
-                eprintln!("warning: {note}");
-            }
-            return Ok(LoadedScene {
-                name: file.name.clone(),
-                scene: RenderScene::from_scene_file(&file),
-                views: file.views,
-                options: format!("--scene-file {}", shell_word(path)),
-            });
+            return LoadedScene::from_scene_file(path);
         }
         let Some(path) = &self.mesh.mesh else {
             let layout = scene_layout(&self.scene)?;

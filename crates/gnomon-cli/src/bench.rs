@@ -3,6 +3,7 @@
 //! alike), with each technique's ratio to a baseline (the focused shadow map unless
 //! `--baseline` names another), view by view and on average over the views.
 
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
@@ -20,6 +21,10 @@ use crate::render::{open_renderer, parse_size};
 pub struct BenchArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
+    /// Time every view of every scene file (`*.toml`) in this folder, views named
+    /// SCENE/VIEW (scripts/fetch-suite.sh fetches assets/suite's models).
+    #[arg(long, conflicts_with_all = ["scene_file", "mesh"])]
+    pub suite: Option<PathBuf>,
     #[command(flatten)]
     pub views: ViewListArgs,
     /// What to time, comma-separated: shadow-map techniques and compare's rows (uniform,
@@ -72,6 +77,108 @@ impl Entry {
 
 /// A view to time: name, camera, light.
 type View = (String, Camera, Light);
+
+/// The results of one scene (one per view and entry), and the renderer's description and
+/// timing source.
+type SceneTimes = (Vec<serde_json::Value>, (String, &'static str));
+
+/// Times every entry on each of `views` of one scene (frames interleaved).
+fn time_views(
+    args: &BenchArgs,
+    entries: &[Entry],
+    baseline: usize,
+    loaded: &crate::args::LoadedScene,
+    views: &[View],
+    started: Instant,
+) -> Result<SceneTimes, CliError> {
+    let mut results = Vec::new();
+    let bounds = loaded.scene.bounds()?;
+    let mut renderer = open_renderer(&loaded.scene, args.size, Some(args.shadow_map))?;
+    renderer.use_wall_clock(args.wall_clock);
+    let settings = RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        ..RenderSettings::default()
+    };
+    eprintln!(
+        "gnomon bench: {} views x {} techniques x {} frames at {}x{} on {}; pass times from {}",
+        views.len(),
+        entries.len(),
+        args.frames,
+        args.size.0,
+        args.size.1,
+        renderer.gpu().describe(),
+        renderer.timing_source().name()
+    );
+    let device = (renderer.gpu().describe(), renderer.timing_source().name());
+    // One frame: its time in ms (setup + shadow pass + main pass) and its timings. The view
+    // samples are a fact of the view, drawn once per view (an engine takes them from its
+    // last frame), and not timed.
+    let frame = |renderer: &mut gnomon_render::Renderer,
+                 entry: &Entry,
+                 camera: &Camera,
+                 light: &Light,
+                 samples: &gnomon::ViewSamples|
+     -> Result<(f64, Timings), CliError> {
+        match entry {
+            Entry::Map(row) => {
+                let (setup, setup_us) = timed_setup(
+                    &row.technique,
+                    camera,
+                    light,
+                    &bounds,
+                    row.resolution,
+                    Some(samples),
+                )?;
+                let f = renderer.render(camera, light, &setup, &settings)?;
+                let t = f.timings;
+                Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
+            }
+            Entry::Volumes(mode) => {
+                let f = renderer
+                    .render_volumes(camera, light, &settings, *mode)?
+                    .frame;
+                let t = f.timings;
+                Ok((t.shadow_pass_ms + t.main_pass_ms, t))
+            }
+        }
+    };
+    for (v, (view, camera, light)) in views.iter().enumerate() {
+        let samples = renderer.view_samples(camera, light)?;
+        for entry in entries {
+            frame(&mut renderer, entry, camera, light, &samples)?; // warm-up
+        }
+        let mut times: Vec<Vec<(f64, Timings)>> = vec![Vec::new(); entries.len()];
+        for _ in 0..args.frames {
+            for (k, entry) in entries.iter().enumerate() {
+                times[k].push(frame(&mut renderer, entry, camera, light, &samples)?);
+            }
+        }
+        let baseline_ms = mean_sd(&times[baseline].iter().map(|t| t.0).collect::<Vec<_>>()).0;
+        for (entry, samples) in entries.iter().zip(&times) {
+            let total: Vec<f64> = samples.iter().map(|t| t.0).collect();
+            let shadow: Vec<f64> = samples.iter().map(|t| t.1.shadow_pass_ms).collect();
+            let main: Vec<f64> = samples.iter().map(|t| t.1.main_pass_ms).collect();
+            let (mean, sd) = mean_sd(&total);
+            results.push(json!({
+                "view": view,
+                "technique": entry.name(),
+                "frame_ms": mean,
+                "frame_ms_sd": sd,
+                "shadow_pass_ms": mean_sd(&shadow).0,
+                "main_pass_ms": mean_sd(&main).0,
+                "vs_baseline": mean / baseline_ms,
+            }));
+        }
+        eprintln!(
+            "[{}/{}] {view} done ({:.1} s)",
+            v + 1,
+            views.len(),
+            started.elapsed().as_secs_f64()
+        );
+    }
+    Ok((results, device))
+}
 
 /// Mean and standard deviation.
 fn mean_sd(values: &[f64]) -> (f64, f64) {
@@ -133,102 +240,41 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     if args.frames == 0 {
         return Err(CliError::usage("--frames must be at least 1"));
     }
-    let loaded = args.scene.load()?;
-    let aspect = args.size.0 as f64 / args.size.1 as f64;
-    let views: Vec<View> = args
-        .views
-        .select(&loaded.views)?
-        .into_iter()
-        .map(|v| {
-            let (camera, light) = v.camera_and_light(aspect)?;
-            Ok((v.name.clone(), camera, light))
-        })
-        .collect::<Result<_, CliError>>()?;
-    let bounds = loaded.scene.bounds()?;
-    let mut renderer = open_renderer(&loaded.scene, args.size, Some(args.shadow_map))?;
-    renderer.use_wall_clock(args.wall_clock);
-    let settings = RenderSettings {
-        width: args.size.0,
-        height: args.size.1,
-        ..RenderSettings::default()
-    };
-    eprintln!(
-        "gnomon bench: {} views x {} techniques x {} frames at {}x{} on {}; pass times from {}",
-        views.len(),
-        entries.len(),
-        args.frames,
-        args.size.0,
-        args.size.1,
-        renderer.gpu().describe(),
-        renderer.timing_source().name()
-    );
-    // One frame: its time in ms (setup + shadow pass + main pass) and its timings. The view
-    // samples are a fact of the view, drawn once per view (an engine takes them from its
-    // last frame), and not timed.
-    let frame = |renderer: &mut gnomon_render::Renderer,
-                 entry: &Entry,
-                 camera: &Camera,
-                 light: &Light,
-                 samples: &gnomon::ViewSamples|
-     -> Result<(f64, Timings), CliError> {
-        match entry {
-            Entry::Map(row) => {
-                let (setup, setup_us) = timed_setup(
-                    &row.technique,
-                    camera,
-                    light,
-                    &bounds,
-                    row.resolution,
-                    Some(samples),
-                )?;
-                let f = renderer.render(camera, light, &setup, &settings)?;
-                let t = f.timings;
-                Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
+    // The scenes: the one given, or every scene file of --suite (all loaded before any work).
+    let scenes: Vec<(String, crate::args::LoadedScene)> = match &args.suite {
+        None => vec![(String::new(), args.scene.load()?)],
+        Some(folder) => {
+            if args.views.views.iter().any(|v| v.trim() != "all") {
+                return Err(CliError::usage(
+                    "--suite times every view of each scene; drop --views",
+                ));
             }
-            Entry::Volumes(mode) => {
-                let f = renderer
-                    .render_volumes(camera, light, &settings, *mode)?
-                    .frame;
-                let t = f.timings;
-                Ok((t.shadow_pass_ms + t.main_pass_ms, t))
-            }
+            crate::args::suite_scenes(folder)?
         }
     };
+    let aspect = args.size.0 as f64 / args.size.1 as f64;
     let started = Instant::now();
     let mut results = Vec::new();
-    for (v, (view, camera, light)) in views.iter().enumerate() {
-        let samples = renderer.view_samples(camera, light)?;
-        for entry in &entries {
-            frame(&mut renderer, entry, camera, light, &samples)?; // warm-up
-        }
-        let mut times: Vec<Vec<(f64, Timings)>> = vec![Vec::new(); entries.len()];
-        for _ in 0..args.frames {
-            for (k, entry) in entries.iter().enumerate() {
-                times[k].push(frame(&mut renderer, entry, camera, light, &samples)?);
-            }
-        }
-        let baseline_ms = mean_sd(&times[baseline].iter().map(|t| t.0).collect::<Vec<_>>()).0;
-        for (entry, samples) in entries.iter().zip(&times) {
-            let total: Vec<f64> = samples.iter().map(|t| t.0).collect();
-            let shadow: Vec<f64> = samples.iter().map(|t| t.1.shadow_pass_ms).collect();
-            let main: Vec<f64> = samples.iter().map(|t| t.1.main_pass_ms).collect();
-            let (mean, sd) = mean_sd(&total);
-            results.push(json!({
-                "view": view,
-                "technique": entry.name(),
-                "frame_ms": mean,
-                "frame_ms_sd": sd,
-                "shadow_pass_ms": mean_sd(&shadow).0,
-                "main_pass_ms": mean_sd(&main).0,
-                "vs_baseline": mean / baseline_ms,
-            }));
-        }
-        eprintln!(
-            "[{}/{}] {view} done ({:.1} s)",
-            v + 1,
-            views.len(),
-            started.elapsed().as_secs_f64()
-        );
+    let mut device = (String::new(), "");
+    for (stem, loaded) in &scenes {
+        let views: Vec<View> = args
+            .views
+            .select(&loaded.views)?
+            .into_iter()
+            .map(|v| {
+                let (camera, light) = v.camera_and_light(aspect)?;
+                // In a suite, a view is named by its scene too.
+                let name = if stem.is_empty() {
+                    v.name.clone()
+                } else {
+                    format!("{stem}/{}", v.name)
+                };
+                Ok((name, camera, light))
+            })
+            .collect::<Result<_, CliError>>()?;
+        let (times, on) = time_views(args, &entries, baseline, loaded, &views, started)?;
+        results.extend(times);
+        device = on;
     }
     // Each technique's ratio to the baseline over the views: mean, smallest, largest.
     let summary: Vec<_> = entries
@@ -252,8 +298,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         crate::say!(
             "{}",
             serde_json::to_string_pretty(&json!({
-                "device": renderer.gpu().describe(),
-            "timing": renderer.timing_source().name(),
+                "device": device.0,
+                "timing": device.1,
                 "baseline": baseline_name,
                 "summary": summary,
                 "size": [args.size.0, args.size.1],

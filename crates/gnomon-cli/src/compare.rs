@@ -23,6 +23,11 @@ const MAX_COMPARE_SIZE: u32 = 4096;
 pub struct CompareArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
+    /// Compare every scene file (`*.toml`) in this folder over all its views, a report per
+    /// scene in a folder of its name under --out and a summary over the suite in
+    /// `index.md` (scripts/fetch-suite.sh fetches assets/suite's models).
+    #[arg(long, conflicts_with_all = ["scene_file", "mesh"])]
+    pub suite: Option<PathBuf>,
     #[command(flatten)]
     pub views: ViewListArgs,
     /// The shadow-map techniques: `all` or names, comma-separated (the exact shadow volumes
@@ -85,13 +90,25 @@ fn mask_errors(map: &Frame, exact: &Frame) -> (MaskErrors, Vec<u8>) {
     (errors, image)
 }
 
+/// One row of a scene's summary: the technique, its mean and worst wrong-pixel share over
+/// the views, its mean undersampling p99, mean setup (us) and frame (ms).
+pub(crate) struct SummaryRow {
+    label: String,
+    wrong: Vec<f64>,
+    p99: Vec<f64>,
+    setup_us: Vec<f64>,
+    frame_ms: Vec<f64>,
+}
+
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
 /// Runs `gnomon compare`.
 pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     let started = Instant::now();
-    let loaded = args.scene.load()?;
-    let views = args.views.select(&loaded.views)?;
     let techniques = crate::rows::rows(&args.techniques, &args.params, args.shadow_map, true)?;
-    if techniques.is_empty() || views.is_empty() {
+    if techniques.is_empty() {
         return Err(CliError::usage("nothing to compare"));
     }
     // A view's grid holds three frames per technique and the volumes: larger frames make
@@ -102,10 +119,89 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             args.size.0, args.size.1
         )));
     }
+    let Some(folder) = &args.suite else {
+        let loaded = args.scene.load()?;
+        compare_scene(args, &techniques, &loaded, &args.out, started)?;
+        crate::say!("wrote {}", args.out.join("index.md").display());
+        return Ok(());
+    };
+    if args.views.views.iter().any(|v| v.trim() != "all") {
+        return Err(CliError::usage(
+            "--suite compares every view of each scene; drop --views",
+        ));
+    }
+    // Every scene file loaded before any work: a missing model fails at once.
+    let scenes = crate::args::suite_scenes(folder)?;
+    let mut markdown = format!(
+        "# gnomon compare: the suite in {}\n\nEach scene's report is in its folder; the \
+         figures are means over its named views ({}x{} pixels, {}x{} shadow maps). Wrong \
+         pixels against the exact shadow volumes; undersampling p99 in pixels per texel.\n\n\
+         | scene | views | technique | mean wrong pixels | worst view | mean undersampling p99 | \
+         setup (us) | frame (ms) |\n| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: |\n",
+        folder.display(),
+        args.size.0,
+        args.size.1,
+        args.shadow_map,
+        args.shadow_map
+    );
+    let mut json_scenes = Vec::new();
+    for (stem, loaded) in &scenes {
+        eprintln!("compare: scene {stem} ({} views)", loaded.views.len());
+        let out = args.out.join(stem);
+        let rows = compare_scene(args, &techniques, loaded, &out, started)?;
+        let mut json_rows = Vec::new();
+        for r in &rows {
+            let _ = writeln!(
+                markdown,
+                "| [{stem}]({stem}/index.md) | {} | {} | {:.3}% | {:.3}% | {:.2} | {:.1} | {:.1} |",
+                r.wrong.len(),
+                r.label,
+                mean(&r.wrong),
+                r.wrong.iter().copied().fold(0.0, f64::max),
+                mean(&r.p99),
+                mean(&r.setup_us),
+                mean(&r.frame_ms)
+            );
+            json_rows.push(json!({
+                "technique": r.label,
+                "mean_wrong_percent": mean(&r.wrong),
+                "worst_wrong_percent": r.wrong.iter().copied().fold(0.0, f64::max),
+                "mean_undersampling_p99": mean(&r.p99),
+                "mean_setup_us": mean(&r.setup_us),
+                "mean_frame_ms": mean(&r.frame_ms),
+            }));
+        }
+        json_scenes.push(json!({ "scene": stem, "name": loaded.name, "techniques": json_rows }));
+    }
+    write_text(&args.out.join("index.md"), &markdown)?;
+    write_text(
+        &args.out.join("suite.json"),
+        &serde_json::to_string_pretty(&json!({ "scenes": json_scenes }))
+            .expect("JSON of plain values"),
+    )?;
+    eprintln!(
+        "compared {} scenes in {:.1} s",
+        scenes.len(),
+        started.elapsed().as_secs_f64()
+    );
+    crate::say!("wrote {}", args.out.join("index.md").display());
+    Ok(())
+}
+
+/// Compares `techniques` over the chosen views of one scene, writing its report into `out`;
+/// returns its summary rows.
+fn compare_scene(
+    args: &CompareArgs,
+    techniques: &[crate::rows::Row],
+    loaded: &crate::args::LoadedScene,
+    out: &std::path::Path,
+    started: Instant,
+) -> Result<Vec<SummaryRow>, CliError> {
+    let views = args.views.select(&loaded.views)?;
     let scene = &loaded.scene;
     let bounds = scene.bounds()?;
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
+    std::fs::create_dir_all(out)
+        .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", out.display())))?;
     let mut renderer = open_renderer(scene, args.size, Some(args.shadow_map))?;
     let (width, height) = args.size;
     let settings = RenderSettings {
@@ -156,9 +252,15 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
     }
     let mut report = Vec::new();
-    let mut summary: Vec<(String, Vec<f64>, Vec<f64>)> = techniques
+    let mut summary: Vec<SummaryRow> = techniques
         .iter()
-        .map(|t| (t.label.clone(), Vec::new(), Vec::new()))
+        .map(|t| SummaryRow {
+            label: t.label.clone(),
+            wrong: Vec::new(),
+            p99: Vec::new(),
+            setup_us: Vec::new(),
+            frame_ms: Vec::new(),
+        })
         .collect();
     for view in &views {
         let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
@@ -200,10 +302,12 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             paste(&frame.color, 0, k as u32);
             paste(&error_image, 1, k as u32);
             paste(&heatmap::draw(metrics, width, height), 2, k as u32);
-            summary[k].1.push(errors.wrong_percent());
+            summary[k].wrong.push(errors.wrong_percent());
             summary[k]
-                .2
+                .p99
                 .push(undersampling["p99"].as_f64().unwrap_or(f64::NAN));
+            summary[k].setup_us.push(setup_us);
+            summary[k].frame_ms.push(frame_ms);
             // sppsm-same-texels is sppsm at its own map size.
             let command = render_command(
                 &loaded.options,
@@ -240,7 +344,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             .flat_map(|&m| [m, m, m, 255])
             .collect();
         paste(&exact_mask, 1, row);
-        let grid_path = args.out.join(format!("{}.png", view.name));
+        let grid_path = out.join(format!("{}.png", view.name));
         write_png(
             &grid_path,
             grid_width,
@@ -327,17 +431,17 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         markdown,
         "\n## Over all views\n\n| technique | mean wrong pixels | worst view | mean undersampling p99 |\n| --- | ---: | ---: | ---: |\n"
     );
-    for (name, wrong, p99) in &summary {
-        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
-        let worst = wrong.iter().copied().fold(0.0, f64::max);
+    for row in &summary {
+        let worst = row.wrong.iter().copied().fold(0.0, f64::max);
         let _ = writeln!(
             markdown,
-            "| {name} | {:.3}% | {worst:.3}% | {:.2} |",
-            mean(wrong),
-            mean(p99)
+            "| {} | {:.3}% | {worst:.3}% | {:.2} |",
+            row.label,
+            mean(&row.wrong),
+            mean(&row.p99)
         );
     }
-    let write = |name: &str, text: &str| write_text(&args.out.join(name), text);
+    let write = |name: &str, text: &str| write_text(&out.join(name), text);
     write("index.md", &markdown)?;
     write(
         "report.json",
@@ -352,11 +456,11 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         .expect("JSON of plain values"),
     )?;
     eprintln!(
-        "compared {} techniques over {} views in {:.1} s",
+        "compared {} techniques over {} views of {} ({:.1} s so far)",
         techniques.len(),
         views.len(),
+        loaded.name,
         started.elapsed().as_secs_f64()
     );
-    crate::say!("wrote {}", args.out.join("index.md").display());
-    Ok(())
+    Ok(summary)
 }

@@ -1911,3 +1911,77 @@ fn scene_files_work_in_every_command() {
     ]);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `compare --suite` and `bench --suite` go over every scene file of a folder: a report per
+/// scene and a summary; a scene whose model is missing fails before any work, naming the
+/// fetch script.
+#[test]
+fn compare_and_bench_go_over_a_suite() {
+    let dir = temp_dir("suite");
+    write_scene_file(&dir);
+    std::fs::copy(dir.join("two cubes.toml"), dir.join("again.toml")).unwrap();
+    let out = dir.join("report");
+    gnomon_ok(&[
+        "compare",
+        "--suite",
+        dir.to_str().unwrap(),
+        "--techniques",
+        "focused",
+        "--size",
+        "64x36",
+        "--shadow-map",
+        "256",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let index = std::fs::read_to_string(out.join("index.md")).unwrap();
+    for scene in ["again", "two cubes"] {
+        assert!(
+            index.contains(&format!("| [{scene}]({scene}/index.md) | 2 | focused |")),
+            "{index}"
+        );
+        assert!(out.join(scene).join("report.json").is_file());
+    }
+    let bench = gnomon_ok(&[
+        "bench",
+        "--suite",
+        dir.to_str().unwrap(),
+        "--techniques",
+        "focused",
+        "--frames",
+        "1",
+        "--size",
+        "64x36",
+        "--json",
+    ]);
+    let bench: Value = serde_json::from_slice(&bench.stdout).unwrap();
+    let views: Vec<&str> = bench["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["view"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        views,
+        ["again/sun", "again/lamp", "two cubes/sun", "two cubes/lamp"]
+    );
+    std::fs::write(
+        dir.join("broken.toml"),
+        "[[object]]\nmesh = \"models/gone.obj\"\n",
+    )
+    .unwrap();
+    let failed = gnomon(&[
+        "compare",
+        "--suite",
+        dir.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&failed.stderr);
+    assert_eq!(failed.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("broken.toml:2: key 'mesh'") && stderr.contains("fetch-suite.sh"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

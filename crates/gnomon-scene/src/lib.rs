@@ -15,6 +15,7 @@ mod gltf;
 mod load;
 mod mesh;
 mod scene_file;
+mod terragen;
 mod view;
 
 use glam::{DMat4, DVec3};

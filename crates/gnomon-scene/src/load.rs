@@ -1,6 +1,6 @@
 //! Loading triangle meshes from files: OFF (through `off-rs`), Wavefront OBJ (`tobj`), PLY,
 //! ASCII or binary (`ply-rs-bw`), glTF 2.0, `.gltf` with its buffers or `.glb` (`gltf`), and
-//! STL, ASCII or binary (`stl_io`).
+//! STL, ASCII or binary (`stl_io`), and Terragen heightfields (`.ter`, [`crate::terragen`]).
 //! Polygons are split into fans of triangles; vertex normals are the area-weighted average
 //! of the triangles around each vertex (files' own normals are not read).
 //!
@@ -35,6 +35,8 @@ pub enum MeshFormat {
     /// STL (`.stl`), ASCII or binary; facet normals are not read (the vertex order gives the
     /// winding).
     Stl,
+    /// A Terragen heightfield (`.ter`): the grid as triangles, y up, in metres.
+    Ter,
 }
 
 impl MeshFormat {
@@ -47,6 +49,7 @@ impl MeshFormat {
             "ply" => Some(Self::Ply),
             "gltf" | "glb" => Some(Self::Gltf),
             "stl" => Some(Self::Stl),
+            "ter" => Some(Self::Ter),
             _ => None,
         }
     }
@@ -59,6 +62,7 @@ impl MeshFormat {
             Self::Ply => "ply",
             Self::Gltf => "gltf",
             Self::Stl => "stl",
+            Self::Ter => "ter",
         }
     }
 }
@@ -145,7 +149,7 @@ impl fmt::Display for LoadError {
             Self::Io { path, source } => write!(f, "cannot read {}: {source}", path.display()),
             Self::UnknownFormat { path } => write!(
                 f,
-                "{}: unknown mesh format (known extensions: .off, .obj, .ply, .gltf, .glb, .stl)",
+                "{}: unknown mesh format (known extensions: .off, .obj, .ply, .gltf, .glb, .stl, .ter)",
                 path.display()
             ),
             Self::Parse {
@@ -253,6 +257,7 @@ impl Mesh {
             MeshFormat::Ply => parse_ply(bytes).map_err(parse_error)?,
             MeshFormat::Gltf => crate::gltf::triangles(bytes, base, &mut notes)?,
             MeshFormat::Stl => parse_stl(bytes).map_err(parse_error)?,
+            MeshFormat::Ter => crate::terragen::parse_ter(bytes).map_err(parse_error)?,
         };
         Ok((Self::from_polygons(positions, &faces)?, notes))
     }
@@ -692,7 +697,10 @@ pub(crate) mod tests {
                         .map(|&i| format!("{} {}", m.positions[i as usize], m.normals[i as usize]))
                         .collect();
                     let first = (0..3).min_by_key(|&k| &corners[k]).unwrap();
-                    (0..3).map(|k| corners[(first + k) % 3].clone()).collect::<Vec<_>>().join(" | ")
+                    (0..3)
+                        .map(|k| corners[(first + k) % 3].clone())
+                        .collect::<Vec<_>>()
+                        .join(" | ")
                 })
                 .collect();
             all.sort();

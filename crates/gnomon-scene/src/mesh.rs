@@ -39,6 +39,61 @@ impl Mesh {
         self.indices.len() / 3
     }
 
+    /// The mesh's connected parts: triangles that share a vertex position (vertices split at
+    /// creases count as one) belong to one part. Each part keeps its vertices, normals and
+    /// winding, in the order of its first triangle; parts are in the order of their first
+    /// triangles.
+    pub fn components(&self) -> Vec<Mesh> {
+        // One id per distinct position, then union-find over the triangles' positions.
+        let mut id_of = std::collections::HashMap::with_capacity(self.positions.len());
+        let position_id: Vec<usize> = self
+            .positions
+            .iter()
+            .map(|p| {
+                let key = p.to_array().map(f64::to_bits);
+                let next = id_of.len();
+                *id_of.entry(key).or_insert(next)
+            })
+            .collect();
+        let mut parent: Vec<usize> = (0..id_of.len()).collect();
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        for t in self.indices.chunks_exact(3) {
+            let a = root(&mut parent, position_id[t[0] as usize]);
+            for &v in &t[1..] {
+                let b = root(&mut parent, position_id[v as usize]);
+                parent[b] = a;
+            }
+        }
+        let mut part_of_root: std::collections::HashMap<usize, usize> = Default::default();
+        let mut parts: Vec<Mesh> = Vec::new();
+        let mut remap: Vec<(usize, u32)> = vec![(usize::MAX, 0); self.positions.len()];
+        for t in self.indices.chunks_exact(3) {
+            let r = root(&mut parent, position_id[t[0] as usize]);
+            let next = parts.len();
+            let part = *part_of_root.entry(r).or_insert(next);
+            if part == parts.len() {
+                parts.push(Mesh::default());
+            }
+            let mesh = &mut parts[part];
+            for &v in t {
+                let v = v as usize;
+                if remap[v].0 != part {
+                    mesh.positions.push(self.positions[v]);
+                    mesh.normals.push(self.normals[v]);
+                    remap[v] = (part, (mesh.positions.len() - 1) as u32);
+                }
+                mesh.indices.push(remap[v].1);
+            }
+        }
+        parts
+    }
+
     /// A grid of `rows x cols` quads from a parametric surface, wrapping in both directions
     /// when asked (the seam shares vertices, so the mesh stays closed).
     fn parametric(
@@ -328,6 +383,32 @@ mod tests {
             radius: 0.2,
             height: 8.0,
         });
+    }
+
+    #[test]
+    fn components_are_the_parts_that_share_no_vertex() {
+        let cube = Shape::Cuboid {
+            half_extents: DVec3::ONE,
+        }
+        .mesh();
+        let ball = Shape::Sphere { radius: 1.0 }.mesh();
+        // Two cubes (each face its own vertices in the shape's mesh: welded by position) and a
+        // ball, in one mesh.
+        let mut both = Mesh::default();
+        for (mesh, offset) in [(&cube, 0.0), (&ball, 5.0), (&cube, 10.0)] {
+            let base = both.positions.len() as u32;
+            both.positions
+                .extend(mesh.positions.iter().map(|p| *p + DVec3::X * offset));
+            both.normals.extend(&mesh.normals);
+            both.indices.extend(mesh.indices.iter().map(|i| i + base));
+        }
+        let parts = both.components();
+        assert_eq!(parts.len(), 3);
+        assert_eq!(parts[0].triangle_count(), cube.triangle_count());
+        assert_eq!(parts[1].triangle_count(), ball.triangle_count());
+        assert_eq!(parts[1].positions.len(), ball.positions.len());
+        assert!((parts[2].bounds().0 - DVec3::new(9.0, -1.0, -1.0)).length() < 1e-12);
+        assert_eq!(parts[0].components().len(), 1);
     }
 
     #[test]

@@ -6,7 +6,7 @@
 //! height = 0.0             # the y of its top (default 0)
 //!
 //! [[object]]
-//! mesh = "models/bunny.off"   # relative to the scene file
+//! mesh = "models/bunny.off"   # .off .obj .ply .stl .gltf .glb .ter, relative to this file
 //! name = "bunny"              # optional (default: the file's stem)
 //! translate = [0, 0, 0]       # optional
 //! scale = 10.0                # optional, > 0: uniform, or [sx, sy, sz] along the mesh's axes
@@ -14,6 +14,7 @@
 //! casts = true                # optional
 //! receives = true             # optional
 //! color = [0.8, 0.6, 0.4]     # optional, linear RGB in [0, 1]
+//! split = "components"        # optional: each connected part its own object (and box)
 //!
 //! [[view]]
 //! name = "front"
@@ -140,6 +141,7 @@ struct RawObject {
     casts: Option<bool>,
     receives: Option<bool>,
     color: Option<Spanned<[f64; 3]>>,
+    split: Option<Spanned<String>>,
 }
 
 /// `scale = s` (uniform) or `scale = [sx, sy, sz]`.
@@ -356,7 +358,8 @@ impl SceneFile {
             });
         }
         // Each distinct mesh file once: (resolved path, mesh index).
-        let mut loaded: Vec<(PathBuf, usize)> = Vec::new();
+        // Each distinct (mesh file, split) once: its meshes' indices.
+        let mut loaded: Vec<(PathBuf, bool, Vec<usize>)> = Vec::new();
         for object in &raw.object {
             let object = object.get_ref();
             let mesh_start = object.mesh.span().start;
@@ -399,9 +402,26 @@ impl SceneFile {
                 Some(c) => Some(at.color(c, "color")?),
                 None => None,
             };
+            let split = match &object.split {
+                None => false,
+                Some(v) => match v.get_ref().as_str() {
+                    "none" => false,
+                    "components" => true,
+                    other => {
+                        return Err(at.at(
+                            v.span().start,
+                            "split",
+                            format!("'{other}' is not none or components"),
+                        ));
+                    }
+                },
+            };
             let mesh_path = folder.join(relative);
-            let mesh = match loaded.iter().find(|(p, _)| *p == mesh_path) {
-                Some(&(_, k)) => k,
+            let meshes = match loaded
+                .iter()
+                .find(|(p, s, _)| *p == mesh_path && *s == split)
+            {
+                Some((_, _, k)) => k.clone(),
                 None => {
                     let (mesh, notes) = Mesh::load_with_notes(&mesh_path)
                         .map_err(|e| at.at(mesh_start, "mesh", e.to_string()))?;
@@ -410,9 +430,12 @@ impl SceneFile {
                             .into_iter()
                             .map(|n| format!("{}: {n}", mesh_path.display())),
                     );
-                    file.meshes.push(mesh);
-                    loaded.push((mesh_path.clone(), file.meshes.len() - 1));
-                    file.meshes.len() - 1
+                    let parts = if split { mesh.components() } else { vec![mesh] };
+                    let first = file.meshes.len();
+                    file.meshes.extend(parts);
+                    let k: Vec<usize> = (first..file.meshes.len()).collect();
+                    loaded.push((mesh_path.clone(), split, k.clone()));
+                    k
                 }
             };
             let name = object.name.clone().unwrap_or_else(|| {
@@ -420,18 +443,25 @@ impl SceneFile {
                     .file_stem()
                     .map_or("mesh".into(), |s| s.to_string_lossy().into_owned())
             });
-            file.objects.push(FileObject {
-                name,
-                mesh,
-                world_from_object: DMat4::from_scale_rotation_translation(
-                    scale,
-                    DQuat::from_rotation_y(angle.to_radians()),
-                    translate,
-                ),
-                casts: object.casts.unwrap_or(true),
-                receives: object.receives.unwrap_or(true),
-                color,
-            });
+            let world_from_object = DMat4::from_scale_rotation_translation(
+                scale,
+                DQuat::from_rotation_y(angle.to_radians()),
+                translate,
+            );
+            for (part, &mesh) in meshes.iter().enumerate() {
+                file.objects.push(FileObject {
+                    name: if split {
+                        format!("{name} #{part}")
+                    } else {
+                        name.clone()
+                    },
+                    mesh,
+                    world_from_object,
+                    casts: object.casts.unwrap_or(true),
+                    receives: object.receives.unwrap_or(true),
+                    color,
+                });
+            }
         }
         for view in &raw.view {
             let start = view.span().start;
@@ -627,8 +657,18 @@ mod tests {
             ),
             ("name = \"x\"\n", 0, Some("object"), "no objects"),
             ("[ground\nsize = 1\n", 1, None, ""),
-            ("[[object]]\nmesh = \"a.off\"\nscale = [1, 0, 1]\n", 3, Some("scale"), "0 is not a positive scale"),
-            ("[[object]]\nmesh = \"a.off\"\nscale = \"big\"\n", 3, Some("scale"), "a scale is a positive number"),
+            (
+                "[[object]]\nmesh = \"a.off\"\nscale = [1, 0, 1]\n",
+                3,
+                Some("scale"),
+                "0 is not a positive scale",
+            ),
+            (
+                "[[object]]\nmesh = \"a.off\"\nscale = \"big\"\n",
+                3,
+                Some("scale"),
+                "a scale is a positive number",
+            ),
         ];
         for &(text, line, key, words) in cases {
             let e = parse(text).expect_err(text);
@@ -670,6 +710,25 @@ mod tests {
             .world_from_object
             .transform_point3(DVec3::new(1.0, 0.0, 0.0));
         assert!((p - DVec3::new(10.0, 0.0, -2.0)).length() < 1e-12, "{p}");
+        // Two triangles apart in one file, split: two objects with their own meshes.
+        std::fs::write(
+            dir.join("m/two.off"),
+            "OFF\n6 2 0\n0 0 0\n1 0 0\n0 1 0\n5 0 0\n6 0 0\n5 1 0\n3 0 1 2\n3 3 4 5\n",
+        )
+        .unwrap();
+        let text = "[[object]]\nmesh = \"m/two.off\"\nsplit = \"components\"\n\n[[object]]\n\
+                    mesh = \"m/two.off\"\n";
+        let file = SceneFile::parse(&dir.join("s.toml"), text).unwrap();
+        assert_eq!(file.meshes.len(), 3);
+        let names: Vec<&str> = file.objects.iter().map(|o| o.name.as_str()).collect();
+        assert_eq!(names, ["two #0", "two #1", "two"]);
+        assert_eq!(file.meshes[1].bounds().0, DVec3::new(5.0, 0.0, 0.0));
+        let e = SceneFile::parse(
+            &dir.join("s.toml"),
+            "[[object]]\nmesh = \"m/two.off\"\nsplit = \"parts\"\n",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains(":3: key 'split'"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
