@@ -336,6 +336,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             "timing": renderer.timing_source().name(),
             "fallback": setup.fallback().map(|f| f.name()),
             "setup_us": setup_us,
+            "casters": scene.instances.iter().filter(|i| i.casts).count(),
+            "casters_drawn": frame.casters_drawn,
             "shadow_pass_ms": t.shadow_pass_ms,
             "main_pass_ms": t.main_pass_ms,
             "undersampling": heatmap::percentiles(metrics, &metrics.undersampling),
@@ -353,11 +355,14 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         args.light_view.as_deref(),
     )?;
     let t = frame.timings;
+    let casters = scene.instances.iter().filter(|i| i.casts).count();
+    let drawn: Vec<String> = frame.casters_drawn.iter().map(|n| n.to_string()).collect();
     eprintln!(
-        "{} on {}: setup {:.1} us, shadow pass {:.2} ms, main pass {:.2} ms ({}){}; wrote {}",
+        "{} on {}: setup {:.1} us, casters drawn {} of {casters}, shadow pass {:.2} ms, main pass {:.2} ms ({}){}; wrote {}",
         technique.name(),
         renderer.gpu().describe(),
         setup_us,
+        drawn.join(" + "),
         t.shadow_pass_ms,
         t.main_pass_ms,
         t.source.name(),

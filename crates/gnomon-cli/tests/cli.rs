@@ -910,7 +910,34 @@ fn render_writes_an_error_map_and_its_percentiles() {
             p(j, "p50") <= p(j, "p95") && p(j, "p95") <= p(j, "p99") && p(j, "p99") <= p(j, "max")
         );
         assert!(j["area_undersampling"]["p50"].as_f64().unwrap() > 0.0);
+        // One map, drawing the casters whose boxes reach it.
+        let drawn = j["casters_drawn"].as_array().unwrap();
+        assert_eq!(drawn.len(), 1, "{j}");
+        let drawn = drawn[0].as_u64().unwrap();
+        assert!(drawn > 0 && drawn <= j["casters"].as_u64().unwrap(), "{j}");
     }
+    // A narrow spot light over one corner of the city: most casters are not drawn.
+    let spot = dir.join("spot.png");
+    let out = gnomon_ok(&[
+        "render",
+        "--eye",
+        "-150,60,150",
+        "--target",
+        "-100,0,100",
+        "--spot",
+        "-100,60,100,0,-1,0,20,100",
+        "--size",
+        "160x90",
+        "--out",
+        spot.to_str().unwrap(),
+        "--json",
+    ]);
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let drawn = j["casters_drawn"][0].as_u64().unwrap();
+    assert!(
+        drawn > 0 && 10 * drawn < j["casters"].as_u64().unwrap(),
+        "{j}"
+    );
     // Four times the resolution: four times fewer pixels per texel, to a few percent.
     let ratio = p(&small, "p50") / p(&large, "p50");
     assert!((ratio / 4.0 - 1.0).abs() < 0.05, "p50 ratio {ratio}");

@@ -50,6 +50,9 @@ pub struct Frame {
     pub metrics: Option<PixelMetrics>,
     /// Times of the passes.
     pub timings: Timings,
+    /// How many of the scene's casters each shadow map drew (those whose box reaches its
+    /// clip volume), in the order of the maps; empty for shadow volumes.
+    pub casters_drawn: Vec<usize>,
 }
 
 /// The shadow maps as the light sees them (near = dark, far = light), with the camera's view
@@ -413,6 +416,7 @@ impl Renderer {
             light_view,
             metrics,
             timings,
+            casters_drawn: self.casters_drawn(),
         })
     }
 

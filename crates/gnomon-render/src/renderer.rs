@@ -541,6 +541,12 @@ impl Renderer {
         k * self.slot_stride
     }
 
+    /// How many of the scene's casters each map of the prepared frame draws (those whose
+    /// world box reaches the map's clip volume), in the order of the maps.
+    pub fn casters_drawn(&self) -> Vec<usize> {
+        self.maps.iter().map(|m| m.casters.len()).collect()
+    }
+
     /// Records the prepared frame's depth passes (the scene's casters) into `encoder`.
     pub fn encode_shadow_maps(&mut self, encoder: &mut wgpu::CommandEncoder) {
         self.encode_shadow_maps_timed(encoder, false);

@@ -529,6 +529,7 @@ impl Renderer {
                 light_view: None,
                 metrics: None,
                 timings,
+                casters_drawn: Vec::new(),
             },
             stats,
         })
