@@ -142,6 +142,35 @@ impl LightArgs {
             )),
         }
     }
+
+    /// Every light: the one given, else all of the named view's (a scene file's view may
+    /// have several).
+    pub fn lights(&self, view: &ViewArgs, views: &[NamedView]) -> Result<Vec<Light>, CliError> {
+        match (self.light_dir, self.spot, view.named(views)?) {
+            (None, None, Some(named)) => Ok(named.lights()?),
+            _ => Ok(vec![self.light(view, views)?]),
+        }
+    }
+
+    /// The light of a command that draws one: [`LightArgs::light`], with a warning where the
+    /// named view has more lights than the one used.
+    pub fn main_light(
+        &self,
+        view: &ViewArgs,
+        views: &[NamedView],
+        command: &str,
+    ) -> Result<Light, CliError> {
+        if let (None, None, Some(named)) = (self.light_dir, self.spot, view.named(views)?)
+            && !named.more_lights.is_empty()
+        {
+            eprintln!(
+                "warning: view '{}' has {} lights; {command} uses the first",
+                named.name,
+                1 + named.more_lights.len()
+            );
+        }
+        self.light(view, views)
+    }
 }
 
 /// Which of the scene's named views a command goes over.
@@ -343,39 +372,15 @@ pub fn render_command(
     size: (u32, u32),
     extra: &str,
 ) -> String {
-    let v = |a: DVec3| format!("{},{},{}", a.x, a.y, a.z);
     let mut command = "gnomon render".to_string();
     if !scene_options.is_empty() {
         command += &format!(" {scene_options}");
     }
-    command += &format!(" --eye={} --target={}", v(view.eye), v(view.target));
-    let defaults = Lens::default();
-    if view.up != DVec3::Y {
-        command += &format!(" --up={}", v(view.up));
-    }
-    if view.fov_y_degrees != defaults.fov_y_degrees {
-        command += &format!(" --fov {}", view.fov_y_degrees);
-    }
-    if view.near != defaults.near {
-        command += &format!(" --near {}", view.near);
-    }
-    command += &format!(" --far {}", view.far);
-    match view.light {
-        ViewLight::Directional { direction } => {
-            command += &format!(" --light-dir={}", v(direction));
-        }
-        ViewLight::Spot {
-            position,
-            direction,
-            half_angle_degrees,
-            range,
-        } => {
-            command += &format!(
-                " --spot={},{},{half_angle_degrees},{range}",
-                v(position),
-                v(direction)
-            );
-        }
+    // Several lights come only from the view itself: name it.
+    if !view.more_lights.is_empty() {
+        command += &format!(" --view {}", shell_word(&view.name));
+    } else {
+        command += &view_options(view);
     }
     command += &format!(
         " --technique {}",
@@ -392,6 +397,41 @@ pub fn render_command(
     }
     command += &format!(" --size {}x{}{extra}", size.0, size.1);
     command
+}
+
+/// The options that give a named view's camera and its (one) light explicitly.
+fn view_options(view: &NamedView) -> String {
+    let v = |a: DVec3| format!("{},{},{}", a.x, a.y, a.z);
+    let mut options = format!(" --eye={} --target={}", v(view.eye), v(view.target));
+    let defaults = Lens::default();
+    if view.up != DVec3::Y {
+        options += &format!(" --up={}", v(view.up));
+    }
+    if view.fov_y_degrees != defaults.fov_y_degrees {
+        options += &format!(" --fov {}", view.fov_y_degrees);
+    }
+    if view.near != defaults.near {
+        options += &format!(" --near {}", view.near);
+    }
+    options += &format!(" --far {}", view.far);
+    match view.light {
+        ViewLight::Directional { direction } => {
+            options += &format!(" --light-dir={}", v(direction));
+        }
+        ViewLight::Spot {
+            position,
+            direction,
+            half_angle_degrees,
+            range,
+        } => {
+            options += &format!(
+                " --spot={},{},{half_angle_degrees},{range}",
+                v(position),
+                v(direction)
+            );
+        }
+    }
+    options
 }
 
 /// The technique parameters `technique` reads (SPPSM: its own and its perspective map's).
@@ -738,9 +778,9 @@ pub struct LoadedScene {
     pub options: String,
 }
 
-/// `path` as one shell word.
-fn shell_word(path: &std::path::Path) -> String {
-    let text = path.display().to_string();
+/// `text` as one shell word.
+fn shell_word(text: &str) -> String {
+    let text = text.to_string();
     if !text.is_empty()
         && text
             .chars()
@@ -764,7 +804,7 @@ impl LoadedScene {
             name: file.name.clone(),
             scene: RenderScene::from_scene_file(&file),
             views: file.views,
-            options: format!("--scene-file {}", shell_word(path)),
+            options: format!("--scene-file {}", shell_word(&path.display().to_string())),
         })
     }
 }
@@ -849,7 +889,7 @@ impl SceneArgs {
             views: gnomon_scene::mesh_views(self.mesh.mesh_height),
             options: format!(
                 "--mesh {} --mesh-height {}",
-                shell_word(path),
+                shell_word(&path.display().to_string()),
                 self.mesh.mesh_height
             ),
         })
@@ -861,7 +901,7 @@ pub fn run_setup(args: &SetupArgs) -> Result<(), CliError> {
     let loaded = args.scene.load()?;
     let scene = loaded.scene.bounds()?;
     let camera = args.view.camera_with_aspect(&loaded.views, 16.0 / 9.0)?;
-    let light = args.light.light(&args.view, &loaded.views)?;
+    let light = args.light.main_light(&args.view, &loaded.views, "setup")?;
     let technique = args.params.apply(args.technique);
     args.params.check_used_by(&[technique])?;
     let setup = compute_setup(

@@ -8,7 +8,9 @@ use std::time::Instant;
 
 use clap::Args;
 
-use gnomon_render::{Filter, Frame, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderSettings, StencilMode};
+use gnomon_render::{
+    Filter, Frame, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderSettings, ShadowedLight, StencilMode,
+};
 use serde_json::{Value, json};
 
 use crate::args::render_command;
@@ -153,7 +155,8 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         for r in &rows {
             let _ = writeln!(
                 markdown,
-                "| [{stem}]({stem}/index.md) | {} | {} | {:.3}% | {:.3}% | {:.2} | {:.1} | {:.1} |",
+                "| [{stem}]({}/index.md) | {} | {} | {:.3}% | {:.3}% | {:.2} | {:.1} | {:.1} |",
+                stem.replace(' ', "%20"),
                 r.wrong.len(),
                 r.label,
                 mean(&r.wrong),
@@ -186,6 +189,32 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     );
     crate::say!("wrote {}", args.out.join("index.md").display());
     Ok(())
+}
+
+/// A row's setup for each light (with that light's view samples) and their total time in
+/// microseconds.
+fn light_setups(
+    row: &crate::rows::Row,
+    camera: &gnomon::Camera,
+    lights: &[gnomon::Light],
+    bounds: &gnomon::SceneBounds,
+    samples: &[gnomon::ViewSamples],
+) -> Result<(Vec<gnomon::ShadowSetup>, f64), CliError> {
+    let mut setups = Vec::with_capacity(lights.len());
+    let mut total_us = 0.0;
+    for (light, samples) in lights.iter().zip(samples) {
+        let (setup, us) = timed_setup(
+            &row.technique,
+            camera,
+            light,
+            bounds,
+            row.resolution,
+            Some(samples),
+        )?;
+        setups.push(setup);
+        total_us += us;
+    }
+    Ok((setups, total_us))
 }
 
 /// Compares `techniques` over the chosen views of one scene, writing its report into `out`;
@@ -239,16 +268,9 @@ fn compare_scene(
     // One untimed frame first: the first draw compiles the pipelines.
     if let Some(view) = views.first() {
         let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
-        let samples = renderer.view_samples(&camera, &light)?;
-        let (setup, _) = timed_setup(
-            &techniques[0].technique,
-            &camera,
-            &light,
-            &bounds,
-            techniques[0].resolution,
-            Some(&samples),
-        )?;
-        renderer.render(&camera, &light, &setup, &settings)?;
+        let samples = vec![renderer.view_samples(&camera, &light)?];
+        let (setups, _) = light_setups(&techniques[0], &camera, &[light], &bounds, &samples)?;
+        renderer.render(&camera, &light, &setups[0], &settings)?;
         renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
     }
     let mut report = Vec::new();
@@ -263,11 +285,17 @@ fn compare_scene(
         })
         .collect();
     for view in &views {
-        let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
+        let camera = view.camera(width as f64 / height as f64)?;
+        // Every light of the view (a scene file's view may have several).
+        let lights = view.lights()?;
         progress.set_message(format!("{}: volumes", view.name));
-        let exact = renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
-        // What the pixels see, once per view, shared by every technique.
-        let samples = renderer.view_samples(&camera, &light)?;
+        let exact =
+            renderer.render_volumes_lit_by(&camera, &lights, &settings, StencilMode::ZFail)?;
+        // What the pixels see from each light, once per view, shared by every technique.
+        let samples = lights
+            .iter()
+            .map(|light| renderer.view_samples(&camera, light))
+            .collect::<Result<Vec<_>, _>>()?;
         let exact_ms = exact.frame.timings.shadow_pass_ms + exact.frame.timings.main_pass_ms;
         progress.inc(1);
         // The grid: cells of the frame's size (the error map's legend lies over its bottom).
@@ -285,15 +313,14 @@ fn compare_scene(
         let mut rows = Vec::new();
         for (k, entry) in techniques.iter().enumerate() {
             progress.set_message(format!("{}: {}", view.name, entry.label));
-            let (setup, setup_us) = timed_setup(
-                &entry.technique,
-                &camera,
-                &light,
-                &bounds,
-                entry.resolution,
-                Some(&samples),
-            )?;
-            let frame = renderer.render(&camera, &light, &setup, &settings)?;
+            let (setups, setup_us) = light_setups(entry, &camera, &lights, &bounds, &samples)?;
+            let setup = &setups[0];
+            let shadowed: Vec<ShadowedLight<'_>> = lights
+                .iter()
+                .zip(&setups)
+                .map(|(light, setup)| ShadowedLight { light, setup })
+                .collect();
+            let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
             let metrics = frame.metrics.as_ref().expect("metrics asked for");
             let (errors, error_image) = mask_errors(&frame, &exact.frame);
             let t = frame.timings;
@@ -421,6 +448,7 @@ fn compare_scene(
             "fov": view.fov_y_degrees,
             "near": view.near,
             "light": crate::report::view_light_json(&view.light),
+            "more_lights": view.more_lights.iter().map(crate::report::view_light_json).collect::<Vec<_>>(),
             "volumes_command": volumes_command,
             "volumes_frame_ms": exact_ms,
             "techniques": rows,

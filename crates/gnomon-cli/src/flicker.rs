@@ -148,7 +148,9 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
     let camera = args
         .view
         .camera_with_aspect(&loaded.views, width as f64 / height as f64)?;
-    let light = args.light.light(&args.view, &loaded.views)?;
+    let light = args
+        .light
+        .main_light(&args.view, &loaded.views, "flicker")?;
     let target = match (args.view.target, args.view.named(&loaded.views)?) {
         (Some(t), _) => t,
         (None, Some(v)) => v.target,

@@ -262,9 +262,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             gnomon_render::MAX_VIEW_DISTANCE
         )));
     }
-    let light = args.light.light(&args.view, &loaded.views)?;
+    // Every light of the view (a scene file's view may have several), the first the main one.
+    let lights = args.light.lights(&args.view, &loaded.views)?;
     let technique = match args.technique {
-        Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &light, mode),
+        Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &lights, mode),
         Drawn::Map(technique) => technique,
     };
     if args.stencil.is_some() {
@@ -286,17 +287,27 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     // Bad technique parameters are refused before the GPU opens: the setup once from the
     // boxes alone (microseconds), then again with what the renderer's pixels see.
-    timed_setup(&technique, &camera, &light, &bounds, args.shadow_map, None)?;
+    for light in &lights {
+        timed_setup(&technique, &camera, light, &bounds, args.shadow_map, None)?;
+    }
     let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
-    let samples = renderer.view_samples(&camera, &light)?;
-    let (setup, setup_us) = timed_setup(
-        &technique,
-        &camera,
-        &light,
-        &bounds,
-        args.shadow_map,
-        Some(&samples),
-    )?;
+    // Each light's setup with what the pixels see from it; the times add up.
+    let mut setups = Vec::with_capacity(lights.len());
+    let mut setup_us = 0.0;
+    for light in &lights {
+        let samples = renderer.view_samples(&camera, light)?;
+        let (setup, us) = timed_setup(
+            &technique,
+            &camera,
+            light,
+            &bounds,
+            args.shadow_map,
+            Some(&samples),
+        )?;
+        setups.push(setup);
+        setup_us += us;
+    }
+    let setup = &setups[0];
     if args.tint && setup.maps.len() < 2 {
         return Err(tint_needs_two_maps(&technique));
     }
@@ -315,7 +326,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         tint: args.tint,
         ..RenderSettings::default()
     };
-    let frame = renderer.render(&camera, &light, &setup, &settings)?;
+    let shadowed: Vec<gnomon_render::ShadowedLight<'_>> = lights
+        .iter()
+        .zip(&setups)
+        .map(|(light, setup)| gnomon_render::ShadowedLight { light, setup })
+        .collect();
+    let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
     if let (Some(path), Some(metrics)) = (&args.error_map, &frame.metrics) {
         // The frame's size (the legend lies over its bottom strip).
         let image = heatmap::draw(metrics, frame.width, frame.height);
@@ -380,7 +396,7 @@ fn run_volumes(
     args: &RenderArgs,
     scene: &RenderScene,
     camera: &gnomon::Camera,
-    light: &gnomon::Light,
+    lights: &[gnomon::Light],
     named: StencilMode,
 ) -> Result<(), CliError> {
     if args.light_view.is_some() || args.error_map.is_some() || args.json {
@@ -408,7 +424,7 @@ fn run_volumes(
         height: args.size.1,
         ..RenderSettings::default()
     };
-    let drawn = renderer.render_volumes(camera, light, &settings, mode)?;
+    let drawn = renderer.render_volumes_lit_by(camera, lights, &settings, mode)?;
     write_frame(&drawn.frame, &args.out, args.mask.as_deref(), None)?;
     let (t, stats) = (drawn.frame.timings, drawn.stats);
     eprintln!(

@@ -1667,6 +1667,18 @@ fov = 50
 near = 0.5
 far = 100
 spot = [0, 12, -6, 0, -1, 0.5, 40, 60]
+
+[[view]]
+name = "two suns"
+eye = [14, 10, 16]
+target = [0, 1, 0]
+far = 100
+
+[[view.light]]
+light_dir = [0.6, -1, -0.2]
+
+[[view.light]]
+light_dir = [0.2, -1, -0.6]
 "#,
     )
     .unwrap();
@@ -1709,7 +1721,19 @@ fn setup_reads_a_scene_file_and_its_views() {
     let out = gnomon(&["setup", "--scene-file", file, "--view", "nope"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
-    assert!(stderr.contains("known: sun, lamp"), "{stderr}");
+    assert!(stderr.contains("known: sun, lamp, two suns"), "{stderr}");
+    // A view of two lights: setup takes the first and says so.
+    let out = gnomon_ok(&[
+        "setup",
+        "--scene-file",
+        file,
+        "--view",
+        "two suns",
+        "--json",
+    ]);
+    let two: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(two["maps"], sun["maps"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("has 2 lights; setup uses the first"));
     let out = gnomon(&[
         "setup",
         "--scene-file",
@@ -1746,7 +1770,7 @@ fn broken_scene_files_give_one_line_and_exit_code_2() {
             "[[object]]\nmesh = \"cube.off\"\nscale = \"two\"\n",
             3,
             "scale",
-            "invalid type",
+            "a scale is a positive number",
         ),
         (
             "[[object]]\nmesh = \"cube.off\"\nscale = -2\n",
@@ -1828,7 +1852,20 @@ fn scene_files_work_in_every_command() {
         ]);
         image::open(&path).unwrap().into_luma8()
     };
-    for view in ["sun", "lamp"] {
+    // Lit by either of two suns: less shadow than under the first alone.
+    let sun_shadow = mask("volumes", "sun")
+        .pixels()
+        .filter(|p| p.0[0] == 0)
+        .count();
+    let two_shadow = mask("volumes", "two suns")
+        .pixels()
+        .filter(|p| p.0[0] == 0)
+        .count();
+    assert!(
+        two_shadow * 4 < sun_shadow * 3,
+        "{two_shadow} shadowed pixels with two suns, {sun_shadow} with one"
+    );
+    for view in ["sun", "lamp", "two suns"] {
         let exact = mask("volumes", view);
         let map = mask("lispsm", view);
         let (mut judged, mut differ) = (0, 0);
@@ -1839,7 +1876,7 @@ fn scene_files_work_in_every_command() {
             }
         }
         let shadowed = exact.pixels().filter(|p| p.0[0] == 0).count();
-        assert!(shadowed > 500, "{view}: {shadowed} shadowed pixels");
+        assert!(shadowed > 100, "{view}: {shadowed} shadowed pixels");
         assert!(
             differ * 100 <= judged,
             "{view}: {differ} of {judged} pixels differ"
@@ -1862,7 +1899,7 @@ fn scene_files_work_in_every_command() {
         "--scene-file",
         file,
         "--views",
-        "sun,lamp",
+        "sun,lamp,two suns",
         "--techniques",
         "focused",
         "--size",
@@ -1964,7 +2001,10 @@ fn compare_and_bench_go_over_a_suite() {
     let index = std::fs::read_to_string(out.join("index.md")).unwrap();
     for scene in ["again", "two cubes"] {
         assert!(
-            index.contains(&format!("| [{scene}]({scene}/index.md) | 2 | focused |")),
+            index.contains(&format!(
+                "| [{scene}]({}/index.md) | 3 | focused |",
+                scene.replace(' ', "%20")
+            )),
             "{index}"
         );
         assert!(out.join(scene).join("report.json").is_file());
@@ -1990,7 +2030,14 @@ fn compare_and_bench_go_over_a_suite() {
         .collect();
     assert_eq!(
         views,
-        ["again/sun", "again/lamp", "two cubes/sun", "two cubes/lamp"]
+        [
+            "again/sun",
+            "again/lamp",
+            "again/two suns",
+            "two cubes/sun",
+            "two cubes/lamp",
+            "two cubes/two suns"
+        ]
     );
     std::fs::write(
         dir.join("broken.toml"),

@@ -26,6 +26,9 @@
 //! far = 400                   # optional (default 400)
 //! light_dir = [0.3, -1, 0.2]  # or spot = [px, py, pz, dx, dy, dz, half_angle, range]
 //! description = "..."         # optional
+//!
+//! [[view.light]]              # optional: more lights of the view above (up to 4 in all),
+//! spot = [0, 20, 0, 0, -1, 0, 30, 50]   # each with light_dir or spot
 //! ```
 //!
 //! An object is `world_from_object = translate * rotate_y * scale`. A mesh file used by
@@ -44,6 +47,9 @@ use crate::{Mesh, Shape};
 
 /// The largest scene file read (the meshes it names have their own limit).
 pub const MAX_SCENE_FILE_BYTES: u64 = 16 << 20;
+
+/// The most lights a view may have (what the renderer draws in one frame).
+pub const MAX_VIEW_LIGHTS: usize = 4;
 
 /// The largest coordinate, scale or distance a scene file may give (the core's range).
 const MAX_COORDINATE: f64 = 1e7;
@@ -165,6 +171,15 @@ struct RawView {
     far: Option<Spanned<f64>>,
     light_dir: Option<Spanned<[f64; 3]>>,
     spot: Option<Spanned<[f64; 8]>>,
+    light: Option<Vec<Spanned<RawLight>>>,
+}
+
+/// One of a view's `[[view.light]]` tables.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLight {
+    light_dir: Option<Spanned<[f64; 3]>>,
+    spot: Option<Spanned<[f64; 8]>>,
 }
 
 /// Errors at places in one file's text.
@@ -274,6 +289,39 @@ impl Located<'_> {
                 "a colour is three numbers from 0 to 1 (linear RGB)",
             ))
         }
+    }
+}
+
+impl Located<'_> {
+    /// The light given by `light_dir` or `spot` (`None` for neither; both is an error).
+    fn light(
+        &self,
+        light_dir: &Option<Spanned<[f64; 3]>>,
+        spot: &Option<Spanned<[f64; 8]>>,
+        view: &str,
+    ) -> Result<Option<ViewLight>, SceneFileError> {
+        Ok(match (light_dir, spot) {
+            (Some(d), None) => Some(ViewLight::Directional {
+                direction: self.vec3(d, "light_dir")?,
+            }),
+            (None, Some(s)) => {
+                let s = self.vector(s, "spot")?;
+                Some(ViewLight::Spot {
+                    position: DVec3::new(s[0], s[1], s[2]),
+                    direction: DVec3::new(s[3], s[4], s[5]),
+                    half_angle_degrees: s[6],
+                    range: s[7],
+                })
+            }
+            (Some(_), Some(s)) => {
+                return Err(self.at(
+                    s.span().start,
+                    "spot",
+                    format!("a light of view '{view}' gives both light_dir and spot; give one"),
+                ));
+            }
+            (None, None) => None,
+        })
     }
 }
 
@@ -487,34 +535,39 @@ impl SceneFile {
                 ),
                 None => Ok(default),
             };
-            let light = match (&view.light_dir, &view.spot) {
-                (Some(d), None) => ViewLight::Directional {
-                    direction: at.vec3(d, "light_dir")?,
-                },
-                (None, Some(s)) => {
-                    let s = at.vector(s, "spot")?;
-                    ViewLight::Spot {
-                        position: DVec3::new(s[0], s[1], s[2]),
-                        direction: DVec3::new(s[3], s[4], s[5]),
-                        half_angle_degrees: s[6],
-                        range: s[7],
+            let mut lights = Vec::new();
+            lights.extend(at.light(&view.light_dir, &view.spot, &name)?);
+            for table in view.light.iter().flatten() {
+                let light = table.get_ref();
+                match at.light(&light.light_dir, &light.spot, &name)? {
+                    Some(l) => lights.push(l),
+                    None => {
+                        return Err(at.at(
+                            table.span().start,
+                            "view.light",
+                            format!("a light of view '{name}' needs light_dir or spot"),
+                        ));
                     }
                 }
-                (Some(_), Some(s)) => {
-                    return Err(at.at(
-                        s.span().start,
-                        "spot",
-                        format!("view '{name}' gives both light_dir and spot; give one"),
-                    ));
-                }
-                (None, None) => {
-                    return Err(at.at(
-                        start,
-                        "view",
-                        format!("view '{name}' needs a light: light_dir or spot"),
-                    ));
-                }
-            };
+            }
+            if lights.is_empty() {
+                return Err(at.at(
+                    start,
+                    "view",
+                    format!("view '{name}' needs a light: light_dir, spot or [[view.light]]"),
+                ));
+            }
+            if lights.len() > MAX_VIEW_LIGHTS {
+                return Err(at.at(
+                    start,
+                    "view",
+                    format!(
+                        "view '{name}' has {} lights; the renderer draws at most {MAX_VIEW_LIGHTS}",
+                        lights.len()
+                    ),
+                ));
+            }
+            let light = lights.remove(0);
             let named = NamedView {
                 name: name.clone(),
                 description: view.description.clone().unwrap_or_default(),
@@ -536,11 +589,13 @@ impl SceneFile {
                 near: distance(&view.near, "near", defaults.near)?,
                 far: distance(&view.far, "far", 400.0)?,
                 light,
+                more_lights: lights,
             };
-            // The camera and light as the core checks them (eye at the target, up along the
+            // The camera and lights as the core checks them (eye at the target, up along the
             // view, near beyond far, a bad spot), at this view's line.
             named
-                .camera_and_light(16.0 / 9.0)
+                .camera(16.0 / 9.0)
+                .and_then(|_| named.lights())
                 .map_err(|e| at.at(start, "view", format!("view '{name}': {e}")))?;
             file.views.push(named);
         }
@@ -593,6 +648,17 @@ mod tests {
             ViewLight::Spot { range: 50.0, .. }
         ));
         assert_eq!(file.views[0].far, 400.0);
+        // Lights as [[view.light]] tables, after or instead of the view's own.
+        let file = parse(
+            "[ground]\nsize = 100\n[[view]]\nname = \"a\"\neye = [0, 10, 30]\ntarget = [0, 0, 0]\n\
+             [[view.light]]\nlight_dir = [0, -1, 0]\n[[view.light]]\n\
+             spot = [0, 20, 0, 0, -1, 0, 30, 50]\n",
+        )
+        .unwrap();
+        let view = &file.views[0];
+        assert!(matches!(view.light, ViewLight::Directional { .. }));
+        assert_eq!(view.more_lights.len(), 1);
+        assert_eq!(view.lights().unwrap().len(), 2);
     }
 
     /// Each broken file: the line and key named, one line of text.
@@ -656,6 +722,18 @@ mod tests {
                 "colour",
             ),
             ("name = \"x\"\n", 0, Some("object"), "no objects"),
+            (
+                "[ground]\nsize = 10\n[[view]]\nname = \"v\"\neye = [0, 1, 2]\ntarget = [0, 0, 0]\n[[view.light]]\nlight_dir = [0, 0, 0]\n",
+                3,
+                Some("view"),
+                "zero",
+            ),
+            (
+                "[ground]\nsize = 10\n[[view]]\nname = \"v\"\neye = [0, 1, 2]\ntarget = [0, 0, 0]\n[[view.light]]\nfov = 3\n",
+                8,
+                Some("fov"),
+                "unknown field",
+            ),
             ("[ground\nsize = 1\n", 1, None, ""),
             (
                 "[[object]]\nmesh = \"a.off\"\nscale = [1, 0, 1]\n",

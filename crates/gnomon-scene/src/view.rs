@@ -69,8 +69,10 @@ pub struct NamedView {
     pub near: f64,
     /// Far plane distance.
     pub far: f64,
-    /// The light.
+    /// The light (the view's main light: the one a command that takes one light uses).
     pub light: ViewLight,
+    /// More lights, drawn with the first where a command draws several.
+    pub more_lights: Vec<ViewLight>,
 }
 
 impl NamedView {
@@ -85,9 +87,17 @@ impl NamedView {
         Camera::look_at(self.eye, self.target, self.up, lens)
     }
 
-    /// The view's camera (for `aspect`) and its light.
+    /// The view's camera (for `aspect`) and its (main) light.
     pub fn camera_and_light(&self, aspect: f64) -> Result<(Camera, Light), SetupError> {
         Ok((self.camera(aspect)?, self.light.light()?))
+    }
+
+    /// Every light of the view, validated: the main light, then the others.
+    pub fn lights(&self) -> Result<Vec<Light>, SetupError> {
+        std::iter::once(&self.light)
+            .chain(&self.more_lights)
+            .map(ViewLight::light)
+            .collect()
     }
 }
 
@@ -106,6 +116,7 @@ impl From<&DemoView> for NamedView {
             light: ViewLight::Directional {
                 direction: DVec3::from_array(v.light_direction),
             },
+            more_lights: Vec::new(),
         }
     }
 }
@@ -130,6 +141,7 @@ pub fn mesh_views(height: f64) -> Vec<NamedView> {
         near: 0.05 * h,
         far: 20.0 * h,
         light: ViewLight::Directional { direction: light },
+        more_lights: Vec::new(),
     };
     let (eye, target) = (DVec3::new(1.4, 1.2, 2.0), DVec3::new(0.0, 0.3, 0.0));
     vec![
