@@ -875,8 +875,8 @@ impl SceneArgs {
                 },
             });
         };
-        let (loaded, notes) = gnomon_scene::Mesh::load_with_notes(path)
-            .map_err(|e| CliError::usage(e.to_string()))?;
+        let (parts, notes) =
+            gnomon_scene::Mesh::load_parts(path).map_err(|e| CliError::usage(e.to_string()))?;
         for note in notes {
             eprintln!("warning: {}: {note}", path.display());
         }
@@ -884,7 +884,7 @@ impl SceneArgs {
             .file_stem()
             .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
         Ok(LoadedScene {
-            scene: RenderScene::mesh_on_ground(&name, loaded, self.mesh.mesh_height)?,
+            scene: RenderScene::parts_on_ground(&name, parts, self.mesh.mesh_height)?,
             name,
             views: gnomon_scene::mesh_views(self.mesh.mesh_height),
             options: format!(

@@ -578,8 +578,7 @@ fn render_a_mesh_file_with_shadow_volumes() {
     // The same cube from a glTF file beside its buffer, under a mirroring and moving node:
     // placed on the slab it is the same cube, so it casts the same shadow (the winding under
     // a mirror is checked in gnomon-scene's tests).
-    let off_cube = gnomon_scene::Mesh::load(&cube).unwrap();
-    std::fs::write(dir.join("cube.bin"), gltf_buffer(&off_cube)).unwrap();
+    std::fs::write(dir.join("cube.bin"), gltf_cube_buffer()).unwrap();
     let gltf = dir.join("cube.gltf");
     std::fs::write(
         &gltf,
@@ -699,16 +698,37 @@ fn setup_reads_a_mesh_file() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// A mesh as a glTF buffer: its f32 positions (8 for a cube), then its u32 indices (36).
-fn gltf_buffer(mesh: &gnomon_scene::Mesh) -> Vec<u8> {
+/// The unit cube of [`write_off_cube`] as a glTF buffer: its 8 f32 positions, then its 36
+/// u32 indices (each quad as two triangles, counter-clockwise from outside).
+fn gltf_cube_buffer() -> Vec<u8> {
+    let corners = [
+        [0, 0, 0],
+        [1, 0, 0],
+        [1, 1, 0],
+        [0, 1, 0],
+        [0, 0, 1],
+        [1, 0, 1],
+        [1, 1, 1],
+        [0, 1, 1],
+    ];
+    let quads = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [2, 3, 7, 6],
+        [1, 2, 6, 5],
+        [0, 4, 7, 3],
+    ];
     let mut out = Vec::new();
-    for p in &mesh.positions {
-        for x in p.to_array() {
+    for c in corners {
+        for x in c {
             out.extend_from_slice(&(x as f32).to_le_bytes());
         }
     }
-    for i in &mesh.indices {
-        out.extend_from_slice(&i.to_le_bytes());
+    for q in quads {
+        for i in [0, 1, 2, 0, 2, 3] {
+            out.extend_from_slice(&(q[i] as u32).to_le_bytes());
+        }
     }
     out
 }

@@ -2,7 +2,7 @@ use std::ops::Range;
 
 use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
-use gnomon_scene::{Mesh, SceneFile, SceneLayout, Shape};
+use gnomon_scene::{Mesh, MeshPart, SceneFile, SceneLayout, Shape};
 
 use crate::RenderError;
 use crate::records::GpuInstance;
@@ -76,13 +76,38 @@ impl RenderScene {
     /// bounds centred over the origin, resting at y = 0 on a square slab ten times as wide as
     /// the mesh's largest side (the slab receives shadows, the mesh casts and receives).
     pub fn mesh_on_ground(name: &str, mesh: Mesh, height: f64) -> Result<Self, RenderError> {
+        Self::parts_on_ground(
+            name,
+            vec![MeshPart {
+                name: String::new(),
+                mesh,
+                color: None,
+            }],
+            height,
+        )
+    }
+
+    /// A mesh file's parts ([`Mesh::load_parts`]) standing on a ground slab as
+    /// [`RenderScene::mesh_on_ground`] places one mesh: each part its own instance (and box),
+    /// in its material's colour where it has one.
+    pub fn parts_on_ground(
+        name: &str,
+        parts: Vec<MeshPart>,
+        height: f64,
+    ) -> Result<Self, RenderError> {
         // The slab is ten times as wide as the mesh: keep it within the core's range.
         if !(height.is_finite() && height > 0.0 && height <= 1e7) {
             return Err(RenderError::Invalid(format!(
                 "the mesh's height must be a positive number up to 1e7, got {height}"
             )));
         }
-        let (lo, hi) = mesh.bounds();
+        let (lo, hi) =
+            parts
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), part| {
+                    let (a, b) = part.mesh.bounds();
+                    (lo.min(a), hi.max(b))
+                });
         let size = hi - lo;
         if !(size.y > 0.0 && size.is_finite()) {
             return Err(RenderError::Invalid(format!(
@@ -99,27 +124,33 @@ impl RenderScene {
             half_extents: DVec3::new(half, thickness, half),
         }
         .mesh();
-        Ok(Self {
-            meshes: vec![ground, mesh],
-            instances: vec![
-                Instance {
-                    name: "ground".into(),
-                    mesh: 0,
-                    world_from_object: DMat4::from_translation(DVec3::new(0.0, -thickness, 0.0)),
-                    casts: false,
-                    receives: true,
-                    color: palette("ground"),
+        let mut scene = Self {
+            meshes: vec![ground],
+            instances: vec![Instance {
+                name: "ground".into(),
+                mesh: 0,
+                world_from_object: DMat4::from_translation(DVec3::new(0.0, -thickness, 0.0)),
+                casts: false,
+                receives: true,
+                color: palette("ground"),
+            }],
+        };
+        for part in parts {
+            scene.meshes.push(part.mesh);
+            scene.instances.push(Instance {
+                name: if part.name.is_empty() {
+                    name.into()
+                } else {
+                    format!("{name} {}", part.name)
                 },
-                Instance {
-                    name: name.into(),
-                    mesh: 1,
-                    world_from_object,
-                    casts: true,
-                    receives: true,
-                    color: [0.75, 0.62, 0.45],
-                },
-            ],
-        })
+                mesh: scene.meshes.len() - 1,
+                world_from_object,
+                casts: true,
+                receives: true,
+                color: part.color.unwrap_or([0.75, 0.62, 0.45]),
+            });
+        }
+        Ok(scene)
     }
 
     /// The world bounds of an instance (its mesh's vertices transformed).

@@ -5,17 +5,18 @@ use std::path::{Path, PathBuf};
 use glam::{DMat4, DVec3};
 use gltf::mesh::Mode;
 
-use crate::load::{LoadError, MeshFormat, Polygons};
+use crate::load::{LoadError, MeshFormat, RawPart};
 
 /// Every triangle of the default scene (else the first, else every root node) of a glTF
-/// document in `bytes`, in world coordinates, as positions and triangles; primitives that
-/// are not triangle lists are skipped and named in `notes`. `base`: the folder buffer files
-/// are relative to (`None`: only buffers inside the file).
-pub(crate) fn triangles(
+/// document in `bytes`, in world coordinates, one part per material (coloured by its base
+/// colour factor); primitives that are not triangle lists are skipped and named in `notes`,
+/// as are alpha-masked materials whose constant alpha is below their cutoff (never drawn).
+/// `base`: the folder buffer files are relative to (`None`: only buffers inside the file).
+pub(crate) fn parts(
     bytes: &[u8],
     base: Option<&Path>,
     notes: &mut Vec<String>,
-) -> Result<Polygons, LoadError> {
+) -> Result<Vec<RawPart>, LoadError> {
     let parse_error = |message: String| LoadError::Parse {
         path: PathBuf::new(),
         format: MeshFormat::Gltf,
@@ -46,8 +47,7 @@ pub(crate) fn triangles(
     let mut out = Collector {
         visited: vec![false; document.nodes().len()],
         buffers: &buffers,
-        positions: Vec::new(),
-        triangles: Vec::new(),
+        parts: Vec::new(),
         notes,
         error: None,
     };
@@ -74,7 +74,23 @@ pub(crate) fn triangles(
     if let Some(message) = out.error {
         return Err(parse_error(message));
     }
-    Ok((out.positions, out.triangles))
+    if document
+        .materials()
+        .any(|m| m.pbr_metallic_roughness().base_color_texture().is_some())
+    {
+        out.notes.push(
+            "base colour textures are not read: parts take their material's base colour factor"
+                .into(),
+        );
+    }
+    if document
+        .materials()
+        .any(|m| m.alpha_mode() == gltf::material::AlphaMode::Blend)
+    {
+        out.notes
+            .push("blended (transparent) materials are drawn opaque and cast shadows".into());
+    }
+    Ok(out.parts.into_iter().map(|(_, p)| p).collect())
 }
 
 /// The names in the document's `extensionsRequired` (JSON or GLB); empty when there are none
@@ -102,8 +118,8 @@ struct Collector<'a> {
     /// shared child, refused (either could multiply the work without bound).
     visited: Vec<bool>,
     buffers: &'a [gltf::buffer::Data],
-    positions: Vec<DVec3>,
-    triangles: Vec<Vec<i64>>,
+    /// The parts by material index (`None`: the default material), in order of appearance.
+    parts: Vec<(Option<usize>, RawPart)>,
     notes: &'a mut Vec<String>,
     error: Option<String>,
 }
@@ -157,6 +173,23 @@ impl Collector<'_> {
             ));
             return;
         }
+        let material = primitive.material();
+        // An alpha-masked material cut entirely by its constant alpha is never drawn (its
+        // texture's alpha, if any, is not read: drawn opaque otherwise).
+        if material.alpha_mode() == gltf::material::AlphaMode::Mask
+            && material
+                .pbr_metallic_roughness()
+                .base_color_texture()
+                .is_none()
+            && material.pbr_metallic_roughness().base_color_factor()[3]
+                < material.alpha_cutoff().unwrap_or(0.5)
+        {
+            self.notes.push(format!(
+                "skipped a primitive of {}: its material's alpha is below its cutoff",
+                name()
+            ));
+            return;
+        }
         let reader = primitive.reader(|b| self.buffers.get(b.index()).map(|d| &d.0[..]));
         let Some(positions) = reader.read_positions() else {
             self.notes.push(format!(
@@ -165,12 +198,31 @@ impl Collector<'_> {
             ));
             return;
         };
-        let start = self.positions.len() as i64;
-        self.positions
+        let key = material.index();
+        let k = match self.parts.iter().position(|(m, _)| *m == key) {
+            Some(k) => k,
+            None => {
+                let [r, g, b, _] = material.pbr_metallic_roughness().base_color_factor();
+                self.parts.push((
+                    key,
+                    RawPart {
+                        name: key.map(|i| format!("material {i}")).unwrap_or_default(),
+                        positions: Vec::new(),
+                        polygons: Vec::new(),
+                        // The default material (no material given) is white.
+                        color: key.map(|_| [r, g, b].map(|v| v.clamp(0.0, 1.0))),
+                    },
+                ));
+                self.parts.len() - 1
+            }
+        };
+        let part = &mut self.parts[k].1;
+        let start = part.positions.len() as i64;
+        part.positions
             .extend(positions.map(|p| {
                 world.transform_point3(DVec3::new(p[0].into(), p[1].into(), p[2].into()))
             }));
-        let count = self.positions.len() as i64 - start;
+        let count = part.positions.len() as i64 - start;
         let indices: Vec<i64> = match reader.read_indices() {
             Some(indices) => indices.into_u32().map(i64::from).collect(),
             None => (0..count).collect(),
@@ -192,7 +244,7 @@ impl Collector<'_> {
                 return;
             }
             let (a, b, c) = (start + t[0], start + t[1], start + t[2]);
-            self.triangles.push(if mirrored {
+            self.parts[k].1.polygons.push(if mirrored {
                 vec![a, c, b]
             } else {
                 vec![a, b, c]
@@ -311,6 +363,46 @@ mod tests {
         let (lo, hi) = m.bounds();
         assert!((lo - DVec3::new(-22.0, 0.0, 0.0)).length() < 1e-9, "{lo}");
         assert!((hi - DVec3::new(22.0, 2.0, 2.0)).length() < 1e-9, "{hi}");
+    }
+
+    /// The two cubes, each node's mesh its own material: `second` is the second material.
+    fn with_materials(second: &str) -> Vec<crate::MeshPart> {
+        let doc = embedded(&format!(
+            r#", "materials": [{{"pbrMetallicRoughness": {{"baseColorFactor": [1, 0.5, 0, 1]}}}}, {second}]"#
+        ));
+        let (start, end) = (
+            doc.find("\"meshes\"").unwrap(),
+            doc.find("\"nodes\"").unwrap(),
+        );
+        let doc = format!(
+            r#"{}"meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1, "material": 0}}]}},
+                          {{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1, "material": 1}}]}}],
+            {}"#,
+            &doc[..start],
+            &doc[end..]
+        )
+        .replacen(r#""mesh": 0, "translation": [-10"#, r#""mesh": 1, "translation": [-10"#, 1);
+        let (parts, notes) = Mesh::parse_parts(doc.as_bytes(), MeshFormat::Gltf, None).unwrap();
+        assert!(notes.len() <= 1, "{notes:?}");
+        parts
+    }
+
+    #[test]
+    fn materials_make_parts_with_their_base_colour() {
+        let parts =
+            with_materials(r#"{"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 1, 1]}}"#);
+        assert_eq!(parts.len(), 2);
+        assert_eq!(parts[0].color, Some([1.0, 0.5, 0.0]));
+        assert_eq!(parts[1].color, Some([0.0, 0.0, 1.0]));
+        assert!(parts.iter().all(|p| p.mesh.triangle_count() == 12));
+        // The first cube stands at x = 20 (scaled by 2 after its move), the mirrored one at -20.
+        assert!(parts[0].mesh.bounds().0.x > 19.0 && parts[1].mesh.bounds().1.x < -19.0);
+        // An alpha-masked material whose alpha is below its cutoff is never drawn.
+        let masked = with_materials(
+            r#"{"alphaMode": "MASK", "alphaCutoff": 0.5, "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 1, 0.2]}}"#,
+        );
+        assert_eq!(masked.len(), 1);
+        assert_eq!(masked[0].color, Some([1.0, 0.5, 0.0]));
     }
 
     #[test]

@@ -22,7 +22,7 @@ use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
 
 pub use demo::{DEMO_VIEWS, DemoView, GROUND_HALF_SIZE, demo};
-pub use load::{LoadError, MAX_MESH_BYTES, MeshFormat};
+pub use load::{LoadError, MAX_MESH_BYTES, MeshFormat, MeshPart};
 pub use mesh::{Mesh, obj_text};
 pub use scene_file::{FileObject, MAX_SCENE_FILE_BYTES, SceneFile, SceneFileError};
 pub use view::{NamedView, ViewLight, demo_views, mesh_views};

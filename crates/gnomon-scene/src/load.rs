@@ -1,8 +1,9 @@
 //! Loading triangle meshes from files: OFF (through `off-rs`), Wavefront OBJ (`tobj`), PLY,
 //! ASCII or binary (`ply-rs-bw`), glTF 2.0, `.gltf` with its buffers or `.glb` (`gltf`), and
 //! STL, ASCII or binary (`stl_io`), and Terragen heightfields (`.ter`, [`crate::terragen`]).
-//! Polygons are split into fans of triangles; vertex normals are the area-weighted average
-//! of the triangles around each vertex (files' own normals are not read).
+//! Polygons are split into fans of triangles; vertex normals are the angle-weighted average
+//! of the triangles around each vertex that meet it at less than a crease angle (files' own
+//! normals are not read).
 //!
 //! glTF: the default scene (else the first, else every root node) is flattened into one mesh
 //! in its world frame: each node's transform composed down the hierarchy, every triangle
@@ -10,7 +11,8 @@
 //! (negative determinant) so that faces stay counter-clockwise from outside. Primitives of
 //! other modes (points, lines, strips and fans) are skipped and named in the load's notes; a
 //! file that requires an extension gnomon does not read (`KHR_draco_mesh_compression`, ...)
-//! is refused. Materials are not read.
+//! is refused. [`Mesh::load_parts`] keeps one part per material (glTF: its base colour
+//! factor; OBJ: its `Kd`); textures are not read.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -195,6 +197,67 @@ impl std::error::Error for LoadError {
     }
 }
 
+/// One part of a mesh file: the triangles of one material (OBJ, glTF), or the whole file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshPart {
+    /// The material's name (empty for a file without materials).
+    pub name: String,
+    /// Its triangles.
+    pub mesh: Mesh,
+    /// The material's colour (linear RGB), where the file gives one.
+    pub color: Option<[f32; 3]>,
+}
+
+/// A part as parsed, before its normals.
+pub(crate) struct RawPart {
+    pub name: String,
+    pub positions: Vec<DVec3>,
+    pub polygons: Vec<Vec<i64>>,
+    pub color: Option<[f32; 3]>,
+}
+
+impl RawPart {
+    fn whole((positions, polygons): Polygons) -> Self {
+        Self {
+            name: String::new(),
+            positions,
+            polygons,
+            color: None,
+        }
+    }
+}
+
+/// A mesh file's bytes (a regular file, at most [`MAX_MESH_BYTES`]), its format and folder.
+fn read_mesh_file(path: &Path) -> Result<(Vec<u8>, MeshFormat, Option<&Path>), LoadError> {
+    let format = MeshFormat::from_path(path).ok_or_else(|| LoadError::UnknownFormat {
+        path: path.to_path_buf(),
+    })?;
+    let io = |source| LoadError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    // A regular file, read up to the limit (a link to /dev/zero reports size 0 and never
+    // ends; a size check alone would pass it).
+    if !std::fs::metadata(path).map_err(io)?.is_file() {
+        return Err(LoadError::NotAFile {
+            path: path.to_path_buf(),
+        });
+    }
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(std::fs::File::open(path).map_err(io)?, MAX_MESH_BYTES + 1),
+        &mut bytes,
+    )
+    .map_err(io)?;
+    if bytes.len() as u64 > MAX_MESH_BYTES {
+        return Err(LoadError::TooLarge {
+            path: path.to_path_buf(),
+        });
+    }
+    let base = path.parent().filter(|p| !p.as_os_str().is_empty());
+    Ok((bytes, format, base))
+}
+
 impl Mesh {
     /// Loads a mesh file, its format chosen by the extension (see [`MeshFormat`]).
     pub fn load(path: &Path) -> Result<Mesh, LoadError> {
@@ -204,32 +267,7 @@ impl Mesh {
     /// [`Mesh::load`], and what the load left out (a glTF's primitives that are not
     /// triangles), one line each, for the caller to show as warnings.
     pub fn load_with_notes(path: &Path) -> Result<(Mesh, Vec<String>), LoadError> {
-        let format = MeshFormat::from_path(path).ok_or_else(|| LoadError::UnknownFormat {
-            path: path.to_path_buf(),
-        })?;
-        let io = |source| LoadError::Io {
-            path: path.to_path_buf(),
-            source,
-        };
-        // A regular file, read up to the limit (a link to /dev/zero reports size 0 and never
-        // ends; a size check alone would pass it).
-        if !std::fs::metadata(path).map_err(io)?.is_file() {
-            return Err(LoadError::NotAFile {
-                path: path.to_path_buf(),
-            });
-        }
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(
-            &mut std::io::Read::take(std::fs::File::open(path).map_err(io)?, MAX_MESH_BYTES + 1),
-            &mut bytes,
-        )
-        .map_err(io)?;
-        if bytes.len() as u64 > MAX_MESH_BYTES {
-            return Err(LoadError::TooLarge {
-                path: path.to_path_buf(),
-            });
-        }
-        let base = path.parent().filter(|p| !p.as_os_str().is_empty());
+        let (bytes, format, base) = read_mesh_file(path)?;
         Self::parse_in(&bytes, format, Some(base.unwrap_or(Path::new(".")))).map_err(|e| e.at(path))
     }
 
@@ -239,27 +277,80 @@ impl Mesh {
         Self::parse_in(bytes, format, None).map(|(mesh, _)| mesh)
     }
 
-    /// [`Mesh::parse`] with the folder a glTF's buffer files are relative to, and the notes.
+    /// [`Mesh::parse`] with the folder a glTF's buffer files (and an OBJ's material
+    /// libraries) are relative to, and the notes: the file's parts, merged.
     fn parse_in(
         bytes: &[u8],
         format: MeshFormat,
         base: Option<&Path>,
     ) -> Result<(Mesh, Vec<String>), LoadError> {
+        let (parts, notes) = Self::parse_parts(bytes, format, base)?;
+        let meshes: Vec<Mesh> = parts.into_iter().map(|p| p.mesh).collect();
+        Ok((Mesh::merged(&meshes), notes))
+    }
+
+    /// A file's contents as its parts (see [`Mesh::load_parts`]).
+    pub(crate) fn parse_parts(
+        bytes: &[u8],
+        format: MeshFormat,
+        base: Option<&Path>,
+    ) -> Result<(Vec<MeshPart>, Vec<String>), LoadError> {
         let parse_error = |message: String| LoadError::Parse {
             path: PathBuf::new(),
             format,
             message,
         };
         let mut notes = Vec::new();
-        let (positions, faces) = match format {
-            MeshFormat::Off => parse_off(bytes).map_err(parse_error)?,
-            MeshFormat::Obj => parse_obj(bytes).map_err(parse_error)?,
-            MeshFormat::Ply => parse_ply(bytes).map_err(parse_error)?,
-            MeshFormat::Gltf => crate::gltf::triangles(bytes, base, &mut notes)?,
-            MeshFormat::Stl => parse_stl(bytes).map_err(parse_error)?,
-            MeshFormat::Ter => crate::terragen::parse_ter(bytes).map_err(parse_error)?,
+        let one = |polygons: Polygons| vec![RawPart::whole(polygons)];
+        let raw = match format {
+            MeshFormat::Off => one(parse_off(bytes).map_err(parse_error)?),
+            MeshFormat::Obj => parse_obj(bytes, base, &mut notes).map_err(parse_error)?,
+            MeshFormat::Ply => one(parse_ply(bytes).map_err(parse_error)?),
+            MeshFormat::Gltf => crate::gltf::parts(bytes, base, &mut notes)?,
+            MeshFormat::Stl => one(parse_stl(bytes).map_err(parse_error)?),
+            MeshFormat::Ter => one(crate::terragen::parse_ter(bytes).map_err(parse_error)?),
         };
-        Ok((Self::from_polygons(positions, &faces)?, notes))
+        let mut parts = Vec::new();
+        for part in raw {
+            match Self::from_polygons(part.positions, &part.polygons) {
+                Ok(mesh) => parts.push(MeshPart {
+                    name: part.name,
+                    mesh,
+                    color: part.color,
+                }),
+                // A part without triangles (an OBJ group of points) is left out; a file
+                // without any is refused below.
+                Err(LoadError::NoTriangles { .. }) => {}
+                Err(e) => return Err(e),
+            }
+        }
+        if parts.is_empty() {
+            return Err(LoadError::NoTriangles {
+                path: PathBuf::new(),
+            });
+        }
+        Ok((parts, notes))
+    }
+
+    /// One mesh of several: their vertices and triangles one after another.
+    pub fn merged(meshes: &[Mesh]) -> Mesh {
+        let mut out = Mesh::default();
+        for m in meshes {
+            let base = out.positions.len() as u32;
+            out.positions.extend_from_slice(&m.positions);
+            out.normals.extend_from_slice(&m.normals);
+            out.indices.extend(m.indices.iter().map(|i| i + base));
+        }
+        out
+    }
+
+    /// Loads a mesh file as its parts: one per material of an OBJ (with its `Kd` colour from
+    /// the material library beside it) or of a glTF (with its base colour factor), one for
+    /// the other formats. [`Mesh::load`] is these parts merged.
+    pub fn load_parts(path: &Path) -> Result<(Vec<MeshPart>, Vec<String>), LoadError> {
+        let (bytes, format, base) = read_mesh_file(path)?;
+        Self::parse_parts(&bytes, format, Some(base.unwrap_or(Path::new("."))))
+            .map_err(|e| e.at(path))
     }
 
     /// A mesh from positions and polygons (vertex indices, counter-clockwise seen from
@@ -396,6 +487,7 @@ fn creased(positions: &[DVec3], indices: &[u32]) -> Mesh {
     mesh
 }
 
+/// Positions and polygons (vertex indices).
 pub(crate) type Polygons = (Vec<DVec3>, Vec<Vec<i64>>);
 
 /// The OFF header's vertex and face counts against the lines that follow it, so that a
@@ -463,7 +555,13 @@ pub(crate) fn parse_off(bytes: &[u8]) -> Result<Polygons, String> {
     ))
 }
 
-fn parse_obj(bytes: &[u8]) -> Result<Polygons, String> {
+/// An OBJ's triangles, one part per material (in the order the materials first appear),
+/// coloured by the material's `Kd` where its library (beside the file, `base`) has it.
+fn parse_obj(
+    bytes: &[u8],
+    base: Option<&Path>,
+    notes: &mut Vec<String>,
+) -> Result<Vec<RawPart>, String> {
     let options = tobj::LoadOptions {
         triangulate: true,
         ignore_points: true,
@@ -471,23 +569,54 @@ fn parse_obj(bytes: &[u8]) -> Result<Polygons, String> {
         ..Default::default()
     };
     let mut reader = std::io::BufReader::new(bytes);
-    // Materials are not needed: every material library loads as empty.
-    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
-        Ok((Vec::new(), Default::default()))
+    let missing = std::cell::RefCell::new(Vec::new());
+    let (models, materials) = tobj::load_obj_buf(&mut reader, &options, |library| match base {
+        Some(base) => tobj::load_mtl(base.join(library)).or_else(|_| {
+            missing.borrow_mut().push(library.display().to_string());
+            Ok((Vec::new(), Default::default()))
+        }),
+        None => Ok((Vec::new(), Default::default())),
     })
     .map_err(|e| e.to_string())?;
-    let mut positions = Vec::new();
-    let mut faces = Vec::new();
+    for library in missing.into_inner() {
+        notes.push(format!(
+            "material library {library} not found: drawn without its colours"
+        ));
+    }
+    let materials = materials.unwrap_or_default();
+    // Parts by material id (None: no material).
+    let mut parts: Vec<(Option<usize>, RawPart)> = Vec::new();
     for model in models {
-        let base = positions.len() as i64;
-        positions.extend(
+        let id = model.mesh.material_id.filter(|&i| i < materials.len());
+        let k = match parts.iter().position(|(m, _)| *m == id) {
+            Some(k) => k,
+            None => {
+                let material = id.map(|i| &materials[i]);
+                parts.push((
+                    id,
+                    RawPart {
+                        name: material.map_or(String::new(), |m| m.name.clone()),
+                        positions: Vec::new(),
+                        polygons: Vec::new(),
+                        color: material
+                            .and_then(|m| m.diffuse)
+                            .filter(|c| c.iter().all(|v| v.is_finite()))
+                            .map(|c| c.map(|v| v.clamp(0.0, 1.0))),
+                    },
+                ));
+                parts.len() - 1
+            }
+        };
+        let part = &mut parts[k].1;
+        let base = part.positions.len() as i64;
+        part.positions.extend(
             model
                 .mesh
                 .positions
                 .chunks_exact(3)
                 .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)),
         );
-        faces.extend(
+        part.polygons.extend(
             model
                 .mesh
                 .indices
@@ -495,7 +624,7 @@ fn parse_obj(bytes: &[u8]) -> Result<Polygons, String> {
                 .map(|t| t.iter().map(|&i| base + i as i64).collect()),
         );
     }
-    Ok((positions, faces))
+    Ok(parts.into_iter().map(|(_, p)| p).collect())
 }
 
 fn parse_ply(bytes: &[u8]) -> Result<Polygons, String> {
@@ -709,6 +838,41 @@ pub(crate) mod tests {
         for m in &meshes[1..] {
             assert_eq!(triangles(m), triangles(&meshes[0]));
         }
+    }
+
+    #[test]
+    fn obj_materials_make_parts_with_their_colour() {
+        let dir = std::env::temp_dir().join(format!("gnomon-obj-mtl-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("two.mtl"),
+            "newmtl red\nKd 0.8 0.1 0.1\nnewmtl grey\nKd 0.5 0.5 0.5\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("two.obj"),
+            "mtllib two.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 0 0\nv 6 0 0\nv 5 1 0\n\
+             usemtl red\nf 1 2 3\nusemtl grey\nf 4 5 6\nusemtl red\nf 1 3 2\n",
+        )
+        .unwrap();
+        let (parts, notes) = Mesh::load_parts(&dir.join("two.obj")).unwrap();
+        assert!(notes.is_empty(), "{notes:?}");
+        let names: Vec<&str> = parts.iter().map(|p| p.name.as_str()).collect();
+        assert_eq!(names, ["red", "grey"]);
+        assert_eq!(parts[0].color, Some([0.8, 0.1, 0.1]));
+        assert_eq!(parts[0].mesh.triangle_count(), 2);
+        assert_eq!(parts[1].mesh.triangle_count(), 1);
+        // Merged, as Mesh::load gives it: every triangle.
+        assert_eq!(
+            Mesh::load(&dir.join("two.obj")).unwrap().triangle_count(),
+            3
+        );
+        // Without its library: one part per material still, no colours, and a note.
+        std::fs::remove_file(dir.join("two.mtl")).unwrap();
+        let (parts, notes) = Mesh::load_parts(&dir.join("two.obj")).unwrap();
+        assert!(parts.iter().all(|p| p.color.is_none()));
+        assert!(notes[0].contains("two.mtl not found"), "{notes:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

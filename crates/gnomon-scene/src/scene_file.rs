@@ -88,6 +88,15 @@ pub struct FileObject {
     pub color: Option<[f32; 3]>,
 }
 
+/// One mesh a scene file's object places: its index in [`SceneFile::meshes`], its label
+/// within the file (its material, its connected part), and its material's colour.
+#[derive(Debug, Clone)]
+struct LoadedPart {
+    mesh: usize,
+    label: String,
+    color: Option<[f32; 3]>,
+}
+
 /// A scene file that cannot be used: one line, `FILE:LINE: key 'KEY': what is wrong`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneFileError {
@@ -406,8 +415,9 @@ impl SceneFile {
             });
         }
         // Each distinct mesh file once: (resolved path, mesh index).
-        // Each distinct (mesh file, split) once: its meshes' indices.
-        let mut loaded: Vec<(PathBuf, bool, Vec<usize>)> = Vec::new();
+        // Each distinct (mesh file, split) once: its meshes (index, name within the file,
+        // material colour).
+        let mut loaded: Vec<(PathBuf, bool, Vec<LoadedPart>)> = Vec::new();
         for object in &raw.object {
             let object = object.get_ref();
             let mesh_start = object.mesh.span().start;
@@ -471,17 +481,41 @@ impl SceneFile {
             {
                 Some((_, _, k)) => k.clone(),
                 None => {
-                    let (mesh, notes) = Mesh::load_with_notes(&mesh_path)
+                    let (parts, notes) = Mesh::load_parts(&mesh_path)
                         .map_err(|e| at.at(mesh_start, "mesh", e.to_string()))?;
                     file.notes.extend(
                         notes
                             .into_iter()
                             .map(|n| format!("{}: {n}", mesh_path.display())),
                     );
-                    let parts = if split { mesh.components() } else { vec![mesh] };
-                    let first = file.meshes.len();
-                    file.meshes.extend(parts);
-                    let k: Vec<usize> = (first..file.meshes.len()).collect();
+                    let several = parts.len() > 1;
+                    let mut k = Vec::new();
+                    for part in parts {
+                        let label = if several {
+                            part.name.clone()
+                        } else {
+                            String::new()
+                        };
+                        let pieces = if split {
+                            part.mesh.components()
+                        } else {
+                            vec![part.mesh]
+                        };
+                        let count = pieces.len();
+                        for (j, piece) in pieces.into_iter().enumerate() {
+                            file.meshes.push(piece);
+                            let label = match (label.is_empty(), split && count > 0) {
+                                (true, true) => format!("#{j}"),
+                                (false, true) => format!("{label} #{j}"),
+                                (_, false) => label.clone(),
+                            };
+                            k.push(LoadedPart {
+                                mesh: file.meshes.len() - 1,
+                                label,
+                                color: part.color,
+                            });
+                        }
+                    }
                     loaded.push((mesh_path.clone(), split, k.clone()));
                     k
                 }
@@ -496,18 +530,18 @@ impl SceneFile {
                 DQuat::from_rotation_y(angle.to_radians()),
                 translate,
             );
-            for (part, &mesh) in meshes.iter().enumerate() {
+            for part in &meshes {
                 file.objects.push(FileObject {
-                    name: if split {
-                        format!("{name} #{part}")
-                    } else {
+                    name: if part.label.is_empty() {
                         name.clone()
+                    } else {
+                        format!("{name} {}", part.label)
                     },
-                    mesh,
+                    mesh: part.mesh,
                     world_from_object,
                     casts: object.casts.unwrap_or(true),
                     receives: object.receives.unwrap_or(true),
-                    color,
+                    color: color.or(part.color),
                 });
             }
         }

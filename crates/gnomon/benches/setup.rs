@@ -1,5 +1,6 @@
 //! Setup time with 10, 100 and 1000 caster boxes on a ground slab: boxes that only cast
-//! (`_casters_only`) and boxes that cast and receive (the rest).
+//! (`_casters_only`) and boxes that cast and receive (the rest); and `scale/`: 10^3, 10^4 and
+//! 10^5 boxes.
 //!
 //! `cargo bench -p gnomon --bench setup`
 
@@ -217,6 +218,40 @@ fn bench(c: &mut Criterion) {
         });
     }
     group.finish();
+    // Scale: the real-scene issue's figures, 10^3 to 10^5 boxes that cast and receive (today
+    // linear in the boxes: no spatial index yet).
+    let mut scale = c.benchmark_group("scale");
+    scale.sample_size(10);
+    let cascades = Cascades::default();
+    for n in [1_000usize, 10_000, 100_000] {
+        let scene = city(n, true);
+        let samples = ViewSamples::new(&camera, &sun, &scene);
+        scale.bench_with_input(
+            BenchmarkId::new("focused_directional", n),
+            &scene,
+            |b, s| {
+                b.iter(|| compute_setup(&Focused, black_box(&camera), &sun, s, settings).unwrap())
+            },
+        );
+        scale.bench_with_input(
+            BenchmarkId::new("cascades_4_lispsm_given_samples", n),
+            &scene,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup_with_samples(
+                        &cascades,
+                        black_box(&camera),
+                        &sun,
+                        s,
+                        settings,
+                        &samples,
+                    )
+                    .unwrap()
+                })
+            },
+        );
+    }
+    scale.finish();
 }
 
 criterion_group! {
