@@ -365,6 +365,67 @@ mod tests {
         assert!((hi - DVec3::new(22.0, 2.0, 2.0)).length() < 1e-9, "{hi}");
     }
 
+    /// The cube (an embedded buffer) under the nodes `nodes`, the scene's roots `roots`.
+    fn cube_document(nodes: &str, roots: &str) -> String {
+        let buffer = cube_buffer();
+        format!(
+            r#"{{"asset": {{"version": "2.0"}},
+            "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}],
+            "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 96}},
+                            {{"buffer": 0, "byteOffset": 96, "byteLength": 144}}],
+            "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3",
+                            "min": [0, 0, 0], "max": [1, 1, 1]}},
+                          {{"bufferView": 1, "componentType": 5125, "count": 36, "type": "SCALAR"}}],
+            "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}}],
+            "nodes": [{nodes}], "scenes": [{{"nodes": [{roots}]}}], "scene": 0}}"#,
+            buffer.len(),
+            base64(&buffer)
+        )
+    }
+
+    #[test]
+    fn the_cube_reads_as_the_off_files_cube() {
+        let gltf = Mesh::parse(
+            cube_document(r#"{"mesh": 0}"#, "0").as_bytes(),
+            MeshFormat::Gltf,
+        )
+        .unwrap();
+        let off = Mesh::parse(CUBE_OFF.as_bytes(), MeshFormat::Off).unwrap();
+        assert_eq!(
+            crate::load::tests::sorted_triangles(&gltf),
+            crate::load::tests::sorted_triangles(&off)
+        );
+    }
+
+    /// A rotated node inside a moved and scaled one: the cube's corners land where the
+    /// transforms, composed by hand, put them.
+    #[test]
+    fn a_nested_rotated_scaled_node_lands_where_computed_by_hand() {
+        // Child: 90 degrees about y (x goes to -z), then moved by (0, 0, 1); parent: scaled by
+        // 2, then moved by (1, 2, 3).
+        let doc = cube_document(
+            r#"{"children": [1], "translation": [1, 2, 3], "scale": [2, 2, 2]},
+               {"mesh": 0, "rotation": [0, 0.70710678, 0, 0.70710678], "translation": [0, 0, 1]}"#,
+            "0",
+        );
+        let m = Mesh::parse(doc.as_bytes(), MeshFormat::Gltf).unwrap();
+        for (corner, expected) in [
+            (DVec3::new(1.0, 0.0, 0.0), DVec3::new(1.0, 2.0, 3.0)),
+            (DVec3::new(0.0, 0.0, 0.0), DVec3::new(1.0, 2.0, 5.0)),
+            (DVec3::new(1.0, 1.0, 1.0), DVec3::new(3.0, 4.0, 3.0)),
+        ] {
+            assert!(
+                m.positions.iter().any(|p| (*p - expected).length() < 1e-6),
+                "corner {corner} should land at {expected}"
+            );
+        }
+        let (lo, hi) = m.bounds();
+        assert!((lo - DVec3::new(1.0, 2.0, 3.0)).length() < 1e-6, "{lo}");
+        assert!((hi - DVec3::new(3.0, 4.0, 5.0)).length() < 1e-6, "{hi}");
+        // Rotation keeps the winding: outward, volume 2^3.
+        assert!((volume(&m) - 8.0).abs() < 1e-5, "volume {}", volume(&m));
+    }
+
     /// The two cubes, each node's mesh its own material: `second` is the second material.
     fn with_materials(second: &str) -> Vec<crate::MeshPart> {
         let doc = embedded(&format!(

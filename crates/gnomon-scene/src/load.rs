@@ -780,6 +780,28 @@ pub(crate) mod tests {
         out + "endsolid cube\n"
     }
 
+    /// A mesh's triangles as text (each corner's position and normal), each triangle started
+    /// at its smallest corner, sorted: equal for meshes that differ only in vertex order.
+    pub(crate) fn sorted_triangles(m: &Mesh) -> Vec<String> {
+        let mut all: Vec<String> = m
+            .indices
+            .chunks_exact(3)
+            .map(|t| {
+                let corners: Vec<String> = t
+                    .iter()
+                    .map(|&i| format!("{} {}", m.positions[i as usize], m.normals[i as usize]))
+                    .collect();
+                let first = (0..3).min_by_key(|&k| &corners[k]).unwrap();
+                (0..3)
+                    .map(|k| corners[(first + k) % 3].clone())
+                    .collect::<Vec<_>>()
+                    .join(" | ")
+            })
+            .collect();
+        all.sort();
+        all
+    }
+
     /// Signed volume: 1 for the unit cube wound outward.
     pub(crate) fn volume(m: &Mesh) -> f64 {
         m.indices
@@ -816,27 +838,8 @@ pub(crate) mod tests {
             }
         }
         // The same triangles with the same normals (the formats order vertices differently).
-        let triangles = |m: &Mesh| {
-            let mut all: Vec<String> = m
-                .indices
-                .chunks_exact(3)
-                .map(|t| {
-                    let corners: Vec<String> = t
-                        .iter()
-                        .map(|&i| format!("{} {}", m.positions[i as usize], m.normals[i as usize]))
-                        .collect();
-                    let first = (0..3).min_by_key(|&k| &corners[k]).unwrap();
-                    (0..3)
-                        .map(|k| corners[(first + k) % 3].clone())
-                        .collect::<Vec<_>>()
-                        .join(" | ")
-                })
-                .collect();
-            all.sort();
-            all
-        };
         for m in &meshes[1..] {
-            assert_eq!(triangles(m), triangles(&meshes[0]));
+            assert_eq!(sorted_triangles(m), sorted_triangles(&meshes[0]));
         }
     }
 
