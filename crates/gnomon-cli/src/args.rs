@@ -173,6 +173,15 @@ impl LightArgs {
     }
 }
 
+/// A suite: every scene file of a folder, for the commands that go over many scenes.
+#[derive(Debug, Clone, Args)]
+pub struct SuiteArgs {
+    /// Go over every scene file (`*.toml`) in this folder and all its views instead of one
+    /// scene (scripts/fetch-suite.sh fetches assets/suite's models).
+    #[arg(long, conflicts_with_all = ["scene_file", "mesh"])]
+    pub suite: Option<PathBuf>,
+}
+
 /// Which of the scene's named views a command goes over.
 #[derive(Debug, Clone, Args)]
 pub struct ViewListArgs {

@@ -3,7 +3,6 @@
 //! alike), with each technique's ratio to a baseline (the focused shadow map unless
 //! `--baseline` names another), view by view and on average over the views.
 
-use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
@@ -12,7 +11,7 @@ use gnomon_render::{RenderSettings, Timings};
 use serde_json::json;
 
 use crate::CliError;
-use crate::args::{SceneArgs, TechniqueParams, ViewListArgs, timed_setup};
+use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs, timed_setup};
 use crate::names::Drawn;
 use crate::render::{open_renderer, parse_size};
 
@@ -21,10 +20,10 @@ use crate::render::{open_renderer, parse_size};
 pub struct BenchArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Time every view of every scene file (`*.toml`) in this folder, views named
-    /// SCENE/VIEW (scripts/fetch-suite.sh fetches assets/suite's models).
-    #[arg(long, conflicts_with_all = ["scene_file", "mesh"])]
-    pub suite: Option<PathBuf>,
+    // With --suite: a report per scene (compare: a folder of its name under --out; bench:
+    // views named SCENE/VIEW) and a summary over the suite.
+    #[command(flatten)]
+    pub suite: SuiteArgs,
     #[command(flatten)]
     pub views: ViewListArgs,
     /// What to time, comma-separated: shadow-map techniques and compare's rows (uniform,
@@ -241,7 +240,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         return Err(CliError::usage("--frames must be at least 1"));
     }
     // The scenes: the one given, or every scene file of --suite (all loaded before any work).
-    let scenes: Vec<(String, crate::args::LoadedScene)> = match &args.suite {
+    let scenes: Vec<(String, crate::args::LoadedScene)> = match &args.suite.suite {
         None => vec![(String::new(), args.scene.load()?)],
         Some(folder) => {
             if args.views.views.iter().any(|v| v.trim() != "all") {

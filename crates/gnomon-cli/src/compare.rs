@@ -14,7 +14,7 @@ use gnomon_render::{
 use serde_json::{Value, json};
 
 use crate::args::render_command;
-use crate::args::{SceneArgs, TechniqueParams, ViewListArgs, timed_setup};
+use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs, timed_setup};
 use crate::render::{open_renderer, parse_size, write_png, write_text};
 use crate::{CliError, heatmap};
 
@@ -25,11 +25,10 @@ const MAX_COMPARE_SIZE: u32 = 4096;
 pub struct CompareArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Compare every scene file (`*.toml`) in this folder over all its views, a report per
-    /// scene in a folder of its name under --out and a summary over the suite in
-    /// `index.md` (scripts/fetch-suite.sh fetches assets/suite's models).
-    #[arg(long, conflicts_with_all = ["scene_file", "mesh"])]
-    pub suite: Option<PathBuf>,
+    // With --suite: a report per scene (compare: a folder of its name under --out; bench:
+    // views named SCENE/VIEW) and a summary over the suite.
+    #[command(flatten)]
+    pub suite: SuiteArgs,
     #[command(flatten)]
     pub views: ViewListArgs,
     /// The shadow-map techniques: `all` or names, comma-separated (the exact shadow volumes
@@ -121,7 +120,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
             args.size.0, args.size.1
         )));
     }
-    let Some(folder) = &args.suite else {
+    let Some(folder) = &args.suite.suite else {
         let loaded = args.scene.load()?;
         compare_scene(args, &techniques, &loaded, &args.out, started)?;
         crate::say!("wrote {}", args.out.join("index.md").display());
