@@ -872,11 +872,7 @@ impl SceneArgs {
             return Ok(LoadedScene {
                 name: layout.name.clone(),
                 scene: RenderScene::from_layout(&layout),
-                views: if self.scene == "demo" {
-                    gnomon_scene::demo_views()
-                } else {
-                    Vec::new()
-                },
+                views: gnomon_scene::views_by_name(&self.scene),
                 options: if self.scene == "demo" {
                     String::new()
                 } else {

@@ -2079,3 +2079,19 @@ fn compare_and_bench_go_over_a_suite() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// The built-in city: 10^4 buildings, its named views, and a setup over thousands of casters.
+#[test]
+fn the_city_scene_has_many_casters_and_its_views() {
+    let out = gnomon_ok(&["setup", "--scene", "city", "--view", "avenue", "--json"]);
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let casters = json["diagnostics"]["relevant_casters"].as_u64().unwrap();
+    assert!(casters > 1000, "{json}");
+    let out = gnomon(&["setup", "--scene", "city", "--view", "street"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr.contains("known: overview, avenue, dueling_frusta"),
+        "{stderr}"
+    );
+}

@@ -10,6 +10,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+mod city;
 mod demo;
 mod gltf;
 mod load;
@@ -21,6 +22,7 @@ mod view;
 use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
 
+pub use city::{CITY_SIDE, city, city_views};
 pub use demo::{DEMO_VIEWS, DemoView, GROUND_HALF_SIZE, demo};
 pub use load::{LoadError, MAX_MESH_BYTES, MeshFormat, MeshPart};
 pub use mesh::{Mesh, obj_text};
@@ -177,12 +179,22 @@ impl SceneLayout {
 }
 
 /// The names [`by_name`] knows.
-pub const SCENE_NAMES: &[&str] = &["demo"];
+pub const SCENE_NAMES: &[&str] = &["demo", "city"];
+
+/// A built-in scene's named views by name (empty for an unknown name).
+pub fn views_by_name(name: &str) -> Vec<NamedView> {
+    match name {
+        "demo" => demo_views(),
+        "city" => city_views(),
+        _ => Vec::new(),
+    }
+}
 
 /// A built-in scene by name.
 pub fn by_name(name: &str) -> Option<SceneLayout> {
     match name {
         "demo" => Some(demo()),
+        "city" => Some(city()),
         _ => None,
     }
 }
