@@ -1,5 +1,6 @@
-//! `gnomon demo`: the built-in scene from its named views with every technique and with exact
-//! shadow volumes, written as images with an `index.html` that shows them side by side.
+//! `gnomon demo`: a scene (the built-in demo by default) from its named views with every
+//! technique and with exact shadow volumes, written as images with an `index.html` that shows
+//! them side by side.
 
 use std::path::PathBuf;
 use std::time::Instant;

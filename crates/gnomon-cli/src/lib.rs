@@ -3,8 +3,8 @@
 //! ([`names`]); the `gnomon` binary calls [`main`].
 //!
 //! Subcommands: `setup` (print the shadow-map matrices for a camera, light and scene),
-//! `render` (draw it), `export` (the scene as OBJ), `demo` (the built-in scene from its
-//! named views with every technique), `bench` (frame times side by side), `analyze`
+//! `render` (draw it), `export` (the scene as OBJ), `demo` (a scene from its named views
+//! with every technique), `bench` (frame times side by side), `analyze`
 //! (perspective aliasing of every technique from its matrices) and `compare` (every
 //! technique against the exact shadow volumes). Bad input
 //! gives a one-line error on stderr and exit code 2.
@@ -45,15 +45,16 @@ enum Command {
     Render(Box<render::RenderArgs>),
     /// Write a scene's world-space triangles as Wavefront OBJ.
     Export(render::ExportArgs),
-    /// Render the built-in demo scene from its named views with every technique, side by
-    /// side in an HTML page.
+    /// Render a scene (the built-in demo unless --scene, --mesh or --scene-file says
+    /// otherwise) from its named views with every technique, side by side in an HTML page.
     Demo(Box<demo::DemoArgs>),
     /// Perspective aliasing dp/ds along the view axis of every technique, measured from its
     /// matrices in the LiSPSM paper's ideal configuration (table, JSON, plot); the papers'
     /// warps, without the warp limit.
     Analyze(Box<analyze::AnalyzeArgs>),
-    /// Every technique against the exact shadow volumes over named views: image grids, wrong
-    /// pixels, sampling error percentiles and times (Markdown and JSON).
+    /// Every technique against the exact shadow volumes over named views (of one scene, or of
+    /// every scene file of a --suite): image grids, wrong pixels, sampling error percentiles
+    /// and times (Markdown and JSON).
     Compare(Box<compare::CompareArgs>),
     /// Time techniques on the same scene and views (frames interleaved), with each one's
     /// ratio to the focused shadow map.
