@@ -843,4 +843,54 @@ mod tests {
         assert!(e.to_string().contains(":3: key 'split'"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
+
+    /// A valid scene file, damaged at random (bytes deleted, replaced or inserted, lines
+    /// cut): parsing never panics, and a refusal is one line naming the file.
+    mod damaged {
+        use proptest::prelude::*;
+
+        use super::*;
+
+        const VALID: &str = "name = \"s\"\n[ground]\nsize = 100\nheight = 2\n\n[[view]]\n\
+            name = \"a\"\neye = [0, 10, 30]\ntarget = [0, 0, 0]\nfov = 50\nnear = 0.5\nfar = 90\n\
+            light_dir = [0.3, -1, 0.2]\n\n[[view]]\nname = \"b\"\neye = [5, 5, 5]\ntarget = [0, 1, 0]\n\
+            spot = [0, 20, 0, 0, -1, 0, 30, 50]\n[[view.light]]\nlight_dir = [1, -1, 0]\n";
+
+        proptest! {
+            #![proptest_config(ProptestConfig::with_cases(2000))]
+            #[test]
+            fn never_panics_and_refuses_in_one_line(
+                edits in proptest::collection::vec((0usize..400, 0u8..4, any::<u8>()), 1..6)
+            ) {
+                let mut bytes = VALID.as_bytes().to_vec();
+                for (at, kind, byte) in edits {
+                    let at = at % (bytes.len() + 1);
+                    match kind {
+                        0 if at < bytes.len() => { bytes.remove(at); }
+                        1 if at < bytes.len() => bytes[at] = byte,
+                        2 => bytes.insert(at, byte),
+                        _ => {
+                            // Cut the text from a line's start to the next line's.
+                            let start = bytes[..at].iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+                            let end = bytes[at..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |i| at + i + 1);
+                            bytes.drain(start..end);
+                        }
+                    }
+                }
+                let text = String::from_utf8_lossy(&bytes);
+                match parse(&text) {
+                    Ok(file) => {
+                        for view in &file.views {
+                            prop_assert!(view.camera(16.0 / 9.0).is_ok() && view.lights().is_ok());
+                        }
+                    }
+                    Err(e) => {
+                        let shown = e.to_string();
+                        prop_assert!(!shown.contains('\n'), "{}", shown);
+                        prop_assert!(shown.starts_with("/nonexistent/scene.toml"), "{}", shown);
+                    }
+                }
+            }
+        }
+    }
 }
