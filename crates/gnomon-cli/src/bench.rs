@@ -7,11 +7,11 @@ use std::time::Instant;
 
 use clap::Args;
 use gnomon::{Camera, Light, Technique};
-use gnomon_render::{RenderSettings, Timings};
+use gnomon_render::{RenderSettings, ShadowedLight, Timings};
 use serde_json::json;
 
 use crate::CliError;
-use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs, timed_setup};
+use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs, light_setups};
 use crate::names::Drawn;
 use crate::render::{open_renderer, parse_size};
 
@@ -74,8 +74,8 @@ impl Entry {
     }
 }
 
-/// A view to time: name, camera, light.
-type View = (String, Camera, Light);
+/// A view to time: name, camera, lights.
+type View = (String, Camera, Vec<Light>);
 
 /// The results of one scene (one per view and entry), and the renderer's description and
 /// timing source.
@@ -116,41 +116,42 @@ fn time_views(
     let frame = |renderer: &mut gnomon_render::Renderer,
                  entry: &Entry,
                  camera: &Camera,
-                 light: &Light,
-                 samples: &gnomon::ViewSamples|
+                 lights: &[Light],
+                 samples: &[gnomon::ViewSamples]|
      -> Result<(f64, Timings), CliError> {
         match entry {
             Entry::Map(row) => {
-                let (setup, setup_us) = timed_setup(
-                    &row.technique,
-                    camera,
-                    light,
-                    &bounds,
-                    row.resolution,
-                    Some(samples),
-                )?;
-                let f = renderer.render(camera, light, &setup, &settings)?;
+                let (setups, setup_us) = light_setups(row, camera, lights, &bounds, samples)?;
+                let shadowed: Vec<ShadowedLight<'_>> = lights
+                    .iter()
+                    .zip(&setups)
+                    .map(|(light, setup)| ShadowedLight { light, setup })
+                    .collect();
+                let f = renderer.render_lights(camera, &shadowed, &settings)?;
                 let t = f.timings;
                 Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
             }
             Entry::Volumes(mode) => {
                 let f = renderer
-                    .render_volumes(camera, light, &settings, *mode)?
+                    .render_volumes_lit_by(camera, lights, &settings, *mode)?
                     .frame;
                 let t = f.timings;
                 Ok((t.shadow_pass_ms + t.main_pass_ms, t))
             }
         }
     };
-    for (v, (view, camera, light)) in views.iter().enumerate() {
-        let samples = renderer.view_samples(camera, light)?;
+    for (v, (view, camera, lights)) in views.iter().enumerate() {
+        let samples = lights
+            .iter()
+            .map(|light| renderer.view_samples(camera, light))
+            .collect::<Result<Vec<_>, _>>()?;
         for entry in entries {
-            frame(&mut renderer, entry, camera, light, &samples)?; // warm-up
+            frame(&mut renderer, entry, camera, lights, &samples)?; // warm-up
         }
         let mut times: Vec<Vec<(f64, Timings)>> = vec![Vec::new(); entries.len()];
         for _ in 0..args.frames {
             for (k, entry) in entries.iter().enumerate() {
-                times[k].push(frame(&mut renderer, entry, camera, light, &samples)?);
+                times[k].push(frame(&mut renderer, entry, camera, lights, &samples)?);
             }
         }
         let baseline_ms = mean_sd(&times[baseline].iter().map(|t| t.0).collect::<Vec<_>>()).0;
@@ -261,14 +262,16 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             .select(&loaded.views)?
             .into_iter()
             .map(|v| {
-                let (camera, light) = v.camera_and_light(aspect)?;
+                let camera = v.camera(aspect)?;
+                // Every light of the view (a scene file's view may have several).
+                let lights = v.lights()?;
                 // In a suite, a view is named by its scene too.
                 let name = if stem.is_empty() {
                     v.name.clone()
                 } else {
                     format!("{stem}/{}", v.name)
                 };
-                Ok((name, camera, light))
+                Ok((name, camera, lights))
             })
             .collect::<Result<_, CliError>>()?;
         let (times, on) = time_views(args, &entries, baseline, loaded, &views, started)?;

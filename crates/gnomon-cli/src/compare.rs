@@ -14,7 +14,7 @@ use gnomon_render::{
 use serde_json::{Value, json};
 
 use crate::args::render_command;
-use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs, timed_setup};
+use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs, light_setups};
 use crate::render::{open_renderer, parse_size, write_png, write_text};
 use crate::{CliError, heatmap};
 
@@ -188,32 +188,6 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     );
     crate::say!("wrote {}", args.out.join("index.md").display());
     Ok(())
-}
-
-/// A row's setup for each light (with that light's view samples) and their total time in
-/// microseconds.
-fn light_setups(
-    row: &crate::rows::Row,
-    camera: &gnomon::Camera,
-    lights: &[gnomon::Light],
-    bounds: &gnomon::SceneBounds,
-    samples: &[gnomon::ViewSamples],
-) -> Result<(Vec<gnomon::ShadowSetup>, f64), CliError> {
-    let mut setups = Vec::with_capacity(lights.len());
-    let mut total_us = 0.0;
-    for (light, samples) in lights.iter().zip(samples) {
-        let (setup, us) = timed_setup(
-            &row.technique,
-            camera,
-            light,
-            bounds,
-            row.resolution,
-            Some(samples),
-        )?;
-        setups.push(setup);
-        total_us += us;
-    }
-    Ok((setups, total_us))
 }
 
 /// Compares `techniques` over the chosen views of one scene, writing its report into `out`;

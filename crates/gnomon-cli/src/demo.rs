@@ -6,12 +6,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use gnomon_render::{RenderSettings, StencilMode};
+use gnomon_render::{RenderSettings, ShadowedLight, StencilMode};
 use serde_json::json;
 
 use crate::CliError;
 use crate::args::render_command;
-use crate::args::{SceneArgs, TechniqueParams, ViewListArgs, timed_setup};
+use crate::args::{SceneArgs, TechniqueParams, ViewListArgs, light_setups};
 use crate::render::{open_renderer, write_frame, write_text};
 use crate::report;
 
@@ -64,20 +64,24 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let mut sums = [0.0f64; 3];
     let mut volume_sums = [0.0f64; 2];
     for (v, view) in views.iter().enumerate() {
-        let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
+        let camera = view.camera(width as f64 / height as f64)?;
+        // Every light of the view (a scene file's view may have several).
+        let lights = view.lights()?;
         let mut cells = String::new();
-        // What the pixels see, once per view, shared by every technique.
-        let samples = renderer.view_samples(&camera, &light)?;
+        // What the pixels see from each light, once per view, shared by every technique.
+        let samples = lights
+            .iter()
+            .map(|light| renderer.view_samples(&camera, light))
+            .collect::<Result<Vec<_>, _>>()?;
         for (t, row) in techniques.iter().enumerate() {
-            let (setup, setup_us) = timed_setup(
-                &row.technique,
-                &camera,
-                &light,
-                &bounds,
-                row.resolution,
-                Some(&samples),
-            )?;
-            let frame = renderer.render(&camera, &light, &setup, &settings)?;
+            let (setups, setup_us) = light_setups(row, &camera, &lights, &bounds, &samples)?;
+            let setup = &setups[0];
+            let shadowed: Vec<ShadowedLight<'_>> = lights
+                .iter()
+                .zip(&setups)
+                .map(|(light, setup)| ShadowedLight { light, setup })
+                .collect();
+            let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
             let stem = format!("{}_{}", view.name, row.label);
             let light_view = args.out.join(format!("{stem}_light.png"));
             write_frame(
@@ -123,11 +127,12 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 "setup_us": setup_us,
                 "shadow_pass_ms": timings.shadow_pass_ms,
                 "main_pass_ms": timings.main_pass_ms,
-                "setup": report::setup_json(&setup),
+                "setup": report::setup_json(setup),
             }));
         }
         // Exact shadows: stenciled shadow volumes, z-pass or z-fail chosen per caster.
-        let drawn = renderer.render_volumes(&camera, &light, &settings, StencilMode::PerCaster)?;
+        let drawn =
+            renderer.render_volumes_lit_by(&camera, &lights, &settings, StencilMode::PerCaster)?;
         let stem = format!("{}_volumes", view.name);
         write_frame(
             &drawn.frame,
