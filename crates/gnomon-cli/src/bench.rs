@@ -122,11 +122,7 @@ fn time_views(
         match entry {
             Entry::Map(row) => {
                 let (setups, setup_us) = light_setups(row, camera, lights, &bounds, samples)?;
-                let shadowed: Vec<ShadowedLight<'_>> = lights
-                    .iter()
-                    .zip(&setups)
-                    .map(|(light, setup)| ShadowedLight { light, setup })
-                    .collect();
+                let shadowed = ShadowedLight::pairs(lights, &setups);
                 let f = renderer.render_lights(camera, &shadowed, &settings)?;
                 let t = f.timings;
                 Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))

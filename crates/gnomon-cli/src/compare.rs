@@ -288,11 +288,7 @@ fn compare_scene(
             progress.set_message(format!("{}: {}", view.name, entry.label));
             let (setups, setup_us) = light_setups(entry, &camera, &lights, &bounds, &samples)?;
             let setup = &setups[0];
-            let shadowed: Vec<ShadowedLight<'_>> = lights
-                .iter()
-                .zip(&setups)
-                .map(|(light, setup)| ShadowedLight { light, setup })
-                .collect();
+            let shadowed = ShadowedLight::pairs(&lights, &setups);
             let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
             let metrics = frame.metrics.as_ref().expect("metrics asked for");
             let (errors, error_image) = mask_errors(&frame, &exact.frame);

@@ -76,11 +76,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         for (t, row) in techniques.iter().enumerate() {
             let (setups, setup_us) = light_setups(row, &camera, &lights, &bounds, &samples)?;
             let setup = &setups[0];
-            let shadowed: Vec<ShadowedLight<'_>> = lights
-                .iter()
-                .zip(&setups)
-                .map(|(light, setup)| ShadowedLight { light, setup })
-                .collect();
+            let shadowed = ShadowedLight::pairs(&lights, &setups);
             let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
             let stem = format!("{}_{}", view.name, row.label);
             let light_view = args.out.join(format!("{stem}_light.png"));

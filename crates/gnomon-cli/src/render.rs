@@ -326,11 +326,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         tint: args.tint,
         ..RenderSettings::default()
     };
-    let shadowed: Vec<gnomon_render::ShadowedLight<'_>> = lights
-        .iter()
-        .zip(&setups)
-        .map(|(light, setup)| gnomon_render::ShadowedLight { light, setup })
-        .collect();
+    let shadowed = gnomon_render::ShadowedLight::pairs(&lights, &setups);
     let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
     if let (Some(path), Some(metrics)) = (&args.error_map, &frame.metrics) {
         // The frame's size (the legend lies over its bottom strip).

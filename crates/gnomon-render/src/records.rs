@@ -108,6 +108,17 @@ pub struct ShadowedLight<'a> {
     pub setup: &'a ShadowSetup,
 }
 
+impl<'a> ShadowedLight<'a> {
+    /// The lights paired with their setups, in order (`setups[i]` is `lights[i]`'s).
+    pub fn pairs(lights: &'a [Light], setups: &'a [ShadowSetup]) -> Vec<Self> {
+        lights
+            .iter()
+            .zip(setups)
+            .map(|(light, setup)| Self { light, setup })
+            .collect()
+    }
+}
+
 /// Where a map lives in the shadow-map array: its layer and its size in texels (maps smaller
 /// than the layers take the layer's top-left corner).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
