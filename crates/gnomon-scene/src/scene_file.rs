@@ -501,10 +501,9 @@ impl SceneFile {
                         } else {
                             vec![part.mesh]
                         };
-                        let count = pieces.len();
                         for (j, piece) in pieces.into_iter().enumerate() {
                             file.meshes.push(piece);
-                            let label = match (label.is_empty(), split && count > 0) {
+                            let label = match (label.is_empty(), split) {
                                 (true, true) => format!("#{j}"),
                                 (false, true) => format!("{label} #{j}"),
                                 (_, false) => label.clone(),
