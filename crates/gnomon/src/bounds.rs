@@ -2,6 +2,7 @@
 
 use glam::DVec3;
 
+use crate::bvh::BoxTree;
 use crate::error::{SetupError, check_vec};
 
 /// An axis-aligned box in world space, `min <= max` on every axis.
@@ -66,6 +67,11 @@ impl Aabb {
         (self.max - self.min).length()
     }
 
+    /// A box from corners known to be valid (a tree node's, made from valid boxes).
+    pub(crate) fn from_min_max_unchecked(min: DVec3, max: DVec3) -> Aabb {
+        Aabb { min, max }
+    }
+
     /// The eight corners; bit 0 of the index selects max x, bit 1 max y, bit 2 max z.
     pub fn corners(&self) -> [DVec3; 8] {
         std::array::from_fn(|i| {
@@ -119,6 +125,8 @@ pub struct SceneBounds {
     scene_box_grown: bool,
     caster_arrays: BoxArrays,
     receiver_arrays: BoxArrays,
+    caster_tree: BoxTree,
+    receiver_tree: BoxTree,
 }
 
 /// Boxes as centres and half extents in separate arrays: the layout the per-frame loops over
@@ -137,17 +145,19 @@ impl BoxArrays {
         self.center[0].len()
     }
 
-    /// The centre and half-extent arrays per axis, as slices of one length (so that loops
-    /// over them index without checks).
-    pub fn columns(&self) -> ([&[f64]; 3], [&[f64]; 3]) {
-        let n = self.len();
-        (
-            [0, 1, 2].map(|k| &self.center[k][..n]),
-            [0, 1, 2].map(|k| &self.half[k][..n]),
-        )
+    /// Box `i`'s centre.
+    #[inline]
+    pub fn center_of(&self, i: usize) -> DVec3 {
+        DVec3::new(self.center[0][i], self.center[1][i], self.center[2][i])
     }
 
-    fn new(boxes: &[Aabb]) -> Self {
+    /// Box `i`'s half extents.
+    #[inline]
+    pub fn half_of(&self, i: usize) -> DVec3 {
+        DVec3::new(self.half[0][i], self.half[1][i], self.half[2][i])
+    }
+
+    pub(crate) fn new(boxes: &[Aabb]) -> Self {
         let mut arrays = Self::default();
         for b in boxes {
             let (c, h) = (b.center(), b.half_extents());
@@ -166,6 +176,18 @@ impl SceneBounds {
     /// Without a scene box, the union of all boxes is used. Errors with
     /// [`SetupError::EmptyScene`] when there is neither a scene box nor any box.
     pub fn new(
+        casters: Vec<Aabb>,
+        receivers: Vec<Aabb>,
+        scene_box: Option<Aabb>,
+    ) -> Result<Self, SetupError> {
+        let mut scene = Self::without_trees(casters, receivers, scene_box)?;
+        scene.caster_tree = BoxTree::new(&scene.caster_arrays);
+        scene.receiver_tree = BoxTree::new(&scene.receiver_arrays);
+        Ok(scene)
+    }
+
+    /// The bounds with empty hierarchies (the callers make them).
+    fn without_trees(
         casters: Vec<Aabb>,
         receivers: Vec<Aabb>,
         scene_box: Option<Aabb>,
@@ -194,6 +216,8 @@ impl SceneBounds {
         Ok(Self {
             caster_arrays: BoxArrays::new(&casters),
             receiver_arrays: BoxArrays::new(&receivers),
+            caster_tree: BoxTree::default(),
+            receiver_tree: BoxTree::default(),
             casters,
             receivers,
             scene_box: scene_box.grown(pad),
@@ -227,6 +251,44 @@ impl SceneBounds {
 
     pub(crate) fn receiver_arrays(&self) -> &BoxArrays {
         &self.receiver_arrays
+    }
+
+    pub(crate) fn caster_tree(&self) -> &BoxTree {
+        &self.caster_tree
+    }
+
+    pub(crate) fn receiver_tree(&self) -> &BoxTree {
+        &self.receiver_tree
+    }
+
+    /// The same scene with its boxes moved (an animated scene's next frame): `casters` and
+    /// `receivers` hold as many boxes as before, in the same order. The hierarchies over
+    /// them are refitted rather than built again (each node's box recomputed from its
+    /// children), which costs one pass over the boxes; the scene box is the given one grown
+    /// to hold every box, as in [`SceneBounds::new`].
+    ///
+    /// Errors: [`SetupError::BoxCountChanged`] when a count differs (build new bounds with
+    /// [`SceneBounds::new`] then), [`SetupError::EmptyScene`] as in `new`.
+    pub fn with_boxes_moved(
+        &self,
+        casters: Vec<Aabb>,
+        receivers: Vec<Aabb>,
+        scene_box: Option<Aabb>,
+    ) -> Result<Self, SetupError> {
+        if casters.len() != self.casters.len() || receivers.len() != self.receivers.len() {
+            return Err(SetupError::BoxCountChanged {
+                casters: (self.casters.len(), casters.len()),
+                receivers: (self.receivers.len(), receivers.len()),
+            });
+        }
+        let (mut caster_tree, mut receiver_tree) =
+            (self.caster_tree.clone(), self.receiver_tree.clone());
+        let mut moved = Self::without_trees(casters, receivers, scene_box)?;
+        caster_tree.refit(&moved.caster_arrays);
+        receiver_tree.refit(&moved.receiver_arrays);
+        moved.caster_tree = caster_tree;
+        moved.receiver_tree = receiver_tree;
+        Ok(moved)
     }
 }
 

@@ -63,6 +63,13 @@ pub enum SetupError {
     },
     /// No scene box was given and there was no caster or receiver box to derive one from.
     EmptyScene,
+    /// [`crate::SceneBounds::with_boxes_moved`] was given a different number of boxes.
+    BoxCountChanged {
+        /// Casters before and given.
+        casters: (usize, usize),
+        /// Receivers before and given.
+        receivers: (usize, usize),
+    },
     /// A spot light's cone half-angle was outside (0, 89] degrees.
     InvalidSpotAngle {
         /// The value given, in degrees.
@@ -151,6 +158,13 @@ impl fmt::Display for SetupError {
                 write!(
                     f,
                     "scene is empty: no scene box and no caster or receiver box"
+                )
+            }
+            SetupError::BoxCountChanged { casters, receivers } => {
+                write!(
+                    f,
+                    "moved boxes must keep their number: {} casters and {} receivers before, {} and {} given",
+                    casters.0, receivers.0, casters.1, receivers.1
                 )
             }
             SetupError::InvalidSpotAngle { degrees } => {

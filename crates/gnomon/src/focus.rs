@@ -13,6 +13,7 @@
 use glam::DVec3;
 
 use crate::bounds::{Aabb, BoxArrays, SceneBounds};
+use crate::bvh::{BoxTree, Classified, all_planes, straddled};
 use crate::geometry::{ConvexPolyhedron, Plane};
 
 use crate::light_space::{Extents, LightFrame, Projector};
@@ -50,79 +51,39 @@ pub(crate) fn classify_box(aabb: &Aabb, planes: &[Plane], tolerance: f64) -> Box
     }
 }
 
-/// [`classify_boxes`]'s code for a box wholly outside one of the planes.
-pub(crate) const OUTSIDE: u32 = u32::MAX;
-
-/// Classifies every box against up to 31 planes, as [`classify_box`] does one: [`OUTSIDE`],
-/// 0 (inside all planes) or the mask of the planes it straddles. One pass per plane over the
-/// box arrays, without branches, so that it vectorises.
-pub(crate) fn classify_boxes(
-    boxes: &BoxArrays,
-    planes: &[Plane],
-    tolerance: f64,
-    out: &mut Vec<u32>,
-) {
-    let n = boxes.len();
-    out.clear();
-    out.resize(n, 0);
-    let ([cx, cy, cz], [hx, hy, hz]) = boxes.columns();
-    for (k, plane) in planes.iter().enumerate().take(31) {
-        let (m, a, o) = (plane.normal, plane.normal.abs(), plane.offset);
-        for i in 0..n {
-            let s = m.x * cx[i] + m.y * cy[i] + m.z * cz[i] + o;
-            let r = a.x * hx[i] + a.y * hy[i] + a.z * hz[i];
-            out[i] |= (u32::from(s - r < -tolerance) << k) | (u32::from(s + r <= tolerance) << 31);
-        }
-    }
-    for code in out.iter_mut() {
-        if *code & (1 << 31) != 0 {
-            *code = OUTSIDE;
-        }
-    }
-}
-
-/// The codes of a part of a frame from the frame's: `frame_codes` against the frame's planes,
-/// `planes` the part's, which equal the frame's except those named in `changed` (bits; a
-/// part lies inside the frame). A box outside the frame is outside the part; one wholly
-/// inside is tested against the changed planes only; one that straddles, against all.
-pub(crate) fn refine_codes(
-    frame_codes: &[u32],
-    boxes: &[Aabb],
-    arrays: &BoxArrays,
+/// The classification of a part of a frame from the frame's: `frame` against the frame's
+/// planes, `planes` the part's, which equal the frame's except those named in `changed`
+/// (bits; a part lies inside the frame). What lies outside the frame lies outside the part;
+/// what lies wholly inside is tested against the changed planes only (subtrees stay
+/// subtrees); a box that crosses some planes, against all.
+pub(crate) fn refine(
+    frame: &Classified,
+    scene: &SceneBounds,
     planes: &[Plane],
     changed: u32,
     tolerance: f64,
-) -> Vec<u32> {
-    // Every box against the changed planes at once (the pass vectorises), their bits moved to
-    // the planes' places.
-    let indices: Vec<usize> = (0..planes.len())
-        .filter(|i| changed & (1 << i) != 0)
-        .collect();
-    let changed_planes: Vec<Plane> = indices.iter().map(|&i| planes[i]).collect();
-    // (A slice changes planes 0 and 1, a side one plane: the bits only shift.)
-    let first = indices.first().copied().unwrap_or(0);
-    let contiguous = indices.iter().enumerate().all(|(j, &i)| i == first + j);
-    let mut against_changed = Vec::new();
-    classify_boxes(arrays, &changed_planes, tolerance, &mut against_changed);
-    frame_codes
-        .iter()
-        .zip(&against_changed)
-        .zip(boxes)
-        .map(|((&code, &new), aabb)| match (code, new) {
-            (OUTSIDE, _) | (_, OUTSIDE) => OUTSIDE,
-            (0, new) if contiguous => new << first,
-            (0, new) => indices
-                .iter()
-                .enumerate()
-                .filter(|(j, _)| new & (1 << j) != 0)
-                .fold(0, |mask, (_, &i)| mask | 1 << i),
-            _ => match classify_box(aabb, planes, tolerance) {
-                BoxSide::Outside => OUTSIDE,
-                BoxSide::Inside => 0,
-                BoxSide::Straddles(mask) => mask,
-            },
-        })
-        .collect()
+) -> Classified {
+    let (tree, arrays) = (scene.receiver_tree(), scene.receiver_arrays());
+    let mut out = Classified::default();
+    tree.classify(
+        arrays,
+        planes,
+        tolerance,
+        frame.nodes.iter().map(|&n| (n as usize, changed)),
+        &mut out,
+    );
+    let all = all_planes(planes.len());
+    let boxes = frame.boxes.iter().map(|&i| (i, changed));
+    for (i, active) in boxes.chain(frame.cut.iter().map(|&(i, _)| (i, all))) {
+        let (c, h) = (arrays.center_of(i as usize), arrays.half_of(i as usize));
+        match straddled(c, h, planes, active, tolerance) {
+            None => {}
+            Some(0) => out.boxes.push(i),
+            Some(mask) => out.cut.push((i, mask)),
+        }
+    }
+    out.finish();
+    out
 }
 
 /// An orthographic frame ready to project boxes of a [`BoxArrays`]: a box's image is its
@@ -190,18 +151,6 @@ impl LightCorners {
             b1 + dz,
         ]
     }
-}
-
-/// The extents of the boxes `indices` under an orthographic frame.
-pub(crate) fn parallel_extents(
-    boxes: &BoxArrays,
-    frame: &LightFrame,
-    indices: &[usize],
-) -> Extents {
-    let projected = ParallelBoxes::new(boxes, frame);
-    indices
-        .iter()
-        .fold(Extents::EMPTY, |ext, &i| ext.union(&projected.extents(i)))
 }
 
 /// The vertices of a box cut by the planes named in `mask` (the box lies inside the others),
@@ -363,144 +312,241 @@ fn meet(a: &Plane, b: &Plane, c: &Plane) -> Option<DVec3> {
 pub(crate) struct VisibleScene {
     /// P: the view frustum clipped by the scene box (and the light frustum for a spot light).
     pub view_body: ConvexPolyhedron,
-    /// Receivers wholly visible, as indices into the scene's receivers.
-    whole: Vec<usize>,
-    /// How many receivers are partly visible.
-    clipped: usize,
-    /// The vertices of the visible parts of the partly visible receivers.
+    /// Subtrees of the receivers' hierarchy wholly visible.
+    nodes: Vec<u32>,
+    /// Receivers wholly visible outside those subtrees.
+    boxes: Vec<u32>,
+    /// How many receivers are wholly visible.
+    whole: usize,
+    /// The vertices of the visible parts of the receivers that several planes cut.
     points: Vec<DVec3>,
-    /// Each partly visible receiver, in order: (its index, where its vertices start and end
-    /// in `points`).
-    cuts: Vec<(u32, u32, u32)>,
+    /// Each receiver that several planes cut, in order of index: (its index, the planes that
+    /// cut it, where its vertices start and end in `points`).
+    cuts: Vec<(u32, u32, u32, u32)>,
+    /// The receivers that one plane cuts (most cut ones), with that plane: their part inside
+    /// it is never empty, and is cut only where it is read ([`cut_by_one`], cheap), so that a
+    /// receiver whose whole box adds nothing to an extent is never cut.
+    cut_once: Vec<(u32, Plane)>,
+    /// The tolerance the cuts are made with.
+    tolerance: f64,
 }
 
 /// A frame's cut receivers that a part of it may take instead of cutting them again: the
-/// frame's visible scene, its codes, and the bits of the planes the part changed. A receiver
-/// cut by the same planes in both (none of them changed) has the same visible part.
+/// frame's visible scene and the bits of the planes the part changed. A receiver cut by the
+/// same planes in both (none of them changed) has the same visible part.
 #[derive(Clone, Copy)]
 pub(crate) struct ReuseCuts<'a> {
     pub frame: &'a VisibleScene,
-    pub codes: &'a [u32],
     pub changed: u32,
 }
 
 impl VisibleScene {
-    /// The visible scene of P = `view_body` from each receiver's code against `planes` (as
-    /// [`classify_boxes`] gives them; empty when P is): wholly visible boxes are kept, cut
-    /// ones cut (or taken from `reuse`).
-    pub fn from_codes(
+    /// The visible scene of P = `view_body` from the receivers' classification against
+    /// `planes` (empty when P is): wholly visible subtrees and boxes are kept, cut boxes cut
+    /// (or taken from `reuse`).
+    pub fn from_classified(
         view_body: ConvexPolyhedron,
         scene: &SceneBounds,
         planes: &[Plane],
-        codes: &[u32],
+        classified: &Classified,
         tolerance: f64,
         reuse: Option<ReuseCuts<'_>>,
     ) -> Self {
-        let mut whole = Vec::new();
-        let mut points = Vec::new();
-        let mut cuts = Vec::new();
-        if !view_body.is_empty() {
-            for (i, &code) in codes.iter().enumerate() {
-                match code {
-                    OUTSIDE => {}
-                    0 => whole.push(i),
-                    mask => {
-                        let start = points.len();
-                        let same = reuse
-                            .filter(|r| r.codes[i] == mask && mask & r.changed == 0)
-                            .and_then(|r| r.frame.cut_of(i));
-                        let kept = match same {
-                            Some(vertices) => {
-                                points.extend_from_slice(vertices);
-                                true
-                            }
-                            None => box_cut_vertices(
-                                &scene.receivers()[i],
-                                planes,
-                                mask,
-                                tolerance,
-                                &mut points,
-                            ),
-                        };
-                        if kept {
-                            cuts.push((i as u32, start as u32, points.len() as u32));
-                        }
-                    }
+        let mut visible = Self {
+            view_body,
+            nodes: Vec::new(),
+            boxes: Vec::new(),
+            whole: 0,
+            points: Vec::new(),
+            cuts: Vec::new(),
+            cut_once: Vec::new(),
+            tolerance,
+        };
+        if visible.view_body.is_empty() {
+            return visible;
+        }
+        let tree = scene.receiver_tree();
+        visible.nodes.clone_from(&classified.nodes);
+        visible.boxes.clone_from(&classified.boxes);
+        visible.whole = classified.boxes.len()
+            + classified
+                .nodes
+                .iter()
+                .map(|&n| tree.size(n as usize))
+                .sum::<usize>();
+        let points = &mut visible.points;
+        for &(i, mask) in &classified.cut {
+            if mask.count_ones() == 1 {
+                let plane = planes[mask.trailing_zeros() as usize];
+                visible.cut_once.push((i, plane));
+                continue;
+            }
+            let start = points.len();
+            let same = reuse
+                .filter(|r| mask & r.changed == 0)
+                .and_then(|r| r.frame.cut_of(i as usize, mask));
+            let kept = match same {
+                Some(vertices) => {
+                    points.extend_from_slice(vertices);
+                    true
                 }
+                None => box_cut_vertices(
+                    &scene.receivers()[i as usize],
+                    planes,
+                    mask,
+                    tolerance,
+                    points,
+                ),
+            };
+            if kept {
+                visible
+                    .cuts
+                    .push((i, mask, start as u32, points.len() as u32));
             }
         }
-        Self {
-            view_body,
-            whole,
-            clipped: cuts.len(),
-            points,
-            cuts,
-        }
+        visible
     }
 
-    /// The vertices of receiver `i`'s visible part when it is cut.
-    fn cut_of(&self, i: usize) -> Option<&[DVec3]> {
+    /// The vertices of receiver `i`'s visible part when the planes `mask` cut it.
+    fn cut_of(&self, i: usize, mask: u32) -> Option<&[DVec3]> {
         let k = self.cuts.binary_search_by_key(&(i as u32), |c| c.0).ok()?;
-        let (_, start, end) = self.cuts[k];
-        Some(&self.points[start as usize..end as usize])
+        let (_, cut_by, start, end) = self.cuts[k];
+        (cut_by == mask).then(|| &self.points[start as usize..end as usize])
     }
 
     /// How many receiver boxes have a visible part.
     pub fn visible_receivers(&self) -> usize {
-        self.whole.len() + self.clipped
+        self.whole + self.cuts.len() + self.cut_once.len()
+    }
+
+    /// The wholly visible receivers' indices.
+    fn whole_boxes<'s>(&'s self, tree: &'s BoxTree) -> impl Iterator<Item = usize> + 's {
+        let in_nodes = self
+            .nodes
+            .iter()
+            .flat_map(|&n| tree.boxes_of(n as usize).iter());
+        in_nodes.chain(&self.boxes).map(|&i| i as usize)
     }
 
     /// Calls `f` with every vertex of the visible receiver parts (the corners of wholly
     /// visible boxes, the vertices of cut ones): their extents under any projective map are
     /// the extents of these points.
     pub fn for_each_vertex(&self, scene: &SceneBounds, mut f: impl FnMut(DVec3)) {
-        for &i in &self.whole {
+        for i in self.whole_boxes(scene.receiver_tree()) {
             for c in scene.receivers()[i].corners() {
                 f(c);
             }
         }
+        self.for_each_cut_vertex(scene, f);
+    }
+
+    /// Calls `f` with every vertex of the cut receivers' visible parts.
+    pub fn for_each_cut_vertex(&self, scene: &SceneBounds, mut f: impl FnMut(DVec3)) {
         for p in &self.points {
             f(*p);
         }
+        let mut scratch = Vec::new();
+        for (i, plane) in &self.cut_once {
+            scratch.clear();
+            cut_by_one(
+                &scene.receivers()[*i as usize],
+                plane,
+                self.tolerance,
+                &mut scratch,
+            );
+            scratch.iter().for_each(|p| f(*p));
+        }
     }
 
-    /// The visible receiver parts in `frame`'s coordinates (right . p, up . p, forward . p):
-    /// each whole box as its projected centre and half extents (its corners are the centre
-    /// plus and minus the half extents times `frame`'s images of the world axes, see
-    /// [`LightCorners`]), appended to `boxes`, and the vertices of the cut ones, to `points`.
-    pub fn parts_in(
+    /// The extents of the visible receiver parts under a map: `node_image` gives a subtree's
+    /// node's extents (they hold its boxes'), `box_image` a receiver's, `points_image` the
+    /// extents of points (a cut part's vertices). The parts that several planes cut come
+    /// first (they reach the borders of the view), then the wholly visible receivers, nearest
+    /// the light first, then those one plane cuts. A subtree or a cut receiver whose (whole)
+    /// image lies inside what is gathered so far adds nothing and is neither opened nor cut,
+    /// so that the work grows with the receivers near the border of the visible region, not
+    /// with their number. (`prune_cuts`: whether a cut receiver's whole box has an image that
+    /// holds its part's; not for a point light, behind which a box's image is no bound.)
+    pub fn extents_under(
         &self,
         scene: &SceneBounds,
-        frame: &LightFrame,
-        boxes: &mut Vec<(DVec3, DVec3)>,
-        points: &mut Vec<DVec3>,
-    ) {
-        let to = |p: DVec3| DVec3::new(frame.right.dot(p), frame.up.dot(p), frame.forward.dot(p));
-        boxes.extend(self.whole.iter().map(|&i| {
-            let b = &scene.receivers()[i];
-            (to(b.center()), b.half_extents())
-        }));
-        points.extend(self.points.iter().map(|p| to(*p)));
+        prune_cuts: bool,
+        node_image: impl Fn(usize) -> Extents,
+        box_image: impl Fn(usize) -> Extents,
+        points_image: impl Fn(&[DVec3]) -> Extents,
+    ) -> Extents {
+        let tree = scene.receiver_tree();
+        let mut ext = points_image(&self.points);
+        for &i in &self.boxes {
+            ext = ext.union(&box_image(i as usize));
+        }
+        let mut stack: Vec<(usize, Extents)> = self
+            .nodes
+            .iter()
+            .map(|&n| (n as usize, node_image(n as usize)))
+            .collect();
+        while let Some((node, image)) = stack.pop() {
+            if ext.contains(&image) {
+                continue;
+            }
+            if tree.is_leaf(node) {
+                for &i in tree.boxes_of(node) {
+                    ext = ext.union(&box_image(i as usize));
+                }
+            } else {
+                let [a, b] = tree.children(node).map(|c| (c, node_image(c)));
+                if a.1.min.z < b.1.min.z {
+                    stack.extend([b, a]);
+                } else {
+                    stack.extend([a, b]);
+                }
+            }
+        }
+        let mut scratch = Vec::new();
+        for (i, plane) in &self.cut_once {
+            if prune_cuts && ext.contains(&box_image(*i as usize)) {
+                continue;
+            }
+            scratch.clear();
+            let aabb = &scene.receivers()[*i as usize];
+            cut_by_one(aabb, plane, self.tolerance, &mut scratch);
+            ext = ext.union(&points_image(&scratch));
+        }
+        ext
     }
 
     /// The extents of the visible receiver parts under `projector`.
     pub fn receiver_extents(&self, scene: &SceneBounds, projector: &Projector) -> Extents {
-        let mut ext = match projector {
-            Projector::Parallel(frame) => {
-                parallel_extents(scene.receiver_arrays(), frame, &self.whole)
+        let points_image = |points: &[DVec3]| {
+            let mut ext = Extents::EMPTY;
+            for p in points {
+                ext.add(projector.project(*p));
             }
-            Projector::Point { .. } => {
-                let mut ext = Extents::EMPTY;
-                for &i in &self.whole {
-                    ext = ext.union(&projector.box_extents(&scene.receivers()[i]));
-                }
-                ext
-            }
+            ext
         };
-        for p in &self.points {
-            ext.add(projector.project(*p));
+        let tree = scene.receiver_tree();
+        match projector {
+            Projector::Parallel(frame) => {
+                let nodes = ParallelBoxes::new(&tree.nodes, frame);
+                let boxes = ParallelBoxes::new(scene.receiver_arrays(), frame);
+                self.extents_under(
+                    scene,
+                    true,
+                    |n| nodes.extents(n),
+                    |i| boxes.extents(i),
+                    points_image,
+                )
+            }
+            // Wholly visible receivers lie in front of the light (inside its frustum), where a
+            // box's image holds the images of the boxes inside it.
+            Projector::Point { .. } => self.extents_under(
+                scene,
+                false,
+                |n| projector.box_extents(&tree.node_box(n)),
+                |i| projector.box_extents(&scene.receivers()[i]),
+                points_image,
+            ),
         }
-        ext
     }
 }
 
@@ -518,86 +564,160 @@ pub(crate) fn box_planes(b: &Aabb) -> [Plane; 6] {
 }
 
 /// The extents of the casters that can shadow the visible receivers (`receivers`, their
-/// extents under `projector`). A caster is cut by `cut_planes` (a spot light's frustum, its
-/// near plane first when `light_near_first`, and a side's plane) and culled when nothing of
-/// it is left, when it lies beside the receivers as seen from the light, or wholly behind
-/// them. `cached`: every caster's extents under `projector` when the frame has them. Counts
-/// go into `diagnostics`.
-#[allow(clippy::too_many_arguments)]
+/// extents under `projector`), in x and y only as far as they lie over the receivers (grown
+/// by the culling slack) and in depth only as far as the receivers' farthest point: what unit
+/// cube clipping reads. A caster is cut by `cut_planes` (a spot light's frustum, its near
+/// plane first when `light_near_first`, and a side's plane) and culled when nothing of it is
+/// left, when it lies beside the receivers as seen from the light, or wholly behind them.
+/// Counts go into `diagnostics`.
+///
+/// The casters' hierarchy is walked from the root: a subtree whose node lies beside or behind
+/// the receivers is culled whole; one whose node lies wholly over the receivers, inside every
+/// cutting plane, and whose image adds nothing to the extents gathered so far is counted
+/// whole without being opened. Children nearer the light are opened first, so that the
+/// nearest caster (the near plane) is found early.
 pub(crate) fn caster_extents(
     scene: &SceneBounds,
     projector: &Projector,
     receivers: &Extents,
     cut_planes: &[Plane],
     light_near_first: bool,
-    cached: Option<&crate::frame::LightBoxes>,
     tolerance: f64,
     diagnostics: &mut Diagnostics,
 ) -> Extents {
     let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
-    let mut ext = Extents::EMPTY;
-    let mut relevant = 0;
-    let mut near_clipped = 0;
+    let (tree, arrays) = (scene.caster_tree(), scene.caster_arrays());
+    // What matters of a caster: its part over the receivers' columns, nearer than their far.
+    let over = Extents {
+        min: (receivers.min.truncate() - xy_slack).extend(f64::NEG_INFINITY),
+        max: (receivers.max.truncate() + xy_slack).extend(receivers.max.z),
+    };
     let parallel = match projector {
-        Projector::Parallel(frame) => Some(ParallelBoxes::new(scene.caster_arrays(), frame)),
+        Projector::Parallel(frame) => Some((
+            ParallelBoxes::new(&tree.nodes, frame),
+            ParallelBoxes::new(arrays, frame),
+            frame.forward,
+        )),
         Projector::Point { .. } => None,
     };
-    // A whole caster's extents: the frame's, else projected.
-    let whole = |i: usize| match (cached, &parallel) {
-        (Some(boxes), _) => boxes.get(i),
-        (None, Some(projected)) => projected.extents(i),
-        (None, None) => projector.box_extents(&scene.casters()[i]),
+    let node_image = |n: usize| match &parallel {
+        Some((nodes, _, _)) => nodes.extents(n),
+        None => projector.box_extents(&tree.node_box(n)),
     };
-    if let (true, Some(boxes)) = (cut_planes.is_empty(), cached) {
-        // The frame's boxes: cull in one pass, then accumulate.
-        let mut kept = Vec::new();
-        let all = (f64::NEG_INFINITY, f64::INFINITY);
-        boxes.overlapping(receivers, xy_slack, receivers.max.z, all, &mut kept);
-        for &i in &kept {
-            ext = ext.union(&boxes.get(i as usize));
-        }
-        relevant = kept.len();
-    } else if cut_planes.is_empty() {
-        // One pass: project, cull, accumulate.
-        let mut add = |box_ext: Extents| {
-            if receivers.xy_overlaps(&box_ext, xy_slack) && box_ext.min.z <= receivers.max.z {
-                relevant += 1;
-                ext = ext.union(&box_ext);
-            }
-        };
-        match &parallel {
-            Some(projected) => (0..scene.casters().len()).for_each(|i| add(projected.extents(i))),
-            None => scene
-                .casters()
-                .iter()
-                .for_each(|c| add(projector.box_extents(c))),
-        }
-    } else {
-        let mut scratch = Vec::new();
-        let mut codes = Vec::new();
-        classify_boxes(scene.caster_arrays(), cut_planes, tolerance, &mut codes);
-        for (i, caster) in scene.casters().iter().enumerate() {
-            let (box_ext, crosses_near) = match codes[i] {
-                OUTSIDE => continue,
-                0 => (whole(i), false),
-                mask => {
-                    scratch.clear();
-                    if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch) {
-                        continue;
-                    }
-                    let mut e = Extents::EMPTY;
-                    for p in &scratch {
-                        e.add(projector.project(*p));
-                    }
-                    (e, light_near_first && mask & 1 != 0)
-                }
+    let box_image = |i: usize| match &parallel {
+        Some((_, boxes, _)) => boxes.extents(i),
+        None => projector.box_extents(&scene.casters()[i]),
+    };
+    // The extents gathered so far; their far depth is the receivers' (what lies farther does
+    // not matter), so that a node's far side never keeps it open.
+    let mut ext = Extents {
+        min: DVec3::INFINITY,
+        max: DVec3::NEG_INFINITY.with_z(over.max.z),
+    };
+    let mut relevant = 0;
+    let mut near_clipped = 0;
+    let mut scratch = Vec::new();
+    let mut stack = Vec::new();
+    if !tree.is_empty() {
+        stack.push((0usize, all_planes(cut_planes.len())));
+    }
+    // Subtrees counted whole while the extents did not yet hold them in x and y (early in the
+    // walk they are small), to be opened at the end if they still do not.
+    let mut deferred = Vec::new();
+    let mut strict = false;
+    loop {
+        while let Some((node, active)) = stack.pop() {
+            let active = match active {
+                0 => 0,
+                active => match straddled(
+                    tree.nodes.center_of(node),
+                    tree.nodes.half_of(node),
+                    cut_planes,
+                    active,
+                    tolerance,
+                ) {
+                    None => continue,
+                    Some(mask) => mask,
+                },
             };
-            if !receivers.xy_overlaps(&box_ext, xy_slack) || box_ext.min.z > receivers.max.z {
+            // A node's image holds its boxes' (for a point light, where the node lies in
+            // front of it: inside every plane of its frustum).
+            if active == 0 || parallel.is_some() {
+                let image = node_image(node);
+                if !receivers.xy_overlaps(&image, xy_slack) || image.min.z > receivers.max.z {
+                    continue;
+                }
+                let held = ext.contains(&image);
+                if active == 0
+                    && over.contains(&image)
+                    && image.min.z >= ext.min.z
+                    && (held || !strict)
+                {
+                    relevant += tree.size(node);
+                    if !held {
+                        deferred.push((node, image));
+                    }
+                    continue;
+                }
+            }
+            if !tree.is_leaf(node) {
+                let mut children = tree.children(node);
+                if let Some((_, _, forward)) = &parallel {
+                    let depth = |n: usize| forward.dot(tree.nodes.center_of(n));
+                    if depth(children[0]) < depth(children[1]) {
+                        children.swap(0, 1);
+                    }
+                }
+                stack.extend(children.map(|child| (child, active)));
                 continue;
             }
-            relevant += 1;
-            near_clipped += usize::from(crosses_near);
-            ext = ext.union(&box_ext);
+            for &i in tree.boxes_of(node) {
+                let i = i as usize;
+                let code = match active {
+                    0 => Some(0),
+                    active => straddled(
+                        arrays.center_of(i),
+                        arrays.half_of(i),
+                        cut_planes,
+                        active,
+                        tolerance,
+                    ),
+                };
+                let (box_ext, crosses_near) = match code {
+                    None => continue,
+                    Some(0) => (box_image(i), false),
+                    Some(mask) => {
+                        scratch.clear();
+                        let caster = &scene.casters()[i];
+                        if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch) {
+                            continue;
+                        }
+                        let mut e = Extents::EMPTY;
+                        for p in &scratch {
+                            e.add(projector.project(*p));
+                        }
+                        (e, light_near_first && mask & 1 != 0)
+                    }
+                };
+                if !receivers.xy_overlaps(&box_ext, xy_slack) || box_ext.min.z > receivers.max.z {
+                    continue;
+                }
+                relevant += 1;
+                near_clipped += usize::from(crosses_near);
+                ext = ext.union(&box_ext.clamped_to(&over));
+            }
+        }
+        // A deferred subtree lies no nearer than the casters gathered when it was counted, so
+        // only its x and y can add: opened (and counted again) where the extents do not hold
+        // them now.
+        strict = true;
+        match deferred.pop() {
+            Some((node, image)) if !ext.contains(&image) => {
+                relevant -= tree.size(node);
+                stack.push((node, 0));
+            }
+            Some(_) => {}
+            None => break,
         }
     }
     diagnostics.relevant_casters = relevant;
@@ -648,6 +768,155 @@ mod tests {
             DVec3::X
         } else {
             v.normalize()
+        }
+    }
+
+    /// The extents of the casters, caster by caster, as `caster_extents` defines them.
+    fn casters_one_by_one(
+        scene: &SceneBounds,
+        projector: &Projector,
+        receivers: &Extents,
+        cut_planes: &[Plane],
+        tolerance: f64,
+    ) -> (Extents, usize) {
+        let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
+        let over = Extents {
+            min: (receivers.min.truncate() - xy_slack).extend(f64::NEG_INFINITY),
+            max: (receivers.max.truncate() + xy_slack).extend(receivers.max.z),
+        };
+        let mut ext = Extents::EMPTY;
+        let mut relevant = 0;
+        for caster in scene.casters() {
+            let mut points = Vec::new();
+            match classify_box(caster, cut_planes, tolerance) {
+                BoxSide::Outside => continue,
+                BoxSide::Inside => points.extend(caster.corners()),
+                BoxSide::Straddles(mask) => {
+                    if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut points) {
+                        continue;
+                    }
+                }
+            }
+            let mut e = Extents::EMPTY;
+            for p in &points {
+                e.add(projector.project(*p));
+            }
+            if receivers.xy_overlaps(&e, xy_slack) && e.min.z <= receivers.max.z {
+                relevant += 1;
+                ext = ext.union(&e.clamped_to(&over));
+            }
+        }
+        (ext, relevant)
+    }
+
+    fn close(a: &Extents, b: &Extents, eps: f64) -> bool {
+        let same = |x: f64, y: f64| x == y || (x - y).abs() <= eps;
+        (0..3).all(|k| same(a.min[k], b.min[k]) && same(a.max[k], b.max[k]))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// Walking the scene's hierarchies gives what a pass over every box gives: the same
+        /// visible receivers, the same receiver extents, the same caster extents and counts,
+        /// for directional and spot lights, with and without a cutting side plane.
+        #[test]
+        fn hierarchy_walks_match_every_box(
+            boxes in prop::collection::vec((prop::array::uniform3(-60.0f64..60.0), prop::array::uniform3(0.2f64..12.0), 0u8..3), 1..300),
+            eye in prop::array::uniform3(-80.0f64..80.0),
+            target in prop::array::uniform3(-30.0f64..30.0),
+            light in prop::array::uniform3(-1.0f64..1.0),
+            spot in any::<bool>(),
+            side in prop::option::of(prop::array::uniform3(-1.0f64..1.0)),
+        ) {
+            use crate::camera::{Camera, Lens};
+            use crate::frame::Frame;
+            use crate::light::{DirectionalLight, Light, SpotLight};
+            use crate::setup::{MapSettings, SetupInput};
+            use crate::techniques::basis::{FocusBasis, Part};
+            // Boxes that cast, receive or both, on a ground that receives.
+            let (mut casters, mut receivers) = (Vec::new(), Vec::new());
+            for (lo, size, kind) in &boxes {
+                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.3);
+                let b = Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap();
+                if *kind != 1 { casters.push(b); }
+                if *kind != 0 { receivers.push(b); }
+            }
+            receivers.push(Aabb::new(DVec3::new(-70.0, -1.0, -70.0), DVec3::new(70.0, 0.0, 70.0)).unwrap());
+            let scene = SceneBounds::new(casters, receivers, None).unwrap();
+            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
+            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
+            let lens = Lens { near: 0.5, far: 120.0, ..Lens::default() };
+            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+            let direction = DVec3::from_array(light);
+            prop_assume!(direction.length() > 0.1);
+            let light = if spot {
+                Light::Spot(SpotLight::new(DVec3::new(5.0, 60.0, -5.0), direction.with_y(-1.0), 50.0, 300.0).unwrap())
+            } else {
+                Light::Directional(DirectionalLight::new(direction.with_y(-direction.y.abs() - 0.1)).unwrap())
+            };
+            let input = SetupInput { camera: &camera, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
+            let frame = Frame::new(&input);
+            let part = match side {
+                Some(n) if DVec3::from_array(n).length() > 0.1 => {
+                    // A plane through the light's rays, as SPPSM's.
+                    let n = DVec3::from_array(n).normalize();
+                    let along = match &light { Light::Directional(d) => d.direction(), Light::Spot(s) => s.direction() };
+                    let n = (n - along * n.dot(along)).normalize_or_zero();
+                    prop_assume!(n.length() > 0.5);
+                    let through = match &light { Light::Directional(_) => target, Light::Spot(s) => s.position() };
+                    Part::Side(Plane::through_point(through, n))
+                }
+                _ => Part::Whole,
+            };
+            let basis = FocusBasis::new(&frame, part);
+            let tolerance = frame.tolerance;
+            let planes = match part {
+                Part::Side(p) => { let mut v = frame.receiver_planes.clone(); v.push(p); v }
+                _ => frame.receiver_planes.clone(),
+            };
+            // Visible receivers, one by one.
+            let mut count = 0;
+            let mut vertices = Vec::new();
+            if !basis.visible.view_body.is_empty() {
+                for r in scene.receivers() {
+                    match classify_box(r, &planes, tolerance) {
+                        BoxSide::Outside => {}
+                        BoxSide::Inside => { count += 1; vertices.extend(r.corners()); }
+                        BoxSide::Straddles(mask) => {
+                            if box_cut_vertices(r, &planes, mask, tolerance, &mut vertices) { count += 1; }
+                        }
+                    }
+                }
+            }
+            prop_assert_eq!(basis.visible.visible_receivers(), count);
+            prop_assume!(count > 0);
+            let projectors = match &light {
+                Light::Directional(d) => vec![
+                    Projector::Parallel(LightFrame::fixed(d.direction())),
+                    Projector::Parallel(LightFrame::view_aligned(d.direction(), camera.forward()).unwrap_or(LightFrame::fixed(d.direction()))),
+                ],
+                Light::Spot(s) => vec![Projector::Point { frame: LightFrame::fixed(s.direction()), position: s.position() }],
+            };
+            for projector in &projectors {
+                let mut want = Extents::EMPTY;
+                for v in &vertices { want.add(projector.project(*v)); }
+                let got = basis.visible.receiver_extents(&scene, projector);
+                let eps = 1e-9 * (1.0 + (want.max - want.min).abs().max_element() + want.min.abs().max_element());
+                prop_assert!(close(&got, &want, eps), "receivers {:?} vs {:?}", got, want);
+                let mut diagnostics = crate::setup::Diagnostics::new(&camera, &light, &scene);
+                let got = caster_extents(&scene, projector, &want, &basis.caster_planes, spot, tolerance, &mut diagnostics);
+                let (want_casters, relevant) = casters_one_by_one(&scene, projector, &want, &basis.caster_planes, tolerance);
+                prop_assert_eq!(diagnostics.relevant_casters, relevant);
+                // The far side is not gathered (see `caster_extents`).
+                let near_side = |e: &Extents| Extents { min: e.min, max: e.max.with_z(0.0) };
+                if relevant > 0 {
+                    prop_assert!(close(&near_side(&got), &near_side(&want_casters), eps),
+                        "casters {:?} vs {:?}", got, want_casters);
+                } else {
+                    prop_assert!(got.is_empty());
+                }
+            }
         }
     }
 

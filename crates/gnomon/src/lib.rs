@@ -39,6 +39,7 @@
 pub mod analysis;
 mod body;
 mod bounds;
+mod bvh;
 mod camera;
 mod error;
 mod focus;

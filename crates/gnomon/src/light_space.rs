@@ -211,6 +211,30 @@ impl Extents {
         s.x * s.y
     }
 
+    /// The same box with its least depth `z`.
+    #[inline]
+    pub fn with_min_z(&self, z: f64) -> Extents {
+        Extents {
+            min: self.min.with_z(z),
+            max: self.max,
+        }
+    }
+
+    /// Whether `o` lies inside (touching counts).
+    #[inline]
+    pub fn contains(&self, o: &Extents) -> bool {
+        self.min.cmple(o.min).all() && o.max.cmple(self.max).all()
+    }
+
+    /// The part of this box inside `o` (empty when they do not meet).
+    #[inline]
+    pub fn clamped_to(&self, o: &Extents) -> Extents {
+        Extents {
+            min: self.min.max(o.min),
+            max: self.max.min(o.max),
+        }
+    }
+
     /// Whether the xy rectangles overlap (touching counts), `slack` added around `self`.
     #[inline]
     pub fn xy_overlaps(&self, o: &Extents, slack: f64) -> bool {

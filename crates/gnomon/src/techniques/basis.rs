@@ -14,7 +14,7 @@ use glam::DVec3;
 
 use crate::body::focus_body;
 use crate::camera::Camera;
-use crate::focus::{ReuseCuts, VisibleScene, refine_codes};
+use crate::focus::{ReuseCuts, VisibleScene, refine};
 use crate::frame::{Frame, frame_planes};
 use crate::geometry::Plane;
 use crate::samples::ViewSamples;
@@ -151,20 +151,18 @@ fn refined(
     reuse: bool,
 ) -> VisibleScene {
     let scene = frame.input.scene;
-    let codes = refine_codes(
+    let codes = refine(
         &frame.receiver_codes,
-        scene.receivers(),
-        scene.receiver_arrays(),
+        scene,
         planes,
         changed,
         frame.tolerance,
     );
     let reuse = reuse.then(|| ReuseCuts {
         frame: frame.visible(),
-        codes: &frame.receiver_codes,
         changed,
     });
-    VisibleScene::from_codes(body, scene, planes, &codes, frame.tolerance, reuse)
+    VisibleScene::from_classified(body, scene, planes, &codes, frame.tolerance, reuse)
 }
 
 #[cfg(test)]

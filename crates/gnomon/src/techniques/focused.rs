@@ -111,17 +111,12 @@ pub(crate) fn focus(
         diagnostics.fallbacks.push(Fallback::DegenerateFocusBody);
     }
 
-    let cached = match &projector {
-        Projector::Parallel(frame) => basis.frame.casters_in(frame),
-        Projector::Point { .. } => None,
-    };
     let casters = caster_extents(
         input.scene,
         &projector,
         &receivers,
         &basis.caster_planes,
         light_planes.is_some(),
-        cached,
         tolerance,
         diagnostics,
     );

@@ -1,6 +1,6 @@
 //! The shadow-map techniques, one file each, all behind [`crate::ShadowTechnique`].
 
-mod basis;
+pub(crate) mod basis;
 mod cascades;
 mod focused;
 mod lispsm;

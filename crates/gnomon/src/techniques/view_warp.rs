@@ -29,11 +29,10 @@
 use glam::{DMat4, DVec3, DVec4};
 
 use crate::error::SetupError;
-use crate::focus::{BoxSide, LightCorners, box_cut_vertices, classify_box};
-use crate::frame::LightBoxes;
+use crate::focus::{BoxSide, LightCorners, ParallelBoxes, box_cut_vertices, classify_box};
 use crate::geometry::Plane;
 use crate::light::Light;
-use crate::light_space::{Extents, LightFrame, pad};
+use crate::light_space::{Extents, LightFrame, Projector, pad};
 use crate::setup::{
     Diagnostics, Fallback, LightFrameKind, MapProjection, MapSelection, SetupInput, ShadowMap,
     ShadowSetup,
@@ -265,9 +264,8 @@ pub(crate) struct WarpSpace {
     eye_light: DVec3,
     depth_world: f64,
     near_depth: f64,
-    /// The visible receivers in light space: whole boxes (centre, half extents), and the
-    /// vertices of cut ones (for a spot light, every vertex).
-    receiver_boxes: Vec<(DVec3, DVec3)>,
+    /// The visible receivers' vertices in light space, for a spot light (for a directional
+    /// light the receivers are read from the scene's hierarchy at each strength).
     receiver_points: Vec<DVec3>,
     /// Their linear depth range along the light.
     receivers_linear: (f64, f64),
@@ -278,15 +276,140 @@ pub(crate) struct WarpSpace {
 
 /// The casters a warp may need, in light space.
 enum WarpCasters {
-    /// Boxes [lo, hi] with Y inside B's range (a directional light with nothing else
-    /// cutting them): the least linear depth is lo.z.
-    Boxes(Vec<(DVec3, DVec3)>),
+    /// The scene's casters, walked through their hierarchy at each strength (a directional
+    /// light with nothing else cutting them).
+    Tree(TreeCasters),
     /// The vertices of each caster's cut part, as ranges of `points`, with their least
     /// linear depth.
     Points {
         points: Vec<DVec3>,
         casters: Vec<(u32, u32, f64)>,
     },
+}
+
+/// The casters of a directional light's warp, culled where no strength can make them
+/// relevant: a caster matters only where its light-space box meets `columns` (the receivers'
+/// columns, grown by a slack and cut to B's Y range, up to the receivers' far depth); its Y
+/// is cut to `y_range` (B's) before it is warped.
+struct TreeCasters {
+    frame: LightFrame,
+    columns: Extents,
+    y_range: (f64, f64),
+}
+
+/// What the relevant casters give a warp: their warped extents (in x and y only as far as
+/// they lie over the receivers), their least linear depth and how many they are.
+struct WarpedCasters {
+    extents: Extents,
+    linear_min: f64,
+    relevant: usize,
+}
+
+impl TreeCasters {
+    /// The casters under `warp` whose warped boxes overlap `receivers` (the receivers'
+    /// warped extents) in x and y. A subtree whose node lies outside the columns or beside
+    /// the receivers is culled whole; one that lies wholly inside both and adds nothing to
+    /// what is gathered so far is counted whole (see [`crate::focus::caster_extents`]).
+    fn warped(
+        &self,
+        scene: &crate::bounds::SceneBounds,
+        warp: &Warp,
+        receivers: &Extents,
+    ) -> WarpedCasters {
+        let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
+        let over = Extents {
+            min: (receivers.min.truncate() - xy_slack).extend(f64::NEG_INFINITY),
+            max: (receivers.max.truncate() + xy_slack).extend(f64::INFINITY),
+        };
+        let (columns, (y0, y1)) = (&self.columns, self.y_range);
+        let meets = |l: &Extents| {
+            columns.min.x <= l.max.x
+                && l.min.x <= columns.max.x
+                && columns.min.y <= l.max.y
+                && l.min.y <= columns.max.y
+                && l.min.z <= columns.max.z
+        };
+        // The warped box of a light-space box cut to B's Y range.
+        let warped = |l: &Extents| {
+            let (lo, hi) = (l.min.with_y(l.min.y.max(y0)), l.max.with_y(l.max.y.min(y1)));
+            warp.box_extents(lo, hi)
+        };
+        let tree = scene.caster_tree();
+        let nodes = ParallelBoxes::new(&tree.nodes, &self.frame);
+        let boxes = ParallelBoxes::new(scene.caster_arrays(), &self.frame);
+        // Their far side does not matter (see `caster_extents`).
+        let mut out = WarpedCasters {
+            extents: Extents {
+                min: DVec3::INFINITY,
+                max: DVec3::NEG_INFINITY.with_z(f64::INFINITY),
+            },
+            linear_min: f64::INFINITY,
+            relevant: 0,
+        };
+        let mut stack = if tree.is_empty() {
+            Vec::new()
+        } else {
+            vec![0usize]
+        };
+        let mut deferred = Vec::new();
+        let mut strict = false;
+        loop {
+            while let Some(node) = stack.pop() {
+                let light = nodes.extents(node);
+                if !meets(&light) {
+                    continue;
+                }
+                let image = warped(&light);
+                if !receivers.xy_overlaps(&image, xy_slack) {
+                    continue;
+                }
+                let held = out.extents.contains(&image);
+                if columns.contains(&light.with_min_z(columns.min.z))
+                    && over.contains(&image)
+                    && image.min.z >= out.extents.min.z
+                    && light.min.z >= out.linear_min
+                    && (held || !strict)
+                {
+                    out.relevant += tree.size(node);
+                    if !held {
+                        deferred.push((node, image));
+                    }
+                    continue;
+                }
+                if !tree.is_leaf(node) {
+                    let mut children = tree.children(node);
+                    if nodes.extents(children[0]).min.z < nodes.extents(children[1]).min.z {
+                        children.swap(0, 1);
+                    }
+                    stack.extend(children);
+                    continue;
+                }
+                for &i in tree.boxes_of(node) {
+                    let light = boxes.extents(i as usize);
+                    if !meets(&light) {
+                        continue;
+                    }
+                    let image = warped(&light);
+                    if receivers.xy_overlaps(&image, xy_slack) {
+                        out.relevant += 1;
+                        out.extents = out.extents.union(&image.clamped_to(&over));
+                        out.linear_min = out.linear_min.min(light.min.z);
+                    }
+                }
+            }
+            // Deferred subtrees: see `caster_extents`.
+            strict = true;
+            match deferred.pop() {
+                Some((node, image)) if !out.extents.contains(&image) => {
+                    out.relevant -= tree.size(node);
+                    stack.push(node);
+                }
+                Some(_) => {}
+                None => break,
+            }
+        }
+        out
+    }
 }
 
 impl WarpSpace {
@@ -371,27 +494,14 @@ impl WarpSpace {
 
         // Receivers: light-space vertices, and the linear depth range.
         let mut receiver_points = Vec::new();
-        let mut receiver_boxes = Vec::new();
         let mut receivers_light = Extents::EMPTY;
         let mut receivers_linear = (f64::INFINITY, f64::NEG_INFINITY);
         match space {
             LightSpace::Parallel(frame) => {
-                // Light space's Z is the linear depth along a directional light.
-                visible.parts_in(
-                    input.scene,
-                    &frame,
-                    &mut receiver_boxes,
-                    &mut receiver_points,
-                );
-                let corners = LightCorners::new(&frame);
-                for (c, h) in &receiver_boxes {
-                    for q in corners.corners(*c, *h) {
-                        receivers_light.add(q);
-                    }
-                }
-                for q in &receiver_points {
-                    receivers_light.add(*q);
-                }
+                // Light space's Z is the linear depth along a directional light. The receivers
+                // stay in the scene's hierarchy (see `view_warp_setup`).
+                receivers_light =
+                    visible.receiver_extents(input.scene, &Projector::Parallel(frame));
                 receivers_linear = (receivers_light.min.z, receivers_light.max.z);
             }
             LightSpace::Spot { .. } => visible.for_each_vertex(input.scene, |p| {
@@ -410,39 +520,22 @@ impl WarpSpace {
             LightSpace::Parallel(frame) if !basis.cuts_casters() => {
                 // Light rays are columns of constant (X, Y) before and after the warp, so a
                 // caster beside the receivers' columns is culled before any division.
-                let light_slack = 1e-9
+                let slack = 1e-9
                     * (receivers_light.max - receivers_light.min)
                         .truncate()
                         .max_element();
-                let made;
-                let boxes = match basis.frame.casters_in(frame) {
-                    Some(boxes) => boxes,
-                    None => {
-                        made = LightBoxes::new(input.scene.caster_arrays(), frame);
-                        &made
-                    }
-                };
-                let mut indices = Vec::new();
-                let y_range = (body_light.min.y, body_light.max.y);
-                boxes.overlapping(
-                    &receivers_light,
-                    light_slack,
-                    receivers_z,
-                    y_range,
-                    &mut indices,
-                );
-                WarpCasters::Boxes(
-                    indices
-                        .iter()
-                        .map(|&i| {
-                            let Extents { min: lo, max: hi } = boxes.get(i as usize);
-                            (
-                                lo.with_y(lo.y.max(y_range.0)),
-                                hi.with_y(hi.y.min(y_range.1)),
-                            )
-                        })
-                        .collect(),
-                )
+                WarpCasters::Tree(TreeCasters {
+                    frame: *frame,
+                    columns: Extents {
+                        min: (receivers_light.min.truncate() - slack)
+                            .max(glam::DVec2::new(f64::NEG_INFINITY, body_light.min.y))
+                            .extend(f64::NEG_INFINITY),
+                        max: (receivers_light.max.truncate() + slack)
+                            .min(glam::DVec2::new(f64::INFINITY, body_light.max.y))
+                            .extend(receivers_z),
+                    },
+                    y_range: (body_light.min.y, body_light.max.y),
+                })
             }
             _ => {
                 // Cut each caster by the light's frustum (and a side), and B's Y range: all
@@ -487,12 +580,89 @@ impl WarpSpace {
             eye_light,
             depth_world,
             near_depth,
-            receiver_boxes,
             receiver_points,
             receivers_linear,
             casters,
             caster_count: input.scene.casters().len(),
         })
+    }
+}
+
+impl WarpSpace {
+    /// The visible receivers' extents under `warp` (one of this light space's).
+    fn receivers_under(
+        &self,
+        scene: &crate::bounds::SceneBounds,
+        visible: &crate::focus::VisibleScene,
+        warp: &Warp,
+    ) -> Extents {
+        match &self.space {
+            LightSpace::Parallel(frame) => {
+                let tree = scene.receiver_tree();
+                let arrays = scene.receiver_arrays();
+                let nodes = ParallelBoxes::new(&tree.nodes, frame);
+                let corners = LightCorners::new(frame);
+                visible.extents_under(
+                    scene,
+                    true,
+                    |n| {
+                        let light = nodes.extents(n);
+                        warp.box_extents(light.min, light.max)
+                    },
+                    |i| {
+                        let c = warp.light(arrays.center_of(i));
+                        let corners = corners.corners(c, arrays.half_of(i));
+                        // A cut receiver's whole box may reach behind the warp's centre, where
+                        // its image bounds nothing (a wholly visible one lies in B: w > 0).
+                        if corners.iter().any(|q| warp.warp(*q).1 <= 0.0) {
+                            return Extents {
+                                min: DVec3::NEG_INFINITY,
+                                max: DVec3::INFINITY,
+                            };
+                        }
+                        warp.points_extents(&corners)
+                    },
+                    |points| {
+                        let mut ext = Extents::EMPTY;
+                        for p in points {
+                            ext.add(warp.warp(warp.light(*p)).0);
+                        }
+                        ext
+                    },
+                )
+            }
+            LightSpace::Spot { .. } => warp.points_extents(&self.receiver_points),
+        }
+    }
+
+    /// The casters under `warp` that overlap the receivers' warped extents (`receivers`) in
+    /// x and y, as [`WarpedCasters`].
+    fn casters_under(
+        &self,
+        scene: &crate::bounds::SceneBounds,
+        warp: &Warp,
+        receivers: &Extents,
+    ) -> WarpedCasters {
+        match &self.casters {
+            WarpCasters::Tree(tree) => tree.warped(scene, warp, receivers),
+            WarpCasters::Points { points, casters } => {
+                let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
+                let mut out = WarpedCasters {
+                    extents: Extents::EMPTY,
+                    linear_min: f64::INFINITY,
+                    relevant: 0,
+                };
+                for &(start, end, z_min) in casters {
+                    let warped = warp.points_extents(&points[start as usize..end as usize]);
+                    if receivers.xy_overlaps(&warped, xy_slack) {
+                        out.relevant += 1;
+                        out.extents = out.extents.union(&warped);
+                        out.linear_min = out.linear_min.min(z_min);
+                    }
+                }
+                out
+            }
+        }
     }
 }
 
@@ -550,13 +720,7 @@ pub(crate) fn view_warp_setup(
     };
 
     // Receivers: warped extents.
-    let mut receivers = warp.points_extents(&ws.receiver_points);
-    if let LightSpace::Parallel(frame) = &ws.space {
-        let corners = LightCorners::new(frame);
-        for (c, h) in &ws.receiver_boxes {
-            receivers = receivers.union(&warp.points_extents(&corners.corners(*c, *h)));
-        }
-    }
+    let receivers = ws.receivers_under(input.scene, &basis.visible, &warp);
     let receivers_linear = ws.receivers_linear;
     let receivers_z = receivers_linear.1;
     let mut body_warped = Extents::EMPTY;
@@ -565,32 +729,11 @@ pub(crate) fn view_warp_setup(
     }
 
     // Casters: their warped extents, kept where they overlap the receivers' columns.
-    let mut casters = Extents::EMPTY;
-    let mut casters_z = f64::INFINITY;
-    let mut relevant = 0;
-    let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
-    let mut add_caster = |warped: Extents, z_min: f64| {
-        if receivers.xy_overlaps(&warped, xy_slack) {
-            relevant += 1;
-            casters = casters.union(&warped);
-            casters_z = casters_z.min(z_min);
-        }
-    };
-    match &ws.casters {
-        WarpCasters::Boxes(boxes) => {
-            for (lo, hi) in boxes {
-                add_caster(warp.box_extents(*lo, *hi), lo.z);
-            }
-        }
-        WarpCasters::Points { points, casters } => {
-            for &(start, end, z_min) in casters {
-                add_caster(
-                    warp.points_extents(&points[start as usize..end as usize]),
-                    z_min,
-                );
-            }
-        }
-    }
+    let WarpedCasters {
+        extents: casters,
+        linear_min: casters_z,
+        relevant,
+    } = ws.casters_under(input.scene, &warp, &receivers);
     diagnostics.relevant_casters = relevant;
     diagnostics.culled_casters = ws.caster_count - relevant;
 
@@ -683,6 +826,92 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// The warp's walks of the scene's hierarchies give what a pass over every box gives:
+        /// the receivers' warped extents, and the relevant casters' extents, nearest depth
+        /// and count, at any strength.
+        #[test]
+        fn warped_walks_match_every_box(
+            boxes in prop::collection::vec((prop::array::uniform3(-60.0f64..60.0), prop::array::uniform3(0.2f64..12.0), 0u8..3), 1..300),
+            eye in prop::array::uniform3(-80.0f64..80.0),
+            target in prop::array::uniform3(-30.0f64..30.0),
+            light in prop::array::uniform3(-1.0f64..1.0),
+            n in prop_oneof![Just(f64::INFINITY), 0.5f64..500.0],
+        ) {
+            use crate::bounds::{Aabb, SceneBounds};
+            use crate::camera::{Camera, Lens};
+            use crate::frame::Frame;
+            use crate::light::DirectionalLight;
+            use crate::setup::MapSettings;
+            use crate::techniques::basis::Part;
+            let (mut casters, mut receivers) = (Vec::new(), Vec::new());
+            for (lo, size, kind) in &boxes {
+                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.3);
+                let b = Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap();
+                if *kind != 1 { casters.push(b); }
+                if *kind != 0 { receivers.push(b); }
+            }
+            receivers.push(Aabb::new(DVec3::new(-70.0, -1.0, -70.0), DVec3::new(70.0, 0.0, 70.0)).unwrap());
+            let scene = SceneBounds::new(casters, receivers, None).unwrap();
+            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
+            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
+            let lens = crate::camera::Lens { near: 0.5, far: 120.0, ..Lens::default() };
+            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+            let direction = DVec3::from_array(light);
+            prop_assume!(direction.length() > 0.1);
+            let light = Light::Directional(DirectionalLight::new(direction.with_y(-direction.y.abs() - 0.1)).unwrap());
+            let input = SetupInput { camera: &camera, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
+            let frame = Frame::new(&input);
+            let basis = FocusBasis::new(&frame, Part::Whole);
+            prop_assume!(basis.visible.visible_receivers() > 0);
+            let Ok(ws) = WarpSpace::new(&input, &basis) else { return Ok(()) };
+            let LightSpace::Parallel(light_frame) = ws.space else { unreachable!() };
+            let inv_n = 1.0 / n;
+            let warp = Warp {
+                space: ws.space,
+                x_eye: ws.eye_light.x,
+                y_origin: ws.body_light.min.y - if n.is_finite() { n } else { 0.0 },
+                z_mid: 0.5 * (ws.body_light.min.z + ws.body_light.max.z),
+                inv_n,
+                k: 1.0 / (ws.body_light.max.y - ws.body_light.min.y) + inv_n,
+            };
+            let mut want = Extents::EMPTY;
+            basis.visible.for_each_vertex(&scene, |p| want.add(warp.warp(warp.light(p)).0));
+            let got = ws.receivers_under(&scene, &basis.visible, &warp);
+            let scale = 1.0 + (want.max - want.min).abs().max_element() + want.min.abs().max_element();
+            let close = |a: DVec3, b: DVec3| (a - b).abs().max_element() <= 1e-9 * scale;
+            prop_assert!(close(got.min, want.min) && close(got.max, want.max), "receivers {:?} vs {:?}", got, want);
+
+            // Casters one by one, as `TreeCasters::warped` defines them.
+            let WarpCasters::Tree(tree) = &ws.casters else { unreachable!() };
+            let xy_slack = 1e-9 * (want.max - want.min).truncate().max_element();
+            let over = Extents {
+                min: (want.min.truncate() - xy_slack).extend(f64::NEG_INFINITY),
+                max: (want.max.truncate() + xy_slack).extend(f64::INFINITY),
+            };
+            let boxes = ParallelBoxes::new(scene.caster_arrays(), &light_frame);
+            let (c, (y0, y1)) = (&tree.columns, tree.y_range);
+            let (mut ext, mut linear_min, mut relevant) = (Extents::EMPTY, f64::INFINITY, 0);
+            for i in 0..scene.casters().len() {
+                let l = boxes.extents(i);
+                let meets = c.min.x <= l.max.x && l.min.x <= c.max.x && c.min.y <= l.max.y
+                    && l.min.y <= c.max.y && l.min.z <= c.max.z;
+                if !meets { continue; }
+                let image = warp.box_extents(l.min.with_y(l.min.y.max(y0)), l.max.with_y(l.max.y.min(y1)));
+                if want.xy_overlaps(&image, xy_slack) {
+                    relevant += 1;
+                    ext = ext.union(&image.clamped_to(&over));
+                    linear_min = linear_min.min(l.min.z);
+                }
+            }
+            let got = ws.casters_under(&scene, &warp, &want);
+            prop_assert_eq!(got.relevant, relevant);
+            if relevant > 0 {
+                prop_assert!(close(got.extents.min, ext.min), "casters {:?} vs {:?}", got.extents, ext);
+                prop_assert!(close(got.extents.max.truncate().extend(0.0), ext.max.truncate().extend(0.0)), "casters {:?} vs {:?}", got.extents, ext);
+                prop_assert_eq!(got.linear_min, linear_min);
+            }
+        }
 
         /// The six-division extents equal the extents of the eight warped corners.
         #[test]

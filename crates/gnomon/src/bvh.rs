@@ -1,0 +1,333 @@
+//! A bounding volume hierarchy over a scene's boxes (one for the casters, one for the
+//! receivers), built once with the [`crate::SceneBounds`] and refitted when boxes move, so that
+//! a frame's work grows with what it sees and with the borders of its regions, not with the
+//! number of objects.
+//!
+//! A node's box holds the boxes of its subtree, so a test that fails or passes for the node
+//! fails or passes for all of them: a node wholly outside a plane has every box outside, one
+//! wholly inside has every box inside, and a node's extents under a light's projector hold
+//! every box's. Traversals use this twice: classification stops at the nodes that lie wholly
+//! inside or outside (only boxes near a plane are tested one by one), and extents stop at the
+//! nodes whose image lies inside what has been gathered so far (see `focus.rs`).
+
+use glam::DVec3;
+
+use crate::bounds::{Aabb, BoxArrays};
+use crate::geometry::Plane;
+
+/// Boxes per leaf at most.
+const LEAF_SIZE: usize = 4;
+
+/// The hierarchy: nodes in an array (a parent before its children, the two children of a
+/// node side by side), each covering a contiguous range of `order`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub(crate) struct BoxTree {
+    /// Node boxes as centres and half extents (node i at index i), grown by a few ulps so
+    /// that every box of the subtree lies inside after rounding.
+    pub nodes: BoxArrays,
+    /// The first of an inner node's two children; 0 for a leaf (the root is never a child).
+    left: Vec<u32>,
+    /// Where a node's boxes start in `order`, and how many it holds.
+    start: Vec<u32>,
+    size: Vec<u32>,
+    /// Box indices, ordered so that every node's boxes are contiguous.
+    order: Vec<u32>,
+}
+
+impl BoxTree {
+    /// The hierarchy over `boxes`: each node split at the median of its boxes' centres along
+    /// the longest side of the centres' bounds.
+    pub fn new(boxes: &BoxArrays) -> Self {
+        let n = boxes.len();
+        let mut tree = Self {
+            order: (0..n as u32).collect(),
+            ..Self::default()
+        };
+        if n == 0 {
+            return tree;
+        }
+        tree.push_node(0, n);
+        let mut stack = vec![0usize];
+        while let Some(node) = stack.pop() {
+            let (start, size) = (tree.start[node] as usize, tree.size[node] as usize);
+            if size <= LEAF_SIZE {
+                continue;
+            }
+            let range = &mut tree.order[start..start + size];
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for &i in range.iter() {
+                let c = boxes.center_of(i as usize);
+                lo = lo.min(c);
+                hi = hi.max(c);
+            }
+            let axis = (hi - lo).max_position();
+            let mid = size / 2;
+            range.select_nth_unstable_by(mid, |&a, &b| {
+                boxes.center[axis][a as usize].total_cmp(&boxes.center[axis][b as usize])
+            });
+            let left = tree.left.len();
+            tree.left[node] = left as u32;
+            tree.push_node(start, mid);
+            tree.push_node(start + mid, size - mid);
+            stack.extend([left, left + 1]);
+        }
+        tree.refit(boxes);
+        tree
+    }
+
+    fn push_node(&mut self, start: usize, size: usize) {
+        self.left.push(0);
+        self.start.push(start as u32);
+        self.size.push(size as u32);
+        for axis in 0..3 {
+            self.nodes.center[axis].push(0.0);
+            self.nodes.half[axis].push(0.0);
+        }
+    }
+
+    /// Recomputes every node's box from `boxes` (the same number of boxes the tree was built
+    /// on, moved): children first, then their parents. The tree's shape is kept; a scene
+    /// whose boxes moved far apart is still correct, only slower to traverse.
+    pub fn refit(&mut self, boxes: &BoxArrays) {
+        let count = self.left.len();
+        let mut lo = vec![DVec3::ZERO; count];
+        let mut hi = vec![DVec3::ZERO; count];
+        for node in (0..count).rev() {
+            let (a, b) = if self.is_leaf(node) {
+                self.boxes_of(node).iter().fold(
+                    (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                    |(a, b), &i| {
+                        let (c, h) = (boxes.center_of(i as usize), boxes.half_of(i as usize));
+                        (a.min(c - h), b.max(c + h))
+                    },
+                )
+            } else {
+                let l = self.left[node] as usize;
+                (lo[l].min(lo[l + 1]), hi[l].max(hi[l + 1]))
+            };
+            lo[node] = a;
+            hi[node] = b;
+            let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
+            // A few ulps more, so that c +- h holds a and b after rounding.
+            let h = h + (c.abs() + h) * (4.0 * f64::EPSILON);
+            for axis in 0..3 {
+                self.nodes.center[axis][node] = c[axis];
+                self.nodes.half[axis][node] = h[axis];
+            }
+        }
+    }
+
+    /// Whether the tree has no node (no boxes).
+    pub fn is_empty(&self) -> bool {
+        self.left.is_empty()
+    }
+
+    /// Whether `node` is a leaf.
+    #[inline]
+    pub fn is_leaf(&self, node: usize) -> bool {
+        self.left[node] == 0
+    }
+
+    /// An inner node's two children.
+    #[inline]
+    pub fn children(&self, node: usize) -> [usize; 2] {
+        let l = self.left[node] as usize;
+        [l, l + 1]
+    }
+
+    /// The indices of the boxes under `node`.
+    #[inline]
+    pub fn boxes_of(&self, node: usize) -> &[u32] {
+        let start = self.start[node] as usize;
+        &self.order[start..start + self.size[node] as usize]
+    }
+
+    /// How many boxes lie under `node`.
+    #[inline]
+    pub fn size(&self, node: usize) -> usize {
+        self.size[node] as usize
+    }
+
+    /// Node `node`'s box.
+    pub fn node_box(&self, node: usize) -> Aabb {
+        let (c, h) = (self.nodes.center_of(node), self.nodes.half_of(node));
+        Aabb::from_min_max_unchecked(c - h, c + h)
+    }
+
+    /// Classifies the subtrees `roots` (each with the bits of the planes still to test: its
+    /// boxes lie inside the others) against `planes`, as [`crate::focus::classify_box`] does
+    /// one box: subtrees wholly inside all planes go to `out.nodes`, boxes of a leaf that lie
+    /// wholly inside to `out.boxes`, boxes that cross some planes to `out.cut` with the mask of
+    /// those planes; what lies wholly outside one plane is dropped.
+    pub fn classify(
+        &self,
+        boxes: &BoxArrays,
+        planes: &[Plane],
+        tolerance: f64,
+        roots: impl IntoIterator<Item = (usize, u32)>,
+        out: &mut Classified,
+    ) {
+        let mut stack: Vec<(usize, u32)> = roots.into_iter().collect();
+        while let Some((node, active)) = stack.pop() {
+            let Some(mask) = straddled(
+                self.nodes.center_of(node),
+                self.nodes.half_of(node),
+                planes,
+                active,
+                tolerance,
+            ) else {
+                continue;
+            };
+            if mask == 0 {
+                out.nodes.push(node as u32);
+            } else if self.is_leaf(node) {
+                for &i in self.boxes_of(node) {
+                    let (c, h) = (boxes.center_of(i as usize), boxes.half_of(i as usize));
+                    match straddled(c, h, planes, mask, tolerance) {
+                        None => {}
+                        Some(0) => out.boxes.push(i),
+                        Some(cut) => out.cut.push((i, cut)),
+                    }
+                }
+            } else {
+                for child in self.children(node) {
+                    stack.push((child, mask));
+                }
+            }
+        }
+    }
+}
+
+/// The planes among `active` that the box (centre `c`, half extents `h`) crosses, or `None`
+/// when it lies wholly outside one of them (the tests of [`crate::focus::classify_box`]).
+#[inline]
+pub(crate) fn straddled(
+    c: DVec3,
+    h: DVec3,
+    planes: &[Plane],
+    active: u32,
+    tolerance: f64,
+) -> Option<u32> {
+    let mut mask = 0u32;
+    let mut bits = active;
+    while bits != 0 {
+        let k = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let plane = &planes[k];
+        let r = plane.normal.abs().dot(h);
+        let s = plane.distance(c);
+        if s + r <= tolerance {
+            return None;
+        }
+        if s - r < -tolerance {
+            mask |= 1 << k;
+        }
+    }
+    Some(mask)
+}
+
+/// The bits of planes `0..count`.
+pub(crate) fn all_planes(count: usize) -> u32 {
+    if count >= 32 {
+        u32::MAX
+    } else {
+        (1u32 << count) - 1
+    }
+}
+
+/// Boxes of a tree against a set of planes: what [`BoxTree::classify`] gives.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct Classified {
+    /// Subtrees wholly inside every plane.
+    pub nodes: Vec<u32>,
+    /// Boxes wholly inside every plane (outside those subtrees).
+    pub boxes: Vec<u32>,
+    /// Boxes that cross some planes, with the mask of those planes, in order of box index.
+    pub cut: Vec<(u32, u32)>,
+}
+
+impl Classified {
+    /// Sorts the cut boxes by index (so that a lookup can search them).
+    pub fn finish(&mut self) {
+        self.cut.sort_unstable_by_key(|c| c.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+    use crate::focus::{BoxSide, classify_box};
+
+    fn arrays(boxes: &[Aabb]) -> BoxArrays {
+        BoxArrays::new(boxes)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 500, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// The tree's classification gives every box the code the box gets alone, and its
+        /// nodes hold their boxes, before and after a refit.
+        #[test]
+        fn tree_classification_matches_each_box(
+            boxes in prop::collection::vec((prop::array::uniform3(-50.0f64..50.0), prop::array::uniform3(0.0f64..20.0)), 1..200),
+            planes in prop::collection::vec((prop::array::uniform3(-1.0f64..1.0), prop::array::uniform3(-30.0f64..30.0)), 1..8),
+            shift in prop::array::uniform3(-20.0f64..20.0),
+        ) {
+            let mut boxes: Vec<Aabb> = boxes.iter().filter_map(|(lo, size)| {
+                let lo = DVec3::from_array(*lo);
+                Aabb::new(lo, lo + DVec3::from_array(*size)).ok()
+            }).collect();
+            prop_assume!(!boxes.is_empty());
+            let planes: Vec<Plane> = planes.iter().filter_map(|(n, p)| {
+                let n = DVec3::from_array(*n);
+                (n.length() > 0.1).then(|| Plane::through_point(DVec3::from_array(*p), n.normalize()))
+            }).collect();
+            prop_assume!(!planes.is_empty());
+            let mut tree = BoxTree::new(&arrays(&boxes));
+            for round in 0..2 {
+                if round == 1 {
+                    // Every other box moves; the tree is refitted.
+                    for (i, b) in boxes.iter_mut().enumerate() {
+                        if i % 2 == 0 {
+                            let d = DVec3::from_array(shift);
+                            *b = Aabb::new(b.min() + d, b.max() + d).unwrap();
+                        }
+                    }
+                    tree.refit(&arrays(&boxes));
+                }
+                let a = arrays(&boxes);
+                for node in 0..tree.left.len() {
+                    let nb = tree.node_box(node);
+                    for &i in tree.boxes_of(node) {
+                        prop_assert!(nb.contains_box(&boxes[i as usize]));
+                    }
+                }
+                let mut out = Classified::default();
+                tree.classify(&a, &planes, 1e-9, [(0, all_planes(planes.len()))], &mut out);
+                out.finish();
+                let mut got = vec![None; boxes.len()];
+                for &node in &out.nodes {
+                    for &i in tree.boxes_of(node as usize) {
+                        got[i as usize] = Some(0u32);
+                    }
+                }
+                for &i in &out.boxes {
+                    got[i as usize] = Some(0);
+                }
+                for &(i, mask) in &out.cut {
+                    got[i as usize] = Some(mask);
+                }
+                for (i, b) in boxes.iter().enumerate() {
+                    let want = match classify_box(b, &planes, 1e-9) {
+                        BoxSide::Outside => None,
+                        BoxSide::Inside => Some(0),
+                        BoxSide::Straddles(mask) => Some(mask),
+                    };
+                    prop_assert_eq!(got[i], want, "box {}", i);
+                }
+            }
+        }
+    }
+}
