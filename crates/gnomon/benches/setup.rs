@@ -234,6 +234,21 @@ fn bench(c: &mut Criterion) {
             },
         );
         scale.bench_with_input(
+            BenchmarkId::new("lispsm_casting_samples", n),
+            &scene,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup(&Lispsm::default(), black_box(&camera), &sun, s, settings)
+                        .unwrap()
+                })
+            },
+        );
+        scale.bench_with_input(
+            BenchmarkId::new("bounds_and_hierarchies", n),
+            &n,
+            |b, &n| b.iter(|| city(black_box(n), true)),
+        );
+        scale.bench_with_input(
             BenchmarkId::new("cascades_4_lispsm_given_samples", n),
             &scene,
             |b, s| {

@@ -335,4 +335,67 @@ mod tests {
             Err(SetupError::EmptyScene)
         );
     }
+
+    /// Moved boxes give the setups that bounds built anew on them give, and a changed
+    /// count is refused.
+    #[test]
+    fn moved_boxes_refit_the_hierarchies() {
+        use crate::camera::{Camera, Lens};
+        use crate::light::{DirectionalLight, Light};
+        use crate::setup::{MapSettings, Technique, compute_setup};
+        let grid = |shift: f64| -> Vec<Aabb> {
+            (0..400)
+                .map(|k| {
+                    let (i, j) = ((k % 20) as f64, (k / 20) as f64);
+                    // Every third box moves along x and up.
+                    let d = if k % 3 == 0 { shift } else { 0.0 };
+                    let lo = DVec3::new(-50.0 + 5.0 * i + d, d, -50.0 + 5.0 * j);
+                    Aabb::new(lo, lo + DVec3::new(2.0, 3.0 + (k % 7) as f64, 2.0)).unwrap()
+                })
+                .collect()
+        };
+        let ground =
+            Aabb::new(DVec3::new(-60.0, -1.0, -60.0), DVec3::new(60.0, 0.0, 60.0)).unwrap();
+        let with_ground = |mut v: Vec<Aabb>| {
+            v.push(ground);
+            v
+        };
+        let before = SceneBounds::new(grid(0.0), with_ground(grid(0.0)), None).unwrap();
+        let camera = Camera::look_at(
+            DVec3::new(-40.0, 20.0, 50.0),
+            DVec3::new(10.0, 0.0, -10.0),
+            DVec3::Y,
+            Lens::default(),
+        )
+        .unwrap();
+        let light = Light::Directional(DirectionalLight::new(DVec3::new(0.4, -1.0, -0.2)).unwrap());
+        for shift in [0.5, 7.0, 40.0] {
+            let moved = before
+                .with_boxes_moved(grid(shift), with_ground(grid(shift)), None)
+                .unwrap();
+            let fresh = SceneBounds::new(grid(shift), with_ground(grid(shift)), None).unwrap();
+            assert_eq!(moved.scene_box(), fresh.scene_box());
+            for name in ["focused", "lispsm", "cascades", "sppsm"] {
+                let technique: Technique = name.parse().unwrap();
+                let a = compute_setup(&technique, &camera, &light, &moved, MapSettings::default())
+                    .unwrap();
+                let b = compute_setup(&technique, &camera, &light, &fresh, MapSettings::default())
+                    .unwrap();
+                for (ma, mb) in a.maps.iter().zip(&b.maps) {
+                    assert!(
+                        ma.clip_from_world.abs_diff_eq(mb.clip_from_world, 1e-9),
+                        "{name} at {shift}"
+                    );
+                }
+                assert_eq!(
+                    a.diagnostics.relevant_casters,
+                    b.diagnostics.relevant_casters
+                );
+            }
+        }
+        assert!(matches!(
+            before.with_boxes_moved(grid(1.0), grid(1.0), None),
+            Err(SetupError::BoxCountChanged { .. })
+        ));
+    }
 }

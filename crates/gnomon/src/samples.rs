@@ -21,6 +21,9 @@
 //! can take them from its last frame's depth and normals, as sample distribution shadow maps
 //! do), and a setup given them ([`crate::SetupInput::samples`]) uses them.
 
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
 use glam::{DVec3, DVec4};
 
 use crate::bounds::SceneBounds;
@@ -85,66 +88,57 @@ impl ViewSamples {
             .collect();
         let grid = Grid::new(camera, (tan_x, tan_y), (cols, rows));
         let arrays = scene.receiver_arrays();
-        // The boxes the view can see, with their cells and nearest view depth z0.
-        let mut covered = Vec::with_capacity(scene.receivers().len());
-        for b in 0..scene.receivers().len() {
-            let centre = DVec3::new(
-                arrays.center[0][b],
-                arrays.center[1][b],
-                arrays.center[2][b],
-            );
-            let half = DVec3::new(arrays.half[0][b], arrays.half[1][b], arrays.half[2][b]);
-            if let Some((cells, z0)) = grid.cells_covered(centre, half) {
-                covered.push((b as u32, cells, z0));
-            }
-        }
-        // Roughly front to back (a counting sort by z0 into buckets): a hit at depth t hides
-        // every box whose nearest depth is beyond t, so a cell is tested only against the
-        // boxes that can still be nearer than its hit.
-        const BUCKETS: usize = 64;
-        let (z_lo, z_hi) = covered
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
-                (a.min(c.2), b.max(c.2))
-            });
-        let scale = if z_hi > z_lo {
-            (BUCKETS as f64 - 1.0) / (z_hi - z_lo)
-        } else {
-            0.0
-        };
-        let bucket = |z: f64| (((z - z_lo) * scale) as usize).min(BUCKETS - 1);
-        let mut starts = [0usize; BUCKETS + 1];
-        for c in &covered {
-            starts[bucket(c.2) + 1] += 1;
-        }
-        for k in 0..BUCKETS {
-            starts[k + 1] += starts[k];
-        }
-        let mut order = vec![0u32; covered.len()];
-        let mut next = starts;
-        for (n, c) in covered.iter().enumerate() {
-            let k = bucket(c.2);
-            order[next[k]] = n as u32;
-            next[k] += 1;
-        }
-        // Nearest hit per cell: (t, face axis).
+        // Front to back through the receivers' hierarchy (a heap on the nearest view depth
+        // z0 of each node's box): a hit at depth t hides every box whose nearest depth is
+        // beyond t, so a node whose cells all hold a nearer hit is not opened, and a cell is
+        // tested only against the boxes that can still be nearer than its hit.
+        let tree = scene.receiver_tree();
         let mut nearest = vec![(f64::INFINITY, usize::MAX); rows * cols];
-        for &n in &order {
-            let (b, (i0, i1, j0, j1), z0) = covered[n as usize];
-            let aabb = &scene.receivers()[b as usize];
-            let (lo, hi) = (aabb.min() - eye, aabb.max() - eye);
-            for j in j0..=j1 {
-                for i in i0..=i1 {
-                    let k = j * cols + i;
-                    if z0 >= nearest[k].0 {
-                        continue;
-                    }
-                    if let Some((t, axis)) = ray_box(rays[k].1, lo, hi)
-                        && t >= lens.near
-                        && t <= lens.far
-                        && t < nearest[k].0
-                    {
-                        nearest[k] = (t, axis);
+        let mut heap = BinaryHeap::new();
+        let push = |heap: &mut BinaryHeap<Near>, node: usize| {
+            if let Some((cells, z0)) =
+                grid.cells_covered(tree.nodes.center_of(node), tree.nodes.half_of(node))
+            {
+                heap.push(Near { z0, node, cells });
+            }
+        };
+        if !tree.is_empty() {
+            push(&mut heap, 0);
+        }
+        while let Some(Near { z0, node, cells }) = heap.pop() {
+            let (i0, i1, j0, j1) = cells;
+            let hidden = (j0..=j1).all(|j| (i0..=i1).all(|i| nearest[j * cols + i].0 <= z0));
+            if hidden {
+                continue;
+            }
+            if !tree.is_leaf(node) {
+                for child in tree.children(node) {
+                    push(&mut heap, child);
+                }
+                continue;
+            }
+            for &b in tree.boxes_of(node) {
+                let b = b as usize;
+                let Some(((i0, i1, j0, j1), z0)) =
+                    grid.cells_covered(arrays.center_of(b), arrays.half_of(b))
+                else {
+                    continue;
+                };
+                let aabb = &scene.receivers()[b];
+                let (lo, hi) = (aabb.min() - eye, aabb.max() - eye);
+                for j in j0..=j1 {
+                    for i in i0..=i1 {
+                        let k = j * cols + i;
+                        if z0 >= nearest[k].0 {
+                            continue;
+                        }
+                        if let Some((t, axis)) = ray_box(rays[k].1, lo, hi)
+                            && t >= lens.near
+                            && t <= lens.far
+                            && t < nearest[k].0
+                        {
+                            nearest[k] = (t, axis);
+                        }
                     }
                 }
             }
@@ -265,6 +259,37 @@ impl ViewSamples {
             end = rank + 1;
         }
         Some(out)
+    }
+}
+
+/// A node of the receivers' hierarchy that the view may see: its cells and nearest view
+/// depth, ordered nearest first in a max-heap.
+struct Near {
+    z0: f64,
+    node: usize,
+    cells: (usize, usize, usize, usize),
+}
+
+impl PartialEq for Near {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Near {}
+
+impl PartialOrd for Near {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Near {
+    fn cmp(&self, other: &Self) -> Ordering {
+        other
+            .z0
+            .total_cmp(&self.z0)
+            .then(other.node.cmp(&self.node))
     }
 }
 
@@ -554,5 +579,56 @@ mod tests {
         let q = samples.undersampling_quantile(&map, 0.95).unwrap();
         let q_finer = samples.undersampling_quantile(&finer, 0.95).unwrap();
         assert!((q / q_finer - 2.0).abs() < 1e-9);
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..proptest::prelude::ProptestConfig::default() })]
+
+        /// The samples cast through the receivers' hierarchy are those of every ray against
+        /// every box: the nearest hit per ray.
+        #[test]
+        fn samples_through_the_hierarchy_match_every_box(
+            boxes in proptest::collection::vec((proptest::array::uniform3(-60.0f64..60.0), proptest::array::uniform3(0.2f64..12.0)), 1..200),
+            eye in proptest::array::uniform3(-80.0f64..80.0),
+            target in proptest::array::uniform3(-30.0f64..30.0),
+        ) {
+            let mut receivers: Vec<Aabb> = boxes.iter().map(|(lo, size)| {
+                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.3);
+                Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap()
+            }).collect();
+            receivers.push(Aabb::new(DVec3::new(-70.0, -1.0, -70.0), DVec3::new(70.0, 0.0, 70.0)).unwrap());
+            let scene = SceneBounds::new(vec![], receivers.clone(), None).unwrap();
+            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
+            proptest::prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
+            let lens = Lens { near: 0.5, far: 150.0, ..Lens::default() };
+            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+            let light = Light::Directional(DirectionalLight::new(DVec3::new(0.3, -1.0, 0.4)).unwrap());
+            let got = ViewSamples::new(&camera, &light, &scene);
+            // Every ray against every box.
+            let (cols, rows) = ViewSamples::grid(lens.aspect);
+            let tan_y = (0.5 * lens.fov_y_degrees.to_radians()).tan();
+            let tan_x = tan_y * lens.aspect;
+            let ndc = |i: u32, n: u32| (2.0 * i as f64 + 1.0) / n as f64 - 1.0;
+            let mut hits = Vec::new();
+            for j in 0..rows {
+                for i in 0..cols {
+                    let d = camera.forward() + camera.right() * (ndc(i, cols) * tan_x) + camera.up() * (ndc(j, rows) * tan_y);
+                    let best = receivers.iter().filter_map(|b| {
+                        ray_box(d.recip(), b.min() - eye, b.max() - eye)
+                            .filter(|(t, _)| *t >= lens.near && *t <= lens.far)
+                    }).min_by(|a, b| a.0.total_cmp(&b.0));
+                    if let Some((t, axis)) = best {
+                        let mut normal = DVec3::ZERO;
+                        normal[axis] = -d[axis].signum();
+                        hits.push((eye + d * t, normal));
+                    }
+                }
+            }
+            let want = ViewSamples::from_surface_points(&camera, &light, hits);
+            proptest::prop_assert_eq!(got.len(), want.len());
+            for (a, b) in got.samples().iter().zip(want.samples()) {
+                proptest::prop_assert!(a.position.distance(b.position) <= 1e-9 * (1.0 + a.position.length()), "{:?} vs {:?}", a, b);
+            }
+        }
     }
 }

@@ -346,16 +346,16 @@ impl TreeCasters {
             linear_min: f64::INFINITY,
             relevant: 0,
         };
+        // Nodes with their light-space boxes.
         let mut stack = if tree.is_empty() {
             Vec::new()
         } else {
-            vec![0usize]
+            vec![(0usize, nodes.extents(0))]
         };
         let mut deferred = Vec::new();
         let mut strict = false;
         loop {
-            while let Some(node) = stack.pop() {
-                let light = nodes.extents(node);
+            while let Some((node, light)) = stack.pop() {
                 if !meets(&light) {
                     continue;
                 }
@@ -372,16 +372,18 @@ impl TreeCasters {
                 {
                     out.relevant += tree.size(node);
                     if !held {
-                        deferred.push((node, image));
+                        deferred.push((node, light, image));
                     }
                     continue;
                 }
                 if !tree.is_leaf(node) {
-                    let mut children = tree.children(node);
-                    if nodes.extents(children[0]).min.z < nodes.extents(children[1]).min.z {
-                        children.swap(0, 1);
+                    // The child nearer the light is opened first.
+                    let [a, b] = tree.children(node).map(|c| (c, nodes.extents(c)));
+                    if a.1.min.z < b.1.min.z {
+                        stack.extend([b, a]);
+                    } else {
+                        stack.extend([a, b]);
                     }
-                    stack.extend(children);
                     continue;
                 }
                 for &i in tree.boxes_of(node) {
@@ -400,9 +402,9 @@ impl TreeCasters {
             // Deferred subtrees: see `caster_extents`.
             strict = true;
             match deferred.pop() {
-                Some((node, image)) if !out.extents.contains(&image) => {
+                Some((node, light, image)) if !out.extents.contains(&image) => {
                     out.relevant -= tree.size(node);
-                    stack.push(node);
+                    stack.push((node, light));
                 }
                 Some(_) => {}
                 None => break,
