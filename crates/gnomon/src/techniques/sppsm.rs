@@ -308,20 +308,43 @@ fn no_coarser(map: &ShadowMap, reference: &ShadowMap, light: &Light, points: &[D
     })
 }
 
-/// How many caster boxes lie wholly on each side of `plane`, or straddle it.
+/// How many caster boxes lie wholly on each side of `plane`, or straddle it: through the
+/// casters' hierarchy, a subtree wholly on one side counted whole.
 fn casters_by_side(scene: &SceneBounds, plane: DVec4) -> CastersBySide {
     let mut counts = CastersBySide::default();
-    for b in scene.casters() {
-        let (c, h) = (b.center(), b.half_extents());
-        let n = plane.truncate();
+    let (tree, arrays) = (scene.caster_tree(), scene.caster_arrays());
+    let n = plane.truncate();
+    let side = |c: DVec3, h: DVec3| {
         let d = n.dot(c) + plane.w;
         let r = n.abs().dot(h);
         if d - r >= 0.0 {
-            counts.perspective_only += 1;
+            Some(true)
         } else if d + r <= 0.0 {
-            counts.focused_only += 1;
+            Some(false)
         } else {
-            counts.both += 1;
+            None
+        }
+    };
+    let mut count = |side: Option<bool>, k: usize| match side {
+        Some(true) => counts.perspective_only += k,
+        Some(false) => counts.focused_only += k,
+        None => counts.both += k,
+    };
+    let mut stack = if tree.is_empty() {
+        Vec::new()
+    } else {
+        vec![0usize]
+    };
+    while let Some(node) = stack.pop() {
+        match side(tree.nodes.center_of(node), tree.nodes.half_of(node)) {
+            Some(whole) => count(Some(whole), tree.size(node)),
+            None if tree.is_leaf(node) => {
+                for &i in tree.boxes_of(node) {
+                    let i = i as usize;
+                    count(side(arrays.center_of(i), arrays.half_of(i)), 1);
+                }
+            }
+            None => stack.extend(tree.children(node)),
         }
     }
     counts
@@ -470,5 +493,47 @@ impl ShadowTechnique for Sppsm {
             selection: MapSelection::Plane { plane_world: plane },
             diagnostics,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+    use crate::bounds::Aabb;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// Counting by side through the hierarchy counts every box as a pass over them does.
+        #[test]
+        fn casters_by_side_match_every_box(
+            boxes in prop::collection::vec((prop::array::uniform3(-60.0f64..60.0), prop::array::uniform3(0.0f64..12.0)), 1..300),
+            normal in prop::array::uniform3(-1.0f64..1.0),
+            offset in -40.0f64..40.0,
+        ) {
+            let boxes: Vec<Aabb> = boxes.iter().filter_map(|(lo, size)| {
+                let lo = DVec3::from_array(*lo);
+                Aabb::new(lo, lo + DVec3::from_array(*size)).ok()
+            }).collect();
+            prop_assume!(!boxes.is_empty());
+            let scene = SceneBounds::new(boxes.clone(), vec![], None).unwrap();
+            let plane = DVec3::from_array(normal).extend(offset);
+            let mut want = CastersBySide::default();
+            for b in &boxes {
+                let n = plane.truncate();
+                let d = n.dot(b.center()) + plane.w;
+                let r = n.abs().dot(b.half_extents());
+                if d - r >= 0.0 {
+                    want.perspective_only += 1;
+                } else if d + r <= 0.0 {
+                    want.focused_only += 1;
+                } else {
+                    want.both += 1;
+                }
+            }
+            prop_assert_eq!(casters_by_side(&scene, plane), want);
+        }
     }
 }
