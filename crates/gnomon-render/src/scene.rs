@@ -76,20 +76,13 @@ impl RenderScene {
     /// bounds centred over the origin, resting at y = 0 on a square slab ten times as wide as
     /// the mesh's largest side (the slab receives shadows, the mesh casts and receives).
     pub fn mesh_on_ground(name: &str, mesh: Mesh, height: f64) -> Result<Self, RenderError> {
-        Self::parts_on_ground(
-            name,
-            vec![MeshPart {
-                name: String::new(),
-                mesh,
-                color: None,
-            }],
-            height,
-        )
+        Self::parts_on_ground(name, vec![MeshPart::whole(mesh)], height)
     }
 
     /// A mesh file's parts ([`Mesh::load_parts`]) standing on a ground slab as
-    /// [`RenderScene::mesh_on_ground`] places one mesh: each part its own instance (and box),
-    /// in its material's colour where it has one.
+    /// [`RenderScene::mesh_on_ground`] places one mesh: each part one mesh, drawn as an
+    /// instance (with its own box) at each of its placements, in its material's colour where
+    /// it has one.
     pub fn parts_on_ground(
         name: &str,
         parts: Vec<MeshPart>,
@@ -101,13 +94,15 @@ impl RenderScene {
                 "the mesh's height must be a positive number up to 1e7, got {height}"
             )));
         }
-        let (lo, hi) =
-            parts
-                .iter()
-                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), part| {
-                    let (a, b) = part.mesh.bounds();
-                    (lo.min(a), hi.max(b))
-                });
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for part in &parts {
+            for placement in &part.placements {
+                for p in &part.mesh.positions {
+                    let q = placement.transform_point3(*p);
+                    (lo, hi) = (lo.min(q), hi.max(q));
+                }
+            }
+        }
         let size = hi - lo;
         if !(size.y > 0.0 && size.is_finite()) {
             return Err(RenderError::Invalid(format!(
@@ -137,18 +132,26 @@ impl RenderScene {
         };
         for part in parts {
             scene.meshes.push(part.mesh);
-            scene.instances.push(Instance {
-                name: if part.name.is_empty() {
-                    name.into()
-                } else {
-                    format!("{name} {}", part.name)
-                },
-                mesh: scene.meshes.len() - 1,
-                world_from_object,
-                casts: true,
-                receives: true,
-                color: part.color.unwrap_or([0.75, 0.62, 0.45]),
-            });
+            let base = if part.name.is_empty() {
+                name.to_string()
+            } else {
+                format!("{name} {}", part.name)
+            };
+            let instanced = part.placements.len() > 1;
+            for (n, placement) in part.placements.iter().enumerate() {
+                scene.instances.push(Instance {
+                    name: if instanced {
+                        format!("{base} [{n}]")
+                    } else {
+                        base.clone()
+                    },
+                    mesh: scene.meshes.len() - 1,
+                    world_from_object: world_from_object * *placement,
+                    casts: true,
+                    receives: true,
+                    color: part.color.unwrap_or([0.75, 0.62, 0.45]),
+                });
+            }
         }
         Ok(scene)
     }

@@ -8,9 +8,11 @@ use gltf::mesh::Mode;
 use crate::load::{LoadError, MeshFormat, RawPart};
 
 /// Every triangle of the default scene (else the first, else every root node) of a glTF
-/// document in `bytes`, in world coordinates, one part per material (coloured by its base
-/// colour factor); primitives that are not triangle lists are skipped and named in `notes`,
-/// as are alpha-masked materials whose constant alpha is below their cutoff (never drawn).
+/// document in `bytes`: one part per material of each mesh (coloured by its base colour
+/// factor), in the mesh's frame, placed at every node that uses the mesh (the node
+/// hierarchy's transforms composed; a mesh several nodes share is read once); primitives
+/// that are not triangle lists are skipped and named in `notes`, as are alpha-masked
+/// materials whose constant alpha is below their cutoff (never drawn).
 /// `base`: the folder buffer files are relative to (`None`: only buffers inside the file).
 pub(crate) fn parts(
     bytes: &[u8],
@@ -48,6 +50,7 @@ pub(crate) fn parts(
         visited: vec![false; document.nodes().len()],
         buffers: &buffers,
         parts: Vec::new(),
+        mesh_parts: std::collections::HashMap::new(),
         notes,
         error: None,
     };
@@ -118,8 +121,11 @@ struct Collector<'a> {
     /// shared child, refused (either could multiply the work without bound).
     visited: Vec<bool>,
     buffers: &'a [gltf::buffer::Data],
-    /// The parts by material index (`None`: the default material), in order of appearance.
-    parts: Vec<(Option<usize>, RawPart)>,
+    /// The parts by (mesh, material index; `None`: the default material), in order of
+    /// appearance.
+    parts: Vec<((usize, Option<usize>), RawPart)>,
+    /// The parts each mesh read so far made (a mesh met again is only placed again).
+    mesh_parts: std::collections::HashMap<usize, Vec<usize>>,
     notes: &'a mut Vec<String>,
     error: Option<String>,
 }
@@ -146,10 +152,17 @@ impl Collector<'_> {
         let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         let world = parent * local;
         if let Some(mesh) = node.mesh() {
-            // A mirroring transform turns counter-clockwise triangles clockwise.
-            let mirrored = world.determinant() < 0.0;
-            for primitive in mesh.primitives() {
-                self.primitive(&mesh, &primitive, world, mirrored);
+            if !self.mesh_parts.contains_key(&mesh.index()) {
+                let first = self.parts.len();
+                for primitive in mesh.primitives() {
+                    self.primitive(&mesh, &primitive);
+                }
+                // The parts this mesh made are the new ones: a part's key holds its mesh.
+                let made = (first..self.parts.len()).collect();
+                self.mesh_parts.insert(mesh.index(), made);
+            }
+            for &k in &self.mesh_parts[&mesh.index()] {
+                self.parts[k].1.placements.push(world);
             }
         }
         for child in node.children() {
@@ -157,13 +170,8 @@ impl Collector<'_> {
         }
     }
 
-    fn primitive(
-        &mut self,
-        mesh: &gltf::Mesh,
-        primitive: &gltf::Primitive,
-        world: DMat4,
-        mirrored: bool,
-    ) {
+    /// Reads a triangle primitive of `mesh` into its material's part, in the mesh's frame.
+    fn primitive(&mut self, mesh: &gltf::Mesh, primitive: &gltf::Primitive) {
         let name = || format!("mesh {}", mesh.index());
         if primitive.mode() != Mode::Triangles {
             self.notes.push(format!(
@@ -198,19 +206,25 @@ impl Collector<'_> {
             ));
             return;
         };
-        let key = material.index();
+        let key = (mesh.index(), material.index());
         let k = match self.parts.iter().position(|(m, _)| *m == key) {
             Some(k) => k,
             None => {
                 let [r, g, b, _] = material.pbr_metallic_roughness().base_color_factor();
+                let material = key.1;
+                let mesh_name = name();
                 self.parts.push((
                     key,
                     RawPart {
-                        name: key.map(|i| format!("material {i}")).unwrap_or_default(),
+                        name: match material {
+                            Some(i) => format!("{mesh_name} material {i}"),
+                            None => mesh_name,
+                        },
                         positions: Vec::new(),
                         polygons: Vec::new(),
                         // The default material (no material given) is white.
-                        color: key.map(|_| [r, g, b].map(|v| v.clamp(0.0, 1.0))),
+                        color: material.map(|_| [r, g, b].map(|v| v.clamp(0.0, 1.0))),
+                        placements: Vec::new(),
                     },
                 ));
                 self.parts.len() - 1
@@ -219,9 +233,7 @@ impl Collector<'_> {
         let part = &mut self.parts[k].1;
         let start = part.positions.len() as i64;
         part.positions
-            .extend(positions.map(|p| {
-                world.transform_point3(DVec3::new(p[0].into(), p[1].into(), p[2].into()))
-            }));
+            .extend(positions.map(|p| DVec3::new(p[0].into(), p[1].into(), p[2].into())));
         let count = part.positions.len() as i64 - start;
         let indices: Vec<i64> = match reader.read_indices() {
             Some(indices) => indices.into_u32().map(i64::from).collect(),
@@ -244,11 +256,7 @@ impl Collector<'_> {
                 return;
             }
             let (a, b, c) = (start + t[0], start + t[1], start + t[2]);
-            self.parts[k].1.polygons.push(if mirrored {
-                vec![a, c, b]
-            } else {
-                vec![a, b, c]
-            });
+            self.parts[k].1.polygons.push(vec![a, b, c]);
         }
     }
 }
@@ -457,7 +465,8 @@ mod tests {
         assert_eq!(parts[1].color, Some([0.0, 0.0, 1.0]));
         assert!(parts.iter().all(|p| p.mesh.triangle_count() == 12));
         // The first cube stands at x = 20 (scaled by 2 after its move), the mirrored one at -20.
-        assert!(parts[0].mesh.bounds().0.x > 19.0 && parts[1].mesh.bounds().1.x < -19.0);
+        let (a, b) = (parts[0].flattened(), parts[1].flattened());
+        assert!(a.bounds().0.x > 19.0 && b.bounds().1.x < -19.0);
         // An alpha-masked material whose alpha is below its cutoff is never drawn.
         let masked = with_materials(
             r#"{"alphaMode": "MASK", "alphaCutoff": 0.5, "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 1, 0.2]}}"#,
@@ -478,9 +487,33 @@ mod tests {
         std::fs::write(dir.join("two cubes.gltf"), text).unwrap();
         let (mesh, notes) = Mesh::load_with_notes(&dir.join("two cubes.gltf")).unwrap();
         check_two_cubes(&mesh);
-        assert_eq!(notes.len(), 2, "{notes:?}");
+        // The mesh both nodes use is read once: one note for its line primitive.
+        assert_eq!(notes.len(), 1, "{notes:?}");
         assert!(notes[0].contains("Lines"), "{notes:?}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A mesh that two nodes use is one part placed twice (once mirrored), in the mesh's own
+    /// frame, and its placements flatten to the world-frame cubes.
+    #[test]
+    fn a_shared_mesh_is_one_part_placed_at_each_node() {
+        let (parts, _) =
+            Mesh::parse_parts(embedded("").as_bytes(), MeshFormat::Gltf, None).unwrap();
+        assert_eq!(parts.len(), 1);
+        let part = &parts[0];
+        assert_eq!(part.mesh.triangle_count(), 12);
+        // The unit cube where the buffer puts it.
+        let (lo, hi) = part.mesh.bounds();
+        assert!(lo.abs().max_element() < 1e-9 && (hi - DVec3::ONE).abs().max_element() < 1e-9);
+        assert_eq!(part.placements.len(), 2);
+        let determinants: Vec<f64> = part.placements.iter().map(|m| m.determinant()).collect();
+        assert!((determinants[0] - 8.0).abs() < 1e-9 && (determinants[1] + 8.0).abs() < 1e-9);
+        assert!(
+            (part.placements[0].transform_point3(DVec3::ZERO) - DVec3::new(20.0, 0.0, 0.0))
+                .length()
+                < 1e-9
+        );
+        check_two_cubes(&part.flattened());
     }
 
     #[test]

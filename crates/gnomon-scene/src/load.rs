@@ -17,7 +17,7 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use glam::DVec3;
+use glam::{DMat4, DVec3};
 
 use crate::Mesh;
 
@@ -197,15 +197,46 @@ impl std::error::Error for LoadError {
     }
 }
 
-/// One part of a mesh file: the triangles of one material (OBJ, glTF), or the whole file.
+/// One part of a mesh file: the triangles of one material (OBJ), of one material of one
+/// glTF mesh, or the whole file; placed once or more in the file's frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MeshPart {
     /// The material's name (empty for a file without materials).
     pub name: String,
-    /// Its triangles.
+    /// Its triangles, in its own frame (a glTF mesh's).
     pub mesh: Mesh,
     /// The material's colour (linear RGB), where the file gives one.
     pub color: Option<[f32; 3]>,
+    /// Where the file places it: file from part, one per instance (a glTF mesh that several
+    /// nodes use is read once and placed at each; a mirroring placement has a negative
+    /// determinant). The identity alone for the other formats.
+    pub placements: Vec<DMat4>,
+}
+
+impl MeshPart {
+    /// A whole mesh as one part, placed once where it is.
+    pub fn whole(mesh: Mesh) -> Self {
+        Self {
+            name: String::new(),
+            mesh,
+            color: None,
+            placements: vec![DMat4::IDENTITY],
+        }
+    }
+
+    /// The part's triangles at every placement, in the file's frame (mirrored placements
+    /// rewound, so that triangles stay counter-clockwise from outside).
+    pub fn flattened(&self) -> Mesh {
+        if self.placements == [DMat4::IDENTITY] {
+            return self.mesh.clone();
+        }
+        let placed: Vec<Mesh> = self
+            .placements
+            .iter()
+            .map(|m| self.mesh.transformed(*m))
+            .collect();
+        Mesh::merged(&placed)
+    }
 }
 
 /// A part as parsed, before its normals.
@@ -214,6 +245,7 @@ pub(crate) struct RawPart {
     pub positions: Vec<DVec3>,
     pub polygons: Vec<Vec<i64>>,
     pub color: Option<[f32; 3]>,
+    pub placements: Vec<DMat4>,
 }
 
 impl RawPart {
@@ -223,6 +255,7 @@ impl RawPart {
             positions,
             polygons,
             color: None,
+            placements: vec![DMat4::IDENTITY],
         }
     }
 }
@@ -285,7 +318,7 @@ impl Mesh {
         base: Option<&Path>,
     ) -> Result<(Mesh, Vec<String>), LoadError> {
         let (parts, notes) = Self::parse_parts(bytes, format, base)?;
-        let meshes: Vec<Mesh> = parts.into_iter().map(|p| p.mesh).collect();
+        let meshes: Vec<Mesh> = parts.iter().map(MeshPart::flattened).collect();
         Ok((Mesh::merged(&meshes), notes))
     }
 
@@ -317,6 +350,7 @@ impl Mesh {
                     name: part.name,
                     mesh,
                     color: part.color,
+                    placements: part.placements,
                 }),
                 // A part without triangles (an OBJ group of points) is left out; a file
                 // without any is refused below.
@@ -602,6 +636,7 @@ fn parse_obj(
                             .and_then(|m| m.diffuse)
                             .filter(|c| c.iter().all(|v| v.is_finite()))
                             .map(|c| c.map(|v| v.clamp(0.0, 1.0))),
+                        placements: vec![DMat4::IDENTITY],
                     },
                 ));
                 parts.len() - 1

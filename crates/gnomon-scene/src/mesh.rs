@@ -34,6 +34,32 @@ impl Mesh {
         self.triangle(a, c, d);
     }
 
+    /// The mesh moved by `placement`: positions transformed, normals by its inverse
+    /// transpose; a mirroring placement (negative determinant) rewinds the triangles, so
+    /// that they stay counter-clockwise from outside.
+    pub fn transformed(&self, placement: DMat4) -> Mesh {
+        let normal_from_object = glam::DMat3::from_mat4(placement).inverse().transpose();
+        let mut indices = self.indices.clone();
+        if placement.determinant() < 0.0 {
+            for t in indices.chunks_exact_mut(3) {
+                t.swap(1, 2);
+            }
+        }
+        Mesh {
+            positions: self
+                .positions
+                .iter()
+                .map(|p| placement.transform_point3(*p))
+                .collect(),
+            normals: self
+                .normals
+                .iter()
+                .map(|n| (normal_from_object * *n).normalize_or_zero())
+                .collect(),
+            indices,
+        }
+    }
+
     /// The number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3

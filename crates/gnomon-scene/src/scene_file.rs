@@ -89,12 +89,14 @@ pub struct FileObject {
 }
 
 /// One mesh a scene file's object places: its index in [`SceneFile::meshes`], its label
-/// within the file (its material, its connected part), and its material's colour.
+/// within the file (its material, its connected part, its instance), its material's colour
+/// and where the file places it (a glTF node's transform).
 #[derive(Debug, Clone)]
 struct LoadedPart {
     mesh: usize,
     label: String,
     color: Option<[f32; 3]>,
+    file_from_part: DMat4,
 }
 
 /// A scene file that cannot be used: one line, `FILE:LINE: key 'KEY': what is wrong`.
@@ -501,6 +503,7 @@ impl SceneFile {
                         } else {
                             vec![part.mesh]
                         };
+                        let instanced = part.placements.len() > 1;
                         for (j, piece) in pieces.into_iter().enumerate() {
                             file.meshes.push(piece);
                             let label = match (label.is_empty(), split) {
@@ -508,11 +511,20 @@ impl SceneFile {
                                 (false, true) => format!("{label} #{j}"),
                                 (_, false) => label.clone(),
                             };
-                            k.push(LoadedPart {
-                                mesh: file.meshes.len() - 1,
-                                label,
-                                color: part.color,
-                            });
+                            // A mesh the file places several times is one mesh, drawn as
+                            // an instance at each place.
+                            for (n, placement) in part.placements.iter().enumerate() {
+                                k.push(LoadedPart {
+                                    mesh: file.meshes.len() - 1,
+                                    label: match (instanced, label.is_empty()) {
+                                        (false, _) => label.clone(),
+                                        (true, true) => format!("[{n}]"),
+                                        (true, false) => format!("{label} [{n}]"),
+                                    },
+                                    color: part.color,
+                                    file_from_part: *placement,
+                                });
+                            }
                         }
                     }
                     loaded.push((mesh_path.clone(), split, k.clone()));
@@ -537,7 +549,7 @@ impl SceneFile {
                         format!("{name} {}", part.label)
                     },
                     mesh: part.mesh,
-                    world_from_object,
+                    world_from_object: world_from_object * part.file_from_part,
                     casts: object.casts.unwrap_or(true),
                     receives: object.receives.unwrap_or(true),
                     color: color.or(part.color),

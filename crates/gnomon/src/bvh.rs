@@ -35,8 +35,8 @@ pub(crate) struct BoxTree {
 }
 
 impl BoxTree {
-    /// The hierarchy over `boxes`: each node split at the median of its boxes' centres along
-    /// the longest side of the centres' bounds.
+    /// The hierarchy over `boxes`: each node split at the middle of its boxes' centres'
+    /// bounds along their longest side.
     pub fn new(boxes: &BoxArrays) -> Self {
         let n = boxes.len();
         let mut tree = Self {
@@ -60,11 +60,22 @@ impl BoxTree {
                 lo = lo.min(c);
                 hi = hi.max(c);
             }
+            // Split at the middle of the centres' bounds along their longest side (a
+            // partition, no sort); where that leaves a side empty (every centre in one
+            // place), in two halves by count.
             let axis = (hi - lo).max_position();
-            let mid = size / 2;
-            range.select_nth_unstable_by(mid, |&a, &b| {
-                boxes.center[axis][a as usize].total_cmp(&boxes.center[axis][b as usize])
-            });
+            let middle = 0.5 * (lo[axis] + hi[axis]);
+            let centers = &boxes.center[axis];
+            let mut mid = 0;
+            for k in 0..size {
+                if centers[range[k] as usize] < middle {
+                    range.swap(k, mid);
+                    mid += 1;
+                }
+            }
+            if mid == 0 || mid == size {
+                mid = size / 2;
+            }
             let left = tree.left.len();
             tree.left[node] = left as u32;
             tree.push_node(start, mid);
