@@ -244,6 +244,23 @@ fn bench(c: &mut Criterion) {
             },
         );
         scale.bench_with_input(
+            BenchmarkId::new("sppsm_given_samples", n),
+            &scene,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup_with_samples(
+                        &Sppsm::default(),
+                        black_box(&camera),
+                        &sun,
+                        s,
+                        settings,
+                        &samples,
+                    )
+                    .unwrap()
+                })
+            },
+        );
+        scale.bench_with_input(
             BenchmarkId::new("bounds_and_hierarchies", n),
             &n,
             |b, &n| b.iter(|| city(black_box(n), true)),

@@ -47,6 +47,8 @@ impl BoxTree {
             return tree;
         }
         tree.push_node(0, n);
+        // The centres, permuted with `order` (so that a node's are contiguous in memory).
+        let mut centers: Vec<DVec3> = (0..n).map(|i| boxes.center_of(i)).collect();
         let mut stack = vec![0usize];
         while let Some(node) = stack.pop() {
             let (start, size) = (tree.start[node] as usize, tree.size[node] as usize);
@@ -54,22 +56,22 @@ impl BoxTree {
                 continue;
             }
             let range = &mut tree.order[start..start + size];
-            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            for &i in range.iter() {
-                let c = boxes.center_of(i as usize);
-                lo = lo.min(c);
-                hi = hi.max(c);
-            }
+            let cents = &mut centers[start..start + size];
+            let (lo, hi) = cents
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), c| {
+                    (lo.min(*c), hi.max(*c))
+                });
             // Split at the middle of the centres' bounds along their longest side (a
             // partition, no sort); where that leaves a side empty (every centre in one
             // place), in two halves by count.
             let axis = (hi - lo).max_position();
             let middle = 0.5 * (lo[axis] + hi[axis]);
-            let centers = &boxes.center[axis];
             let mut mid = 0;
             for k in 0..size {
-                if centers[range[k] as usize] < middle {
+                if cents[k][axis] < middle {
                     range.swap(k, mid);
+                    cents.swap(k, mid);
                     mid += 1;
                 }
             }

@@ -515,6 +515,52 @@ impl VisibleScene {
         ext
     }
 
+    /// Whether every point of the visible receiver parts passes `pred`, whose passing points
+    /// must form a convex set (a half-space, a cone): a box then passes when its corners do,
+    /// so a subtree whose node's corners pass is not opened.
+    pub fn all(&self, scene: &SceneBounds, pred: impl Fn(DVec3) -> bool) -> bool {
+        let corners_pass = |b: &Aabb| b.corners().iter().all(|c| pred(*c));
+        if !self.points.iter().all(|p| pred(*p)) {
+            return false;
+        }
+        if !self
+            .boxes
+            .iter()
+            .all(|&i| corners_pass(&scene.receivers()[i as usize]))
+        {
+            return false;
+        }
+        let tree = scene.receiver_tree();
+        let mut stack: Vec<usize> = self.nodes.iter().map(|&n| n as usize).collect();
+        while let Some(node) = stack.pop() {
+            if corners_pass(&tree.node_box(node)) {
+                continue;
+            }
+            if !tree.is_leaf(node) {
+                stack.extend(tree.children(node));
+            } else if !tree
+                .boxes_of(node)
+                .iter()
+                .all(|&i| corners_pass(&scene.receivers()[i as usize]))
+            {
+                return false;
+            }
+        }
+        let mut scratch = Vec::new();
+        for (i, plane) in &self.cut_once {
+            let aabb = &scene.receivers()[*i as usize];
+            if corners_pass(aabb) {
+                continue;
+            }
+            scratch.clear();
+            cut_by_one(aabb, plane, self.tolerance, &mut scratch);
+            if !scratch.iter().all(|p| pred(*p)) {
+                return false;
+            }
+        }
+        true
+    }
+
     /// The extents of the visible receiver parts under `projector`.
     pub fn receiver_extents(&self, scene: &SceneBounds, projector: &Projector) -> Extents {
         let points_image = |points: &[DVec3]| {
@@ -585,28 +631,135 @@ pub(crate) fn caster_extents(
     tolerance: f64,
     diagnostics: &mut Diagnostics,
 ) -> Extents {
+    let tree = scene.caster_tree();
+    let walked = match projector {
+        Projector::Parallel(frame) => {
+            let images = ParallelImages {
+                nodes: ParallelBoxes::new(&tree.nodes, frame),
+                boxes: ParallelBoxes::new(scene.caster_arrays(), frame),
+                projector,
+            };
+            walk_casters(
+                scene,
+                &images,
+                receivers,
+                cut_planes,
+                light_near_first,
+                tolerance,
+            )
+        }
+        Projector::Point { .. } => {
+            let images = MapImages {
+                node: |n: usize| projector.box_extents(&tree.node_box(n)),
+                caster: |i: usize| projector.box_extents(&scene.casters()[i]),
+                point: |p: DVec3| projector.project(p),
+            };
+            walk_casters(
+                scene,
+                &images,
+                receivers,
+                cut_planes,
+                light_near_first,
+                tolerance,
+            )
+        }
+    };
+    diagnostics.relevant_casters = walked.relevant;
+    diagnostics.culled_casters = scene.casters().len() - walked.relevant;
+    diagnostics.casters_clipped_by_light_near = walked.near_clipped;
+    walked.extents
+}
+
+/// How a caster walk sees boxes and points under a map: x and y in the map, z a depth along
+/// the light (nearer is smaller).
+pub(crate) trait CasterImages {
+    /// Whether the map is affine: a node's image then holds its boxes' images whatever
+    /// planes cut them; a projective map's holds them only where the node lies in front of
+    /// its centre (inside every cutting plane, which keep the casters there).
+    const AFFINE: bool;
+    /// The image of node `n` of the casters' hierarchy.
+    fn node(&self, n: usize) -> Extents;
+    /// The image of caster `i`.
+    fn caster(&self, i: usize) -> Extents;
+    /// The image of a point.
+    fn point(&self, p: DVec3) -> DVec3;
+    /// A depth that orders children nearest the light first, where the map has one.
+    fn order(&self, _center: DVec3) -> f64 {
+        0.0
+    }
+}
+
+/// A directional light's frame: boxes projected from the structure-of-arrays.
+struct ParallelImages<'a> {
+    nodes: ParallelBoxes<'a>,
+    boxes: ParallelBoxes<'a>,
+    projector: &'a Projector,
+}
+
+impl CasterImages for ParallelImages<'_> {
+    const AFFINE: bool = true;
+    fn node(&self, n: usize) -> Extents {
+        self.nodes.extents(n)
+    }
+    fn caster(&self, i: usize) -> Extents {
+        self.boxes.extents(i)
+    }
+    fn point(&self, p: DVec3) -> DVec3 {
+        self.projector.project(p)
+    }
+    fn order(&self, center: DVec3) -> f64 {
+        self.projector.frame().forward.dot(center)
+    }
+}
+
+/// A projective map given by its images of nodes, casters and points.
+pub(crate) struct MapImages<N, C, P> {
+    pub node: N,
+    pub caster: C,
+    pub point: P,
+}
+
+impl<N, C, P> CasterImages for MapImages<N, C, P>
+where
+    N: Fn(usize) -> Extents,
+    C: Fn(usize) -> Extents,
+    P: Fn(DVec3) -> DVec3,
+{
+    const AFFINE: bool = false;
+    fn node(&self, n: usize) -> Extents {
+        (self.node)(n)
+    }
+    fn caster(&self, i: usize) -> Extents {
+        (self.caster)(i)
+    }
+    fn point(&self, p: DVec3) -> DVec3 {
+        (self.point)(p)
+    }
+}
+
+/// What a caster walk gathers: the extents (see [`caster_extents`]), how many casters are
+/// relevant and how many of those the light's near plane cuts.
+pub(crate) struct WalkedCasters {
+    pub extents: Extents,
+    pub relevant: usize,
+    pub near_clipped: usize,
+}
+
+/// The walk of [`caster_extents`] under any map (`images`).
+pub(crate) fn walk_casters<I: CasterImages>(
+    scene: &SceneBounds,
+    images: &I,
+    receivers: &Extents,
+    cut_planes: &[Plane],
+    light_near_first: bool,
+    tolerance: f64,
+) -> WalkedCasters {
     let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
     let (tree, arrays) = (scene.caster_tree(), scene.caster_arrays());
     // What matters of a caster: its part over the receivers' columns, nearer than their far.
     let over = Extents {
         min: (receivers.min.truncate() - xy_slack).extend(f64::NEG_INFINITY),
         max: (receivers.max.truncate() + xy_slack).extend(receivers.max.z),
-    };
-    let parallel = match projector {
-        Projector::Parallel(frame) => Some((
-            ParallelBoxes::new(&tree.nodes, frame),
-            ParallelBoxes::new(arrays, frame),
-            frame.forward,
-        )),
-        Projector::Point { .. } => None,
-    };
-    let node_image = |n: usize| match &parallel {
-        Some((nodes, _, _)) => nodes.extents(n),
-        None => projector.box_extents(&tree.node_box(n)),
-    };
-    let box_image = |i: usize| match &parallel {
-        Some((_, boxes, _)) => boxes.extents(i),
-        None => projector.box_extents(&scene.casters()[i]),
     };
     // The extents gathered so far; their far depth is the receivers' (what lies farther does
     // not matter), so that a node's far side never keeps it open.
@@ -642,8 +795,8 @@ pub(crate) fn caster_extents(
             };
             // A node's image holds its boxes' (for a point light, where the node lies in
             // front of it: inside every plane of its frustum).
-            if active == 0 || parallel.is_some() {
-                let image = node_image(node);
+            if active == 0 || I::AFFINE {
+                let image = images.node(node);
                 if !receivers.xy_overlaps(&image, xy_slack) || image.min.z > receivers.max.z {
                     continue;
                 }
@@ -662,11 +815,9 @@ pub(crate) fn caster_extents(
             }
             if !tree.is_leaf(node) {
                 let mut children = tree.children(node);
-                if let Some((_, _, forward)) = &parallel {
-                    let depth = |n: usize| forward.dot(tree.nodes.center_of(n));
-                    if depth(children[0]) < depth(children[1]) {
-                        children.swap(0, 1);
-                    }
+                let depth = |n: usize| images.order(tree.nodes.center_of(n));
+                if depth(children[0]) < depth(children[1]) {
+                    children.swap(0, 1);
                 }
                 stack.extend(children.map(|child| (child, active)));
                 continue;
@@ -685,7 +836,7 @@ pub(crate) fn caster_extents(
                 };
                 let (box_ext, crosses_near) = match code {
                     None => continue,
-                    Some(0) => (box_image(i), false),
+                    Some(0) => (images.caster(i), false),
                     Some(mask) => {
                         scratch.clear();
                         let caster = &scene.casters()[i];
@@ -694,7 +845,7 @@ pub(crate) fn caster_extents(
                         }
                         let mut e = Extents::EMPTY;
                         for p in &scratch {
-                            e.add(projector.project(*p));
+                            e.add(images.point(*p));
                         }
                         (e, light_near_first && mask & 1 != 0)
                     }
@@ -720,10 +871,11 @@ pub(crate) fn caster_extents(
             None => break,
         }
     }
-    diagnostics.relevant_casters = relevant;
-    diagnostics.culled_casters = scene.casters().len() - relevant;
-    diagnostics.casters_clipped_by_light_near = near_clipped;
-    ext
+    WalkedCasters {
+        extents: ext,
+        relevant,
+        near_clipped,
+    }
 }
 
 /// Unit cube clipping (see the module documentation): the region a focused map covers, from

@@ -187,6 +187,12 @@ impl Extents {
         max: DVec3::NEG_INFINITY,
     };
 
+    /// Everything: the image of a box a map cannot bound (part of it behind the map's centre).
+    pub const ALL: Extents = Extents {
+        min: DVec3::NEG_INFINITY,
+        max: DVec3::INFINITY,
+    };
+
     #[inline]
     pub fn add(&mut self, p: DVec3) {
         self.min = self.min.min(p);
@@ -217,6 +223,15 @@ impl Extents {
         Extents {
             min: self.min.with_z(z),
             max: self.max,
+        }
+    }
+
+    /// The same box with its greatest depth `z`.
+    #[inline]
+    pub fn with_max_z(&self, z: f64) -> Extents {
+        Extents {
+            min: self.min,
+            max: self.max.with_z(z),
         }
     }
 

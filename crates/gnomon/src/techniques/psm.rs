@@ -45,9 +45,10 @@
 
 use glam::{DMat4, DVec3, DVec4};
 
+use crate::bounds::{Aabb, SceneBounds};
 use crate::camera::{Camera, Lens};
 use crate::error::SetupError;
-use crate::focus::{BoxSide, box_cut_vertices, classify_box};
+use crate::focus::{MapImages, VisibleScene, WalkedCasters, walk_casters};
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, pad};
@@ -149,15 +150,22 @@ impl LimitedWarp for Psm {
             h.truncate() / h.w
         };
 
-        // Receivers in PPS; the linear depth range along the light in world space.
+        // Receivers in PPS; the linear depth range along the light in world space. The
+        // receivers are read through the scene's hierarchy (`receivers_under`); every visible
+        // receiver lies in P, in front of the virtual camera.
+        let scene = input.scene;
+        let pps_front = |p: DVec3| (pps_from_world * p.extend(1.0)).w > 0.0;
         let linear_row = input.light.linear_depth_row();
         let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
-        let mut receiver_points = Vec::new();
-        let mut receivers_z = f64::NEG_INFINITY;
-        visible.for_each_vertex(input.scene, |p| {
-            receiver_points.push(to_pps(p));
-            receivers_z = receivers_z.max(linear(p));
-        });
+        let receiver_box = receivers_under(visible, scene, to_pps, pps_front);
+        let receivers_z = receivers_under(
+            visible,
+            scene,
+            |p| DVec3::new(0.0, 0.0, linear(p)),
+            |_| true,
+        )
+        .max
+        .z;
         let body_z = body
             .iter()
             .map(|p| linear(*p))
@@ -166,16 +174,17 @@ impl LimitedWarp for Psm {
         // The light in PPS (a directional light's vanishing point, a spot light's position)
         // and the map's projector there.
         let l_h = pps_from_world * input.light.homogeneous_source();
-        let mut center = DVec3::ZERO;
-        let mut receiver_box = Extents::EMPTY;
-        for p in &receiver_points {
-            receiver_box.add(*p);
-        }
-        center += 0.5 * (receiver_box.min + receiver_box.max);
+        let center = 0.5 * (receiver_box.min + receiver_box.max);
         let extent = (receiver_box.max - receiver_box.min).length().max(1e-300);
         // The cone must hold every receiver and all of B (every relevant caster lies in B).
         let body_points: Vec<DVec3> = body.iter().map(|p| to_pps(*p)).collect();
-        let cone_points = || body_points.iter().chain(&receiver_points);
+        // Whether every point of B and of the receivers lies in front of `l` along `axis`
+        // (a convex cone around the axis, in PPS).
+        let in_front = |l: DVec3, axis: DVec3| {
+            let ahead = |q: DVec3| (q - l).dot(axis) > 1e-9 * (q - l).length();
+            body_points.iter().all(|q| ahead(*q))
+                && visible.all(scene, |p| pps_front(p) && ahead(to_pps(p)))
+        };
         // The axis used when the one toward the receivers leaves a point behind: every finite
         // point in front of the virtual camera lies on the -z side of a directional light's
         // vanishing point (z = f (d - n) / (d (f - n)) < f / (f - n)); for a spot light, the
@@ -188,12 +197,19 @@ impl LimitedWarp for Psm {
                 plane.truncate().normalize_or(-DVec3::Z)
             }
         };
-        let projector = pps_projector(l_h, center, extent, cone_points(), fallback_axis);
+        let projector = pps_projector(l_h, center, extent, in_front, fallback_axis);
 
-        let mut receivers = Extents::EMPTY;
-        for p in &receiver_points {
-            receivers.add(projector.project(*p));
-        }
+        // The receivers under the map (its x and y; its z is the linear depth along the
+        // light, what the casters are culled against).
+        let plane_map = PlaneMap::new(&projector, pps_from_world);
+        let map_front = |p: DVec3| match &projector {
+            Projector::Parallel(_) => pps_front(p),
+            Projector::Point { frame, position } => {
+                pps_front(p) && (to_pps(p) - *position).dot(frame.forward) > 0.0
+            }
+        };
+        let on_map = |p: DVec3| plane_map.project(p).with_z(linear(p));
+        let receivers = receivers_under(visible, scene, on_map, map_front).with_max_z(receivers_z);
         // Casters cut to B's depth range (planes perpendicular to the view) and, for a
         // perspective map in PPS, to the front of its centre: d = axis . (P - l W) >= d_min W / 2
         // is a plane of homogeneous PPS coordinates, a world plane through pps_from_world.
@@ -206,9 +222,13 @@ impl LimitedWarp for Psm {
         if let Projector::Point { frame, position } = &projector {
             // Every relevant point has d >= the smallest d over B and the receivers; cutting
             // at half of it keeps them all and keeps cut vertices off the singular plane d = 0.
-            let d_min = cone_points()
-                .map(|p| (*p - *position).dot(frame.forward))
-                .fold(f64::INFINITY, f64::min);
+            let d = |q: DVec3| (q - *position).dot(frame.forward);
+            let receivers_d =
+                receivers_under(visible, scene, |p| DVec3::splat(d(to_pps(p))), pps_front);
+            let d_min = body_points
+                .iter()
+                .map(|q| d(*q))
+                .fold(receivers_d.min.x, f64::min);
             let pps_plane = frame
                 .forward
                 .extend(-frame.forward.dot(*position) - 0.5 * d_min);
@@ -221,43 +241,30 @@ impl LimitedWarp for Psm {
                 });
             }
         }
-        let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
-        let plane_map = PlaneMap::new(&projector, pps_from_world);
-        let mut casters = Extents::EMPTY;
-        let mut casters_z = f64::INFINITY;
-        let mut relevant = 0;
-        let mut scratch = Vec::new();
-        for caster in input.scene.casters() {
-            let (e, z_min) = match classify_box(caster, &slab, tolerance) {
-                BoxSide::Outside => continue,
-                BoxSide::Inside => {
-                    let (c, h) = (caster.center(), caster.half_extents());
-                    let z_min = linear(c) - linear_row.truncate().abs().dot(h);
-                    (plane_map.box_extents(caster), z_min)
-                }
-                BoxSide::Straddles(mask) => {
-                    scratch.clear();
-                    if !box_cut_vertices(caster, &slab, mask, tolerance, &mut scratch) {
-                        continue;
-                    }
-                    let mut e = Extents::EMPTY;
-                    let mut z_min = f64::INFINITY;
-                    for p in &scratch {
-                        e.add(plane_map.project(*p));
-                        z_min = z_min.min(linear(*p));
-                    }
-                    (e, z_min)
-                }
-            };
-            if !receivers.xy_overlaps(&e, xy_slack) || z_min > receivers_z {
-                continue;
+        // Casters through their hierarchy: in the map's x and y, with their linear depth.
+        let row = linear_row.truncate().abs();
+        let box_on_map = |b: &Aabb| {
+            let e = plane_map.box_extents(b);
+            let (c, r) = (linear(b.center()), row.dot(b.half_extents()));
+            Extents {
+                min: e.min.with_z(c - r),
+                max: e.max.with_z(c + r),
             }
-            relevant += 1;
-            casters = casters.union(&e);
-            casters_z = casters_z.min(z_min);
-        }
+        };
+        let tree = scene.caster_tree();
+        let images = MapImages {
+            node: |n: usize| box_on_map(&tree.node_box(n)),
+            caster: |i: usize| box_on_map(&scene.casters()[i]),
+            point: on_map,
+        };
+        let WalkedCasters {
+            extents: casters,
+            relevant,
+            ..
+        } = walk_casters(scene, &images, &receivers, &slab, false, tolerance);
+        let casters_z = casters.min.z;
         diagnostics.relevant_casters = relevant;
-        diagnostics.culled_casters = input.scene.casters().len() - relevant;
+        diagnostics.culled_casters = scene.casters().len() - relevant;
         let (region, linear) = if relevant == 0 {
             diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
             (
@@ -309,11 +316,11 @@ impl ShadowTechnique for Psm {
 /// vanishing point or position) is at (or practically at) infinity, else perspective from
 /// it, its axis toward the receivers, or `fallback_axis` when some of `points` would lie
 /// behind that axis.
-fn pps_projector<'p>(
+fn pps_projector(
     l_h: DVec4,
     center: DVec3,
     extent: f64,
-    points: impl Iterator<Item = &'p DVec3> + Clone,
+    in_front: impl Fn(DVec3, DVec3) -> bool,
     fallback_axis: DVec3,
 ) -> Projector {
     let direction = l_h.truncate();
@@ -325,16 +332,50 @@ fn pps_projector<'p>(
         return Projector::Parallel(LightFrame::fixed((center - l).normalize()));
     }
     let axis = (center - l).normalize();
-    let in_front = |axis: DVec3| {
-        points
-            .clone()
-            .all(|p| (*p - l).dot(axis) > 1e-9 * (*p - l).length())
+    let axis = if in_front(l, axis) {
+        axis
+    } else {
+        fallback_axis
     };
-    let axis = if in_front(axis) { axis } else { fallback_axis };
     Projector::Point {
         frame: LightFrame::fixed(axis),
         position: l,
     }
+}
+
+/// The extents of the visible receiver parts under `map`, read through the scene's hierarchy:
+/// a box's image is its corners' (the maps here are projective, and `front` says where they
+/// are: a box with a corner behind has no bounded image, and is opened).
+fn receivers_under(
+    visible: &VisibleScene,
+    scene: &SceneBounds,
+    map: impl Fn(DVec3) -> DVec3,
+    front: impl Fn(DVec3) -> bool,
+) -> Extents {
+    let tree = scene.receiver_tree();
+    let image = |b: &Aabb| {
+        let mut e = Extents::EMPTY;
+        for c in b.corners() {
+            if !front(c) {
+                return Extents::ALL;
+            }
+            e.add(map(c));
+        }
+        e
+    };
+    visible.extents_under(
+        scene,
+        true,
+        |n| image(&tree.node_box(n)),
+        |i| image(&scene.receivers()[i]),
+        |points| {
+            let mut e = Extents::EMPTY;
+            for p in points {
+                e.add(map(*p));
+            }
+            e
+        },
+    )
 }
 
 /// The PSM's matrices: the projector's rows on homogeneous PPS coordinates, times

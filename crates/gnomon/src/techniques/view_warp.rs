@@ -617,10 +617,7 @@ impl WarpSpace {
                         // A cut receiver's whole box may reach behind the warp's centre, where
                         // its image bounds nothing (a wholly visible one lies in B: w > 0).
                         if corners.iter().any(|q| warp.warp(*q).1 <= 0.0) {
-                            return Extents {
-                                min: DVec3::NEG_INFINITY,
-                                max: DVec3::INFINITY,
-                            };
+                            return Extents::ALL;
                         }
                         warp.points_extents(&corners)
                     },
