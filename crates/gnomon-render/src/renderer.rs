@@ -495,16 +495,8 @@ impl Renderer {
                     let sign = if i == 0 { -1.0 } else { 1.0 };
                     prepared.planes.push(sign * plane_world);
                 }
-                prepared.casters.clear();
-                for (index, instance) in self.scene.instances.iter().enumerate() {
-                    if instance.casts
-                        && instance
-                            .bounds
-                            .is_some_and(|b| reaches_all(&b, &prepared.planes))
-                    {
-                        prepared.casters.push(index as u32);
-                    }
-                }
+                self.scene
+                    .casters_reaching(&prepared.planes, &mut prepared.casters);
                 layer += 1;
             }
         }

@@ -279,6 +279,41 @@ pub(crate) struct GpuScene {
     pub instances_on_gpu: InstanceStream,
     /// Each mesh's object-space bounds (for moved instances).
     mesh_bounds: Vec<Option<Aabb>>,
+    /// A hierarchy over the casting instances' boxes, for each map's culling.
+    casters: CasterIndex,
+}
+
+/// The casting instances (with bounds) in a [`gnomon::BoxIndex`], refitted on the next query
+/// after an instance moved.
+#[derive(Default)]
+struct CasterIndex {
+    index: gnomon::BoxIndex,
+    /// The instance of each box of the index.
+    instances: Vec<u32>,
+    /// Whether an instance moved since the index was made.
+    moved: bool,
+    /// The boxes found by the last query (kept to be reused without allocating).
+    found: Vec<u32>,
+}
+
+impl CasterIndex {
+    fn new(instances: &[SceneInstance]) -> Self {
+        let (boxes, ids) = Self::casting(instances);
+        Self {
+            index: gnomon::BoxIndex::new(&boxes),
+            instances: ids,
+            moved: false,
+            found: Vec::new(),
+        }
+    }
+
+    fn casting(instances: &[SceneInstance]) -> (Vec<Aabb>, Vec<u32>) {
+        instances
+            .iter()
+            .enumerate()
+            .filter_map(|(k, i)| i.bounds.filter(|_| i.casts).map(|b| (b, k as u32)))
+            .unzip()
+    }
 }
 
 /// Instance buffer stride (`GpuInstance`).
@@ -394,9 +429,32 @@ impl GpuScene {
                     Aabb::new(lo, hi).ok()
                 })
                 .collect(),
+            casters: CasterIndex::new(&instances),
             instances,
             instances_on_gpu,
         })
+    }
+
+    /// Replaces `out` with the casting instances whose world box reaches the positive side
+    /// of every plane `(a, b, c, d)`, in increasing order, through the casters' hierarchy
+    /// (refitted first if an instance moved: the same casters, or built anew if the set of
+    /// casting instances with a box changed).
+    pub fn casters_reaching(&mut self, planes: &[glam::DVec4], out: &mut Vec<u32>) {
+        let index = &mut self.casters;
+        if index.moved {
+            let (boxes, ids) = CasterIndex::casting(&self.instances);
+            if ids == index.instances {
+                index.index.refit(&boxes);
+            } else {
+                index.index = gnomon::BoxIndex::new(&boxes);
+                index.instances = ids;
+            }
+            index.moved = false;
+        }
+        index.found.clear();
+        index.index.reaching(planes, &mut index.found);
+        out.clear();
+        out.extend(index.found.iter().map(|&k| index.instances[k as usize]));
     }
 
     /// Moves instance `index`: its transform and world bounds; the GPU copy follows with the
@@ -406,6 +464,7 @@ impl GpuScene {
         instance.world_from_object = world_from_object;
         instance.bounds =
             self.mesh_bounds[instance.mesh].and_then(|b| transformed_bounds(&b, world_from_object));
+        self.casters.moved = true;
     }
 
     /// Whether every instance receives shadows.

@@ -10,7 +10,7 @@
 //! inside or outside (only boxes near a plane are tested one by one), and extents stop at the
 //! nodes whose image lies inside what has been gathered so far (see `focus.rs`).
 
-use glam::DVec3;
+use glam::{DVec3, DVec4};
 
 use crate::bounds::{Aabb, BoxArrays};
 use crate::geometry::Plane;
@@ -211,6 +211,113 @@ impl BoxTree {
     }
 }
 
+/// Where a box lies against planes (a, b, c, d) that it must reach: `None` when wholly on
+/// the negative side of one, else the bits of those among `active` it crosses.
+#[inline]
+fn reaches(c: DVec3, h: DVec3, planes: &[DVec4], active: u32) -> Option<u32> {
+    let mut mask = 0u32;
+    let mut bits = active;
+    while bits != 0 {
+        let k = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let n = planes[k].truncate();
+        let (s, r) = (n.dot(c) + planes[k].w, n.abs().dot(h));
+        if s + r < 0.0 {
+            return None;
+        }
+        if s - r < 0.0 {
+            mask |= 1 << k;
+        }
+    }
+    Some(mask)
+}
+
+impl BoxTree {
+    /// Appends to `out` the boxes that reach the positive side of every plane (some point
+    /// with a x + b y + c z + d >= 0), up to 32 planes; a subtree wholly on the positive side
+    /// of all is taken whole, one wholly on the negative side of one is dropped.
+    pub fn reaching(&self, boxes: &BoxArrays, planes: &[DVec4], out: &mut Vec<u32>) {
+        if self.is_empty() {
+            return;
+        }
+        let mut stack = vec![(0usize, all_planes(planes.len().min(32)))];
+        while let Some((node, active)) = stack.pop() {
+            let Some(mask) = reaches(
+                self.nodes.center_of(node),
+                self.nodes.half_of(node),
+                planes,
+                active,
+            ) else {
+                continue;
+            };
+            if mask == 0 {
+                out.extend_from_slice(self.boxes_of(node));
+            } else if self.is_leaf(node) {
+                for &i in self.boxes_of(node) {
+                    let (c, h) = (boxes.center_of(i as usize), boxes.half_of(i as usize));
+                    if reaches(c, h, planes, mask).is_some() {
+                        out.push(i);
+                    }
+                }
+            } else {
+                for child in self.children(node) {
+                    stack.push((child, mask));
+                }
+            }
+        }
+    }
+}
+
+/// A bounding volume hierarchy over boxes, for culling many of them against a few planes
+/// (gnomon's renderer culls each shadow map's casters with one; an engine can do the same):
+/// built once, refitted when the boxes move.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BoxIndex {
+    tree: BoxTree,
+    arrays: BoxArrays,
+}
+
+impl BoxIndex {
+    /// The index over `boxes` (their order gives their indices).
+    pub fn new(boxes: &[Aabb]) -> Self {
+        let arrays = BoxArrays::new(boxes);
+        Self {
+            tree: BoxTree::new(&arrays),
+            arrays,
+        }
+    }
+
+    /// How many boxes.
+    pub fn len(&self) -> usize {
+        self.arrays.len()
+    }
+
+    /// Whether there is no box.
+    pub fn is_empty(&self) -> bool {
+        self.arrays.len() == 0
+    }
+
+    /// The same boxes moved: the hierarchy keeps its shape and its nodes are recomputed (one
+    /// pass over the boxes). A different number of boxes builds it anew.
+    pub fn refit(&mut self, boxes: &[Aabb]) {
+        if boxes.len() != self.len() {
+            *self = Self::new(boxes);
+            return;
+        }
+        self.arrays = BoxArrays::new(boxes);
+        self.tree.refit(&self.arrays);
+    }
+
+    /// The indices of the boxes that reach the positive side of every plane `(a, b, c, d)`
+    /// (some point with `a x + b y + c z + d >= 0`; up to 32 planes), in increasing order,
+    /// appended to `out`.
+    pub fn reaching(&self, planes: &[DVec4], out: &mut Vec<u32>) {
+        let start = out.len();
+        self.tree.reaching(&self.arrays, planes, out);
+        out[start..].sort_unstable();
+    }
+}
+
 /// The planes among `active` that the box (centre `c`, half extents `h`) crosses, or `None`
 /// when it lies wholly outside one of them (the tests of [`crate::focus::classify_box`]).
 #[inline]
@@ -275,6 +382,44 @@ mod tests {
 
     fn arrays(boxes: &[Aabb]) -> BoxArrays {
         BoxArrays::new(boxes)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 500, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// The index finds the boxes a pass over every box finds, before and after a refit.
+        #[test]
+        fn the_index_reaches_what_every_box_reaches(
+            boxes in prop::collection::vec((prop::array::uniform3(-50.0f64..50.0), prop::array::uniform3(0.0f64..20.0)), 0..200),
+            planes in prop::collection::vec(prop::array::uniform4(-1.0f64..1.0), 0..6),
+            shift in prop::array::uniform3(-20.0f64..20.0),
+        ) {
+            let mut boxes: Vec<Aabb> = boxes.iter().filter_map(|(lo, size)| {
+                let lo = DVec3::from_array(*lo);
+                Aabb::new(lo, lo + DVec3::from_array(*size)).ok()
+            }).collect();
+            let planes: Vec<DVec4> = planes.iter().map(|p| DVec4::from_array(*p) * DVec4::new(1.0, 1.0, 1.0, 30.0)).collect();
+            let mut index = BoxIndex::new(&boxes);
+            for round in 0..2 {
+                if round == 1 {
+                    for b in boxes.iter_mut().step_by(3) {
+                        let d = DVec3::from_array(shift);
+                        *b = Aabb::new(b.min() + d, b.max() + d).unwrap();
+                    }
+                    index.refit(&boxes);
+                }
+                let mut got = Vec::new();
+                index.reaching(&planes, &mut got);
+                let want: Vec<u32> = (0..boxes.len() as u32).filter(|&i| {
+                    let b = &boxes[i as usize];
+                    planes.iter().all(|p| {
+                        let n = p.truncate();
+                        n.dot(b.center()) + p.w + n.abs().dot(b.half_extents()) >= 0.0
+                    })
+                }).collect();
+                prop_assert_eq!(got, want);
+            }
+        }
     }
 
     proptest! {

@@ -54,6 +54,7 @@ pub mod volumes;
 
 pub use body::convex_body_b;
 pub use bounds::{Aabb, SceneBounds};
+pub use bvh::BoxIndex;
 pub use camera::{Camera, Lens};
 pub use error::SetupError;
 pub use light::{DirectionalLight, Light, SPOT_NEAR_FRACTION, SpotLight};
