@@ -373,6 +373,48 @@ impl Classified {
     }
 }
 
+/// Random scenes for the tests that compare the hierarchies' walks with a pass over every box.
+#[cfg(test)]
+pub(crate) mod test_scenes {
+    use glam::DVec3;
+
+    use crate::bounds::{Aabb, SceneBounds};
+    use crate::camera::{Camera, Lens};
+
+    /// Boxes (corner, size, kind: 0 casts, 1 receives, 2 both) above a ground that receives.
+    pub fn mixed(boxes: &[([f64; 3], [f64; 3], u8)]) -> SceneBounds {
+        let (mut casters, mut receivers) = (Vec::new(), Vec::new());
+        for (lo, size, kind) in boxes {
+            let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.3);
+            let b = Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap();
+            if *kind != 1 {
+                casters.push(b);
+            }
+            if *kind != 0 {
+                receivers.push(b);
+            }
+        }
+        let ground = Aabb::new(DVec3::new(-70.0, -1.0, -70.0), DVec3::new(70.0, 0.0, 70.0));
+        receivers.push(ground.unwrap());
+        SceneBounds::new(casters, receivers, None).unwrap()
+    }
+
+    /// A camera from `eye` to `target` (near 0.5, far 120), unless they nearly coincide or
+    /// the view is nearly vertical.
+    pub fn camera(eye: [f64; 3], target: [f64; 3]) -> Option<Camera> {
+        let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
+        if eye.distance(target) <= 1.0 || (target - eye).normalize().y.abs() >= 0.99 {
+            return None;
+        }
+        let lens = Lens {
+            near: 0.5,
+            far: 120.0,
+            ..Lens::default()
+        };
+        Camera::look_at(eye, target, DVec3::Y, lens).ok()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use proptest::prelude::*;

@@ -981,25 +981,16 @@ mod tests {
             spot in any::<bool>(),
             side in prop::option::of(prop::array::uniform3(-1.0f64..1.0)),
         ) {
-            use crate::camera::{Camera, Lens};
+            use crate::bvh::test_scenes;
             use crate::frame::Frame;
             use crate::light::{DirectionalLight, Light, SpotLight};
             use crate::setup::{MapSettings, SetupInput};
             use crate::techniques::basis::{FocusBasis, Part};
-            // Boxes that cast, receive or both, on a ground that receives.
-            let (mut casters, mut receivers) = (Vec::new(), Vec::new());
-            for (lo, size, kind) in &boxes {
-                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.3);
-                let b = Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap();
-                if *kind != 1 { casters.push(b); }
-                if *kind != 0 { receivers.push(b); }
-            }
-            receivers.push(Aabb::new(DVec3::new(-70.0, -1.0, -70.0), DVec3::new(70.0, 0.0, 70.0)).unwrap());
-            let scene = SceneBounds::new(casters, receivers, None).unwrap();
-            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
-            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
-            let lens = Lens { near: 0.5, far: 120.0, ..Lens::default() };
-            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+            let scene = test_scenes::mixed(&boxes);
+            let camera = test_scenes::camera(eye, target);
+            prop_assume!(camera.is_some());
+            let camera = camera.unwrap();
+            let target = DVec3::from_array(target);
             let direction = DVec3::from_array(light);
             prop_assume!(direction.length() > 0.1);
             let light = if spot {
