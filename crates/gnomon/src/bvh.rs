@@ -180,10 +180,9 @@ impl BoxTree {
         roots: impl IntoIterator<Item = (usize, u32)>,
         out: &mut Classified,
     ) {
-        let planes = &prepared(planes);
         let mut stack: Vec<(usize, u32)> = roots.into_iter().collect();
         while let Some((node, active)) = stack.pop() {
-            let Some(mask) = straddled_prepared(
+            let Some(mask) = straddled(
                 self.nodes.center_of(node),
                 self.nodes.half_of(node),
                 planes,
@@ -197,7 +196,7 @@ impl BoxTree {
             } else if self.is_leaf(node) {
                 for &i in self.boxes_of(node) {
                     let (c, h) = (boxes.center_of(i as usize), boxes.half_of(i as usize));
-                    match straddled_prepared(c, h, planes, mask, tolerance) {
+                    match straddled(c, h, planes, mask, tolerance) {
                         None => {}
                         Some(0) => out.boxes.push(i),
                         Some(cut) => out.cut.push((i, cut)),
@@ -337,41 +336,6 @@ pub(crate) fn straddled(
         let plane = &planes[k];
         let r = plane.normal.abs().dot(h);
         let s = plane.distance(c);
-        if s + r <= tolerance {
-            return None;
-        }
-        if s - r < -tolerance {
-            mask |= 1 << k;
-        }
-    }
-    Some(mask)
-}
-
-/// Planes with their normals' absolute values, for [`straddled_prepared`].
-pub(crate) fn prepared(planes: &[Plane]) -> Vec<(DVec3, DVec3, f64)> {
-    planes
-        .iter()
-        .map(|p| (p.normal, p.normal.abs(), p.offset))
-        .collect()
-}
-
-/// [`straddled`] on [`prepared`] planes.
-#[inline]
-pub(crate) fn straddled_prepared(
-    c: DVec3,
-    h: DVec3,
-    planes: &[(DVec3, DVec3, f64)],
-    active: u32,
-    tolerance: f64,
-) -> Option<u32> {
-    let mut mask = 0u32;
-    let mut bits = active;
-    while bits != 0 {
-        let k = bits.trailing_zeros() as usize;
-        bits &= bits - 1;
-        let (n, a, d) = planes[k];
-        let r = a.dot(h);
-        let s = n.dot(c) + d;
         if s + r <= tolerance {
             return None;
         }

@@ -698,19 +698,15 @@ struct ParallelImages<'a> {
 
 impl CasterImages for ParallelImages<'_> {
     const AFFINE: bool = true;
-    #[inline]
     fn node(&self, n: usize) -> Extents {
         self.nodes.extents(n)
     }
-    #[inline]
     fn caster(&self, i: usize) -> Extents {
         self.boxes.extents(i)
     }
-    #[inline]
     fn point(&self, p: DVec3) -> DVec3 {
         self.projector.project(p)
     }
-    #[inline]
     fn order(&self, center: DVec3) -> f64 {
         self.projector.frame().forward.dot(center)
     }
@@ -730,15 +726,12 @@ where
     P: Fn(DVec3) -> DVec3,
 {
     const AFFINE: bool = false;
-    #[inline]
     fn node(&self, n: usize) -> Extents {
         (self.node)(n)
     }
-    #[inline]
     fn caster(&self, i: usize) -> Extents {
         (self.caster)(i)
     }
-    #[inline]
     fn point(&self, p: DVec3) -> DVec3 {
         (self.point)(p)
     }
