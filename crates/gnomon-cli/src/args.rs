@@ -6,7 +6,7 @@ use clap::{Args, ValueEnum};
 use glam::DVec3;
 use gnomon::{
     Camera, CascadeFit, CascadeSplit, DirectionalLight, Lens, Light, MapSettings, PerspectiveMap,
-    SceneBounds, ShadowSetup, SpotLight, Technique, ViewSamples, compute_setup,
+    PointLight, SceneBounds, ShadowSetup, SpotLight, Technique, ViewSamples, compute_setup,
     compute_setup_with_samples,
 };
 use gnomon_render::RenderScene;
@@ -112,7 +112,7 @@ impl ViewArgs {
     }
 }
 
-/// The light: directional or spot, at most one (without either, the named view's).
+/// The light: directional, spot or point, at most one (without any, the named view's).
 #[derive(Debug, Clone, Args)]
 #[group(required = false, multiple = false)]
 pub struct LightArgs {
@@ -123,22 +123,30 @@ pub struct LightArgs {
     /// half-angle in degrees, range).
     #[arg(long, value_parser = parse_spot, allow_hyphen_values = true)]
     pub spot: Option<[f64; 8]>,
+    /// A point light: X,Y,Z,RANGE (position and range); its shadow maps are cube faces
+    /// (techniques `cube`, or any single-map technique per face).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    pub point: Option<[f64; 4]>,
 }
 
 impl LightArgs {
     /// The validated light: the one given, else the named view's among `views`.
     pub fn light(&self, view: &ViewArgs, views: &[NamedView]) -> Result<Light, CliError> {
-        match (self.light_dir, self.spot, view.named(views)?) {
-            (Some(d), None, _) => Ok(Light::Directional(DirectionalLight::new(d)?)),
-            (None, Some(s), _) => Ok(Light::Spot(SpotLight::new(
+        match (self.light_dir, self.spot, self.point, view.named(views)?) {
+            (Some(d), None, None, _) => Ok(Light::Directional(DirectionalLight::new(d)?)),
+            (None, Some(s), None, _) => Ok(Light::Spot(SpotLight::new(
                 DVec3::new(s[0], s[1], s[2]),
                 DVec3::new(s[3], s[4], s[5]),
                 s[6],
                 s[7],
             )?)),
-            (None, None, Some(named)) => Ok(named.light.light()?),
+            (None, None, Some(p), _) => Ok(Light::Point(PointLight::new(
+                DVec3::new(p[0], p[1], p[2]),
+                p[3],
+            )?)),
+            (None, None, None, Some(named)) => Ok(named.light.light()?),
             _ => Err(CliError::usage(
-                "give one of --light-dir and --spot, or a named --view",
+                "give one of --light-dir, --spot and --point, or a named --view",
             )),
         }
     }
@@ -146,8 +154,8 @@ impl LightArgs {
     /// Every light: the one given, else all of the named view's (a scene file's view may
     /// have several).
     pub fn lights(&self, view: &ViewArgs, views: &[NamedView]) -> Result<Vec<Light>, CliError> {
-        match (self.light_dir, self.spot, view.named(views)?) {
-            (None, None, Some(named)) => Ok(named.lights()?),
+        match (self.light_dir, self.spot, self.point, view.named(views)?) {
+            (None, None, None, Some(named)) => Ok(named.lights()?),
             _ => Ok(vec![self.light(view, views)?]),
         }
     }
@@ -160,7 +168,8 @@ impl LightArgs {
         views: &[NamedView],
         command: &str,
     ) -> Result<Light, CliError> {
-        if let (None, None, Some(named)) = (self.light_dir, self.spot, view.named(views)?)
+        if let (None, None, None, Some(named)) =
+            (self.light_dir, self.spot, self.point, view.named(views)?)
             && !named.more_lights.is_empty()
         {
             eprintln!(
@@ -439,8 +448,27 @@ fn view_options(view: &NamedView) -> String {
                 v(direction)
             );
         }
+        ViewLight::Point { position, range } => {
+            options += &format!(" --point={},{range}", v(position));
+        }
     }
     options
+}
+
+/// The option that gives `light`: `--light-dir=...`, `--spot=...` or `--point=...`.
+pub fn light_option(light: &Light) -> String {
+    let v = |a: DVec3| format!("{},{},{}", a.x, a.y, a.z);
+    match light {
+        Light::Directional(d) => format!("--light-dir={}", v(d.direction())),
+        Light::Spot(s) => format!(
+            "--spot={},{},{},{}",
+            v(s.position()),
+            v(s.direction()),
+            s.half_angle().to_degrees(),
+            s.range()
+        ),
+        Light::Point(p) => format!("--point={},{}", v(p.position()), p.range()),
+    }
 }
 
 /// The technique parameters `technique` reads (SPPSM: its own and its perspective map's).
@@ -980,6 +1008,10 @@ fn parse_spot(s: &str) -> Result<[f64; 8], String> {
     parse_numbers::<8>(s, "PX,PY,PZ,DX,DY,DZ,HALF_ANGLE_DEG,RANGE")
 }
 
+fn parse_point(s: &str) -> Result<[f64; 4], String> {
+    parse_numbers::<4>(s, "X,Y,Z,RANGE")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -992,5 +1024,7 @@ mod tests {
         assert!(parse_vec3("1,2,nan").is_err());
         assert!(parse_vec3("1,2,inf").is_err());
         assert_eq!(parse_spot("0,10,0,0,-1,0,30,50").unwrap()[6], 30.0);
+        assert_eq!(parse_point("0,10,-2,50").unwrap(), [0.0, 10.0, -2.0, 50.0]);
+        assert!(parse_point("0,10,50").is_err());
     }
 }

@@ -120,6 +120,7 @@ fn time_views(
                  samples: &[gnomon::ViewSamples]|
      -> Result<(f64, Timings), CliError> {
         match entry {
+            Entry::Map(row) if row.refuses(lights).is_some() => Ok((f64::NAN, Timings::default())),
             Entry::Map(row) => {
                 let (setups, setup_us) = light_setups(row, camera, lights, &bounds, samples)?;
                 let shadowed = ShadowedLight::pairs(lights, &setups);
@@ -152,6 +153,12 @@ fn time_views(
         }
         let baseline_ms = mean_sd(&times[baseline].iter().map(|t| t.0).collect::<Vec<_>>()).0;
         for (entry, samples) in entries.iter().zip(&times) {
+            if let Entry::Map(row) = entry
+                && let Some(why) = row.refuses(lights)
+            {
+                results.push(json!({ "view": view, "technique": entry.name(), "skipped": why }));
+                continue;
+            }
             let total: Vec<f64> = samples.iter().map(|t| t.0).collect();
             let shadow: Vec<f64> = samples.iter().map(|t| t.1.shadow_pass_ms).collect();
             let main: Vec<f64> = samples.iter().map(|t| t.1.main_pass_ms).collect();
@@ -320,6 +327,14 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         format!("vs {baseline_name}")
     );
     for r in &results {
+        if let Some(why) = r["skipped"].as_str() {
+            crate::say!(
+                "{:<16} {:<20} not timed: {why}",
+                r["view"].as_str().unwrap_or_default(),
+                r["technique"].as_str().unwrap_or_default()
+            );
+            continue;
+        }
         crate::say!(
             "{:<16} {:<20} {:>10.2} {:>8.2} {:>10.2} {:>10.2} {:>11}",
             r["view"].as_str().unwrap_or_default(),

@@ -286,6 +286,12 @@ fn compare_scene(
         let mut rows = Vec::new();
         for (k, entry) in techniques.iter().enumerate() {
             progress.set_message(format!("{}: {}", view.name, entry.label));
+            if let Some(why) = entry.refuses(&lights) {
+                // Its grid row stays empty; the summary leaves this view out for it.
+                rows.push(json!({ "technique": entry.label, "skipped": why }));
+                progress.inc(1);
+                continue;
+            }
             let (setups, setup_us) = light_setups(entry, &camera, &lights, &bounds, &samples)?;
             let setup = &setups[0];
             let shadowed = ShadowedLight::pairs(&lights, &setups);
@@ -356,6 +362,11 @@ fn compare_scene(
             view.name, view.description
         );
         for r in &rows {
+            if let Some(why) = r["skipped"].as_str() {
+                let label = r["technique"].as_str().unwrap_or_default();
+                let _ = writeln!(markdown, "| {label} | n/a: {why} |||||||||||");
+                continue;
+            }
             let u = &r["undersampling"];
             let f = |v: &Value| v.as_f64().map_or("-".to_string(), |x| format!("{x:.2}"));
             let _ = writeln!(

@@ -210,6 +210,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
                 let to_light = match light_t {
                     Light::Directional(d) => -d.direction(),
                     Light::Spot(s) => (s.position() - *p).normalize_or_zero(),
+                    Light::Point(l) => (l.position() - *p).normalize_or_zero(),
                 };
                 n.dot(to_light) > 0.1
             })
@@ -313,17 +314,8 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
                 tally.swim.iter().sum::<f64>() / tally.swim.len() as f64
             };
             // The command that measures this row alone.
+            let light_option = crate::args::light_option(&light);
             let v = |a: DVec3| format!("{},{},{}", a.x, a.y, a.z);
-            let light_option = match &light {
-                Light::Directional(d) => format!("--light-dir={}", v(d.direction())),
-                Light::Spot(sp) => format!(
-                    "--spot={},{},{},{}",
-                    v(sp.position()),
-                    v(sp.direction()),
-                    sp.half_angle().to_degrees(),
-                    sp.range()
-                ),
-            };
             let scene_options = if loaded.options.is_empty() {
                 String::new()
             } else {

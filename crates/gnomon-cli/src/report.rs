@@ -39,6 +39,11 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
                 "blend": c.blend,
                 "fade_start": c.fade_start,
             }),
+            MapSelection::CubeFaces(c) => json!({
+                "kind": "cube_faces",
+                "faces": c.faces().iter().map(|f| f.name()).collect::<Vec<_>>(),
+                "position": c.position.to_array(),
+            }),
         },
         "diagnostics": {
             "fallbacks": d.fallbacks.iter().map(|f| json!({"name": f.name(), "reason": f.reason()})).collect::<Vec<_>>(),
@@ -51,6 +56,7 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
             "focus_body_vertices": d.focus_body_vertices,
             "scene_box_grown": d.scene_box_grown,
             "warp_strength": d.warp_strength,
+            "cube_faces_skipped": d.cube_faces_skipped,
             "casters_by_side": d.casters_by_side.map(|c| json!({
                 "focused_only": c.focused_only,
                 "perspective_only": c.perspective_only,
@@ -147,7 +153,8 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
 }
 
 /// A named view's light: `{"directional": [x, y, z]}` (the direction it travels) or
-/// `{"spot": {"position", "direction", "half_angle_degrees", "range"}}`.
+/// `{"spot": {"position", "direction", "half_angle_degrees", "range"}}` or
+/// `{"point": {"position", "range"}}`.
 pub fn view_light_json(light: &gnomon_scene::ViewLight) -> Value {
     match *light {
         gnomon_scene::ViewLight::Directional { direction } => {
@@ -162,6 +169,10 @@ pub fn view_light_json(light: &gnomon_scene::ViewLight) -> Value {
             "position": position.to_array(),
             "direction": direction.to_array(),
             "half_angle_degrees": half_angle_degrees,
+            "range": range,
+        }}),
+        gnomon_scene::ViewLight::Point { position, range } => json!({ "point": {
+            "position": position.to_array(),
             "range": range,
         }}),
     }

@@ -22,6 +22,18 @@ pub struct Row {
     pub params: TechniqueParams,
 }
 
+impl Row {
+    /// Why the row cannot draw `lights` (`cube` takes point lights only; SPPSM and the
+    /// cascades take no point light), or `None` when it can.
+    pub fn refuses(&self, lights: &[gnomon::Light]) -> Option<&'static str> {
+        let refused = lights.iter().find(|l| !self.technique.takes(l))?;
+        Some(match refused {
+            gnomon::Light::Point(_) => "takes no point light",
+            _ => "takes point lights only",
+        })
+    }
+}
+
 /// The options of a fixed row, parsed by the one definition of the technique options.
 #[derive(clap::Parser)]
 struct RowOptions {

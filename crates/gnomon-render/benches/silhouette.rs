@@ -68,6 +68,7 @@ fn bench(c: &mut Criterion) {
             let toward = |p: DVec3| match light {
                 Light::Directional(d) => -d.direction(),
                 Light::Spot(s) => s.position() - p,
+                Light::Point(l) => l.position() - p,
             };
             group.bench_function(
                 BenchmarkId::new(format!("edges_{light_name}"), &name),

@@ -38,8 +38,13 @@ impl ShadowAtlas {
         layers: u32,
     ) -> Self {
         // At least two layers: wgpu's GL backend makes a one-layer texture a plain 2D texture,
-        // which an array view then reads as zeros.
-        let layers = layers.max(MIN_LAYERS);
+        // which an array view then reads as zeros. Nor a multiple of six: it makes a square
+        // texture of 6k layers a cube map (a point light's six faces hit that), which an
+        // array view reads wrongly too.
+        let mut layers = layers.max(MIN_LAYERS);
+        if layers % 6 == 0 {
+            layers += 1;
+        }
         let texture = resources.texture(
             "shadow maps",
             size,

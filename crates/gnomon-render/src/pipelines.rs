@@ -50,20 +50,21 @@ pub(crate) struct Pipelines {
 
 /// What the main pass is specialised for (override constants): the number of lights (a loop
 /// with a constant trip count costs far less than one bounded by a uniform on some devices:
-/// 1.4x the main pass on lavapipe), and whether a light has cascades (their per-pixel choice
-/// of map makes every read of a map's record a gather on a CPU rasteriser: 1.45x the main
-/// pass on lavapipe when compiled into frames that have none).
+/// 1.4x the main pass on lavapipe), and whether a light picks its map per pixel (cascades, a
+/// point light's cube faces: the per-pixel choice of map makes every read of a map's record a
+/// gather on a CPU rasteriser: 1.45x the main pass on lavapipe when compiled into frames that
+/// have none).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub(crate) struct MainSpec {
     pub lights: u32,
-    pub cascades: bool,
+    pub per_pixel: bool,
 }
 
 impl MainSpec {
     fn constants(&self) -> [(&'static str, f64); 2] {
         [
             ("LIGHT_COUNT", self.lights as f64),
-            ("CASCADES", if self.cascades { 1.0 } else { 0.0 }),
+            ("PER_PIXEL", if self.per_pixel { 1.0 } else { 0.0 }),
         ]
     }
 }

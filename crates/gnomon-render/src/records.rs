@@ -17,10 +17,12 @@ pub const MAX_MAPS: usize = 48;
 /// `GnomonLight.info.x`.
 pub(crate) const LIGHT_DIRECTIONAL: u32 = 0;
 pub(crate) const LIGHT_SPOT: u32 = 1;
+pub(crate) const LIGHT_POINT: u32 = 2;
 /// `GnomonLight.info.y`.
 pub(crate) const SELECT_SINGLE: u32 = 0;
 pub(crate) const SELECT_PLANE: u32 = 1;
 pub(crate) const SELECT_CASCADES: u32 = 2;
+pub(crate) const SELECT_CUBE: u32 = 3;
 /// `GnomonMap.info.y`.
 pub(crate) const MAP_PERSPECTIVE: u32 = 1;
 
@@ -199,6 +201,12 @@ pub(crate) fn light_record(
             [s.range() as f32, s.near() as f32, 0.0, 0.0],
             LIGHT_SPOT,
         ),
+        Light::Point(p) => (
+            vec4(view_from_world.transform_point3(p.position()), 1.0),
+            [0.0; 4],
+            [p.range() as f32, p.near() as f32, 0.0, 0.0],
+            LIGHT_POINT,
+        ),
     };
     let mut params = [[0.0f32; 4]; 4];
     let selection = match setup.map(|s| (s, s.selection, s.maps.len())) {
@@ -221,6 +229,26 @@ pub(crate) fn light_record(
                 .as_vec4()
                 .to_array();
             SELECT_CASCADES
+        }
+        Some((_, MapSelection::CubeFaces(faces), n)) if n == faces.faces().len() => {
+            // params[0..3].xyz: the world axes x, y, z in view space (a direction's major
+            // world axis picks its face); the map of face k (+x, -x, +y, -y, +z, -z) relative
+            // to the first, or -1 for none: faces 0 to 2 in params[0..3].w, 3 to 5 in
+            // params[3].xyz.
+            for axis in 0..3 {
+                let v = view_from_world.transform_vector3(DVec3::AXES[axis]);
+                params[axis] = vec4(v, 0.0);
+            }
+            for face in gnomon::CubeFace::ALL {
+                let k = face.index();
+                let map = faces.map_of(face).map_or(-1.0, |m| m as f32);
+                if k < 3 {
+                    params[k][3] = map;
+                } else {
+                    params[3][k - 3] = map;
+                }
+            }
+            SELECT_CUBE
         }
         Some((setup, selection, n)) => {
             return Err(RenderError::Invalid(format!(

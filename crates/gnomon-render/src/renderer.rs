@@ -154,7 +154,7 @@ pub struct Renderer {
     /// The prepared frame's records (kept to be rewritten without allocating).
     shadows: Box<GpuShadows>,
     pub(crate) prepared_camera: Option<Camera>,
-    /// What the prepared frame's main pass is specialised for (its lights, cascades).
+    /// What the prepared frame's main pass is specialised for (its lights, a per-pixel choice of map).
     pub(crate) main_spec: crate::pipelines::MainSpec,
     pub(crate) volumes: VolumePipelines,
     pub(crate) volume_casters: VolumeCasters,
@@ -520,10 +520,12 @@ impl Renderer {
         self.prepared_camera = Some(*camera);
         self.main_spec = crate::pipelines::MainSpec {
             lights: lights.len() as u32,
-            cascades: lights
-                .iter()
-                .flat_map(|l| l.1)
-                .any(|s| matches!(s.selection, MapSelection::Cascades(_))),
+            per_pixel: lights.iter().flat_map(|l| l.1).any(|s| {
+                matches!(
+                    s.selection,
+                    MapSelection::Cascades(_) | MapSelection::CubeFaces(_)
+                )
+            }),
         };
         Ok(())
     }

@@ -3,7 +3,7 @@
 //! knots in a park. Everything casts and receives shadows.
 
 use glam::{DMat4, DQuat, DVec3};
-use gnomon::{Camera, DirectionalLight, Lens, Light, SetupError};
+use gnomon::{Camera, Lens, Light, SetupError};
 
 use crate::{SceneLayout, SceneObject, Shape};
 
@@ -20,7 +20,7 @@ pub struct DemoView {
     /// What it looks at.
     pub target: [f64; 3],
     /// The direction the sunlight travels.
-    pub light_direction: [f64; 3],
+    pub light: DemoLight,
     /// The camera's far plane distance (near is 1 m, the vertical field of view 60 degrees).
     pub far: f64,
     /// What the view shows.
@@ -28,7 +28,7 @@ pub struct DemoView {
 }
 
 impl DemoView {
-    /// The view's camera, for an image of width / height `aspect`, and its sun. Errors only
+    /// The view's camera, for an image of width / height `aspect`, and its light. Errors only
     /// for a bad `aspect` (the views themselves are valid).
     pub fn camera_and_light(&self, aspect: f64) -> Result<(Camera, Light), SetupError> {
         let lens = Lens {
@@ -42,10 +42,36 @@ impl DemoView {
             DVec3::Y,
             lens,
         )?;
-        let light = Light::Directional(DirectionalLight::new(DVec3::from_array(
-            self.light_direction,
-        ))?);
-        Ok((camera, light))
+        Ok((camera, self.light.view_light().light()?))
+    }
+}
+
+/// The light of a demo view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DemoLight {
+    /// The sun: the direction its light travels.
+    Sun([f64; 3]),
+    /// A lamp: a point light at `position` reaching `range` metres.
+    Lamp {
+        /// Where it is.
+        position: [f64; 3],
+        /// How far it reaches.
+        range: f64,
+    },
+}
+
+impl DemoLight {
+    /// The light as a named view's.
+    pub fn view_light(&self) -> crate::ViewLight {
+        match *self {
+            DemoLight::Sun(d) => crate::ViewLight::Directional {
+                direction: DVec3::from_array(d),
+            },
+            DemoLight::Lamp { position, range } => crate::ViewLight::Point {
+                position: DVec3::from_array(position),
+                range,
+            },
+        }
     }
 }
 
@@ -56,7 +82,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
         far: 800.0,
         eye: [260.0, 190.0, 260.0],
         target: [0.0, 0.0, 0.0],
-        light_direction: [-0.4, -1.0, -0.25],
+        light: DemoLight::Sun([-0.4, -1.0, -0.25]),
         description: "the whole scene from high up, sun high behind the viewer",
     },
     DemoView {
@@ -64,7 +90,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
         far: 400.0,
         eye: [-150.0, 60.0, 150.0],
         target: [0.0, 0.0, 0.0],
-        light_direction: [0.05, -1.0, 0.08],
+        light: DemoLight::Sun([0.05, -1.0, 0.08]),
         description: "the city at noon: the sun straight overhead, short shadows",
     },
     DemoView {
@@ -72,7 +98,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
         far: 400.0,
         eye: [-185.0, 2.0, 58.0],
         target: [185.0, 2.0, 58.0],
-        light_direction: [0.35, -0.6, 1.0],
+        light: DemoLight::Sun([0.35, -0.6, 1.0]),
         description: "down the long avenue at eye height, low sun from the side",
     },
     DemoView {
@@ -80,7 +106,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
         far: 400.0,
         eye: [120.0, 25.0, 190.0],
         target: [0.0, 5.0, 0.0],
-        light_direction: [1.0, -0.18, 0.3],
+        light: DemoLight::Sun([1.0, -0.18, 0.3]),
         description: "the city under a low sun: long shadows",
     },
     DemoView {
@@ -88,7 +114,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
         far: 400.0,
         eye: [150.0, 8.0, 150.0],
         target: [0.0, 20.0, 0.0],
-        light_direction: [0.6, -0.45, 0.6],
+        light: DemoLight::Sun([0.6, -0.45, 0.6]),
         description: "looking into the sun",
     },
     DemoView {
@@ -96,7 +122,7 @@ pub const DEMO_VIEWS: &[DemoView] = &[
         far: 400.0,
         eye: [100.0, 120.0, 100.0],
         target: [0.0, 0.0, 0.0],
-        light_direction: [-0.55, -0.65, -0.55],
+        light: DemoLight::Sun([-0.55, -0.65, -0.55]),
         description: "looking along the light",
     },
     DemoView {
@@ -104,8 +130,41 @@ pub const DEMO_VIEWS: &[DemoView] = &[
         far: 400.0,
         eye: [-190.0, 14.0, 58.0],
         target: [0.0, 4.0, 10.0],
-        light_direction: [0.85, -0.4, -0.15],
+        light: DemoLight::Sun([0.85, -0.4, -0.15]),
         description: "a low sun behind the viewer, shadows falling away from the camera",
+    },
+    DemoView {
+        name: "street_lamp",
+        far: 300.0,
+        eye: [-98.0, 7.0, 80.0],
+        target: [-60.0, 1.0, 52.0],
+        light: DemoLight::Lamp {
+            position: [-60.0, 8.6, 58.0],
+            range: 120.0,
+        },
+        description: "a lamp over the avenue at night: the poles' and blocks' shadows fan out from it",
+    },
+    DemoView {
+        name: "courtyard_lamp",
+        far: 300.0,
+        eye: [-138.0, 16.0, -97.0],
+        target: [-138.0, 0.0, -140.0],
+        light: DemoLight::Lamp {
+            position: [-137.0, 5.0, -139.0],
+            range: 150.0,
+        },
+        description: "a lamp at a crossing between four blocks: each face of its cube sees a street",
+    },
+    DemoView {
+        name: "lamp_by_wall",
+        far: 300.0,
+        eye: [-56.0, 9.0, -58.0],
+        target: [-66.0, 2.0, -80.0],
+        light: DemoLight::Lamp {
+            position: [-63.5, 4.0, -77.0],
+            range: 100.0,
+        },
+        description: "a lamp 2.5 m from a block's wall: the wall, the street and the ground fall in different faces",
     },
 ];
 
@@ -256,19 +315,34 @@ mod tests {
     }
 
     #[test]
-    fn every_view_has_a_camera_and_a_sun_and_bad_aspects_are_errors() {
+    fn every_view_has_a_camera_and_its_light_and_bad_aspects_are_errors() {
+        let mut lamps = 0;
         for view in DEMO_VIEWS {
             let (camera, light) = view.camera_and_light(16.0 / 9.0).unwrap();
             assert!((camera.eye() - DVec3::from_array(view.eye)).length() < 1e-9);
-            let Light::Directional(sun) = light else {
-                panic!("{}: not a sun", view.name);
-            };
-            let d = DVec3::from_array(view.light_direction).normalize();
-            assert!((sun.direction() - d).length() < 1e-9, "{}", view.name);
+            match (light, view.light) {
+                (Light::Directional(sun), DemoLight::Sun(d)) => {
+                    let d = DVec3::from_array(d).normalize();
+                    assert!((sun.direction() - d).length() < 1e-9, "{}", view.name);
+                }
+                (Light::Point(lamp), DemoLight::Lamp { position, range }) => {
+                    assert_eq!(lamp.position(), DVec3::from_array(position));
+                    assert_eq!(lamp.range(), range);
+                    // The lamp lies in the open, not inside an object.
+                    let inside = demo().objects.iter().any(|o| {
+                        let b = o.world_bounds().unwrap();
+                        (b.min().cmplt(lamp.position()) & lamp.position().cmplt(b.max())).all()
+                    });
+                    assert!(!inside, "{} is inside an object", view.name);
+                    lamps += 1;
+                }
+                other => panic!("{}: {other:?}", view.name),
+            }
             for aspect in [0.0, -1.0, f64::NAN] {
                 assert!(view.camera_and_light(aspect).is_err(), "{aspect}");
             }
         }
+        assert_eq!(lamps, 3, "the point-light views");
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! name up in its scene's list of these.
 
 use glam::DVec3;
-use gnomon::{Camera, DirectionalLight, Lens, Light, SetupError, SpotLight};
+use gnomon::{Camera, DirectionalLight, Lens, Light, PointLight, SetupError, SpotLight};
 
 use crate::DemoView;
 
@@ -23,6 +23,13 @@ pub enum ViewLight {
         direction: DVec3,
         /// The cone's half angle in degrees.
         half_angle_degrees: f64,
+        /// How far it reaches.
+        range: f64,
+    },
+    /// A point light.
+    Point {
+        /// Where it is.
+        position: DVec3,
         /// How far it reaches.
         range: f64,
     },
@@ -46,6 +53,7 @@ impl ViewLight {
                 half_angle_degrees,
                 range,
             )?),
+            ViewLight::Point { position, range } => Light::Point(PointLight::new(position, range)?),
         })
     }
 }
@@ -113,9 +121,7 @@ impl From<&DemoView> for NamedView {
             fov_y_degrees: lens.fov_y_degrees,
             near: lens.near,
             far: v.far,
-            light: ViewLight::Directional {
-                direction: DVec3::from_array(v.light_direction),
-            },
+            light: v.light.view_light(),
             more_lights: Vec::new(),
         }
     }

@@ -195,8 +195,9 @@ fn view_axis_dp_ds_of(
     reference_resolution: Option<u32>,
 ) -> Result<f64, SetupError> {
     let z = check_scalar("z", z)?.clamp(config.z_near, config.z_far);
-    let map = maps
-        .get(selection.map_for(DVec3::new(0.0, 0.0, -z)))
+    let map = selection
+        .map_for(DVec3::new(0.0, 0.0, -z))
+        .and_then(|k| maps.get(k))
         .ok_or(SetupError::Unmeasurable {
             what: "the setup has no map for the view axis",
         })?;

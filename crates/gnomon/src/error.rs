@@ -100,6 +100,17 @@ pub enum SetupError {
         /// The technique that failed.
         technique: &'static str,
     },
+    /// The technique makes several maps per light (SPPSM, cascades), which a point light's
+    /// cube faces cannot hold.
+    PointLightUnsupported {
+        /// The technique.
+        technique: &'static str,
+    },
+    /// The technique is for point lights only (`cube`).
+    NeedsPointLight {
+        /// The technique.
+        technique: &'static str,
+    },
     /// A measurement ([`crate::analysis`]) cannot be taken from the given map.
     Unmeasurable {
         /// Why.
@@ -174,7 +185,7 @@ impl fmt::Display for SetupError {
                 )
             }
             SetupError::InvalidRange { range } => {
-                write!(f, "spot light range must be positive (got {range})")
+                write!(f, "light range must be positive (got {range})")
             }
             SetupError::InvalidResolution {
                 resolution,
@@ -194,6 +205,13 @@ impl fmt::Display for SetupError {
                 "technique {technique} produced a non-finite matrix (a bug in gnomon; please report it)"
             ),
             SetupError::Unmeasurable { what } => write!(f, "cannot measure: {what}"),
+            SetupError::PointLightUnsupported { technique } => write!(
+                f,
+                "technique {technique} has several maps per light and does not take point lights (use cube, focused, lispsm, psm, tsm, xpsm or uniform)"
+            ),
+            SetupError::NeedsPointLight { technique } => {
+                write!(f, "technique {technique} needs a point light")
+            }
         }
     }
 }

@@ -1004,10 +1004,10 @@ mod tests {
                 Some(n) if DVec3::from_array(n).length() > 0.1 => {
                     // A plane through the light's rays, as SPPSM's.
                     let n = DVec3::from_array(n).normalize();
-                    let along = match &light { Light::Directional(d) => d.direction(), Light::Spot(s) => s.direction() };
+                    let along = match &light { Light::Directional(d) => d.direction(), Light::Spot(s) => s.direction(), Light::Point(_) => unreachable!() };
                     let n = (n - along * n.dot(along)).normalize_or_zero();
                     prop_assume!(n.length() > 0.5);
-                    let through = match &light { Light::Directional(_) => target, Light::Spot(s) => s.position() };
+                    let through = match &light { Light::Directional(_) => target, Light::Spot(s) => s.position(), Light::Point(_) => unreachable!() };
                     Part::Side(Plane::through_point(through, n))
                 }
                 _ => Part::Whole,
@@ -1040,6 +1040,7 @@ mod tests {
                     Projector::Parallel(LightFrame::view_aligned(d.direction(), camera.forward()).unwrap_or(LightFrame::fixed(d.direction()))),
                 ],
                 Light::Spot(s) => vec![Projector::Point { frame: LightFrame::fixed(s.direction()), position: s.position() }],
+                Light::Point(_) => unreachable!(),
             };
             for projector in &projectors {
                 let mut want = Extents::EMPTY;

@@ -56,7 +56,7 @@ impl<'a> Frame<'a> {
         let tolerance = tolerance(input.scene, Some(input.camera), input.light);
         let fixed = fixed_projector(input.light);
         let light_planes = match input.light {
-            Light::Directional(_) => None,
+            Light::Directional(_) | Light::Point(_) => None,
             Light::Spot(spot) => Some(spot.frustum_planes(fixed.frame().up)),
         };
         let scene_box = input.scene.scene_box();

@@ -27,7 +27,8 @@
 //! Techniques (each cites its paper): [`Uniform`] (SSM), [`Focused`] (FSM with unit cube
 //! clipping), [`Lispsm`] (LiSPSM), [`Tsm`] (TSM), [`Xpsm`] (XPSM), [`Psm`] (PSM), [`Sppsm`]
 //! (two maps and a separating plane), [`Cascades`] (a map per slice of the view, each fitted by
-//! a single-map technique, or stable cascades). The warps are limited so that they sample the
+//! a single-map technique, or stable cascades), [`Cube`] (a point light's six faces, each
+//! focused; the single-map techniques take point lights per face too). The warps are limited so that they sample the
 //! frame's [`ViewSamples`] no more coarsely than the focused map. Every technique implements
 //! [`ShadowTechnique`];
 //! [`Technique`] names them all. [`analysis`] measures aliasing from the matrices;
@@ -57,17 +58,20 @@ pub use bounds::{Aabb, SceneBounds};
 pub use bvh::BoxIndex;
 pub use camera::{Camera, Lens};
 pub use error::SetupError;
-pub use light::{DirectionalLight, Light, SPOT_NEAR_FRACTION, SpotLight};
+pub use light::{
+    CUBE_FACE_BORDER_TEXELS, CubeFace, DirectionalLight, Light, PointLight, SPOT_NEAR_FRACTION,
+    SpotLight, cube_face_tangent,
+};
 pub use samples::{ViewSample, ViewSamples, undersampling};
 pub use setup::{
-    CascadeSlices, CastersBySide, Diagnostics, Fallback, LightFrameKind, MAX_CASCADES,
-    MAX_RESOLUTION, MIN_RESOLUTION, MapProjection, MapSelection, MapSettings, SetupInput,
-    ShadowMap, ShadowSetup, ShadowTechnique, Technique, UnknownTechnique, compute_setup,
-    compute_setup_with_samples,
+    CascadeSlices, CastersBySide, CubeFaceMaps, Diagnostics, Fallback, LightFrameKind,
+    MAX_CASCADES, MAX_RESOLUTION, MIN_RESOLUTION, MapProjection, MapSelection, MapSettings,
+    SetupInput, ShadowMap, ShadowSetup, ShadowTechnique, Technique, UnknownTechnique,
+    compute_setup, compute_setup_with_samples,
 };
 pub use techniques::{
-    CascadeFit, CascadeSplit, Cascades, Focused, Lispsm, PerspectiveMap, Psm, Sppsm, Tsm, Uniform,
-    Xpsm,
+    CascadeFit, CascadeSplit, Cascades, Cube, Focused, Lispsm, PerspectiveMap, Psm, Sppsm, Tsm,
+    Uniform, Xpsm,
 };
 
 /// Largest magnitude accepted for positions and distances (world units). Beyond it `f32`

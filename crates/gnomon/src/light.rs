@@ -1,4 +1,4 @@
-//! Lights that cast the shadows: directional and spot.
+//! Lights that cast the shadows: directional, spot and point.
 
 use glam::{DVec3, DVec4};
 
@@ -119,6 +119,151 @@ impl SpotLight {
     }
 }
 
+/// A point light: rays from a point in every direction, up to a range (a lamp, a torch).
+///
+/// Shadow-map techniques see it as six spot lights, one per cube face
+/// ([`PointLight::face_light`]); the exact volumes extrude from its position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointLight {
+    position: DVec3,
+    range: f64,
+}
+
+impl PointLight {
+    /// A point light at `position` reaching `range` (> 0) world units.
+    pub fn new(position: DVec3, range: f64) -> Result<Self, SetupError> {
+        let position = check_vec("point light position", position)?;
+        check_scalar("point light range", range)?;
+        if range <= 0.0 {
+            return Err(SetupError::InvalidRange { range });
+        }
+        Ok(Self { position, range })
+    }
+
+    /// Where the light is.
+    pub fn position(&self) -> DVec3 {
+        self.position
+    }
+
+    /// How far the light reaches.
+    pub fn range(&self) -> f64 {
+        self.range
+    }
+
+    /// The distance of each face frustum's near plane ([`SPOT_NEAR_FRACTION`] of the range).
+    pub fn near(&self) -> f64 {
+        self.range * SPOT_NEAR_FRACTION
+    }
+
+    /// The cube face that the direction `d` (from the light) falls in: its major axis, the
+    /// first of x, y, z on a tie.
+    pub fn face_of(d: DVec3) -> CubeFace {
+        let a = d.abs();
+        if a.x >= a.y && a.x >= a.z {
+            if d.x >= 0.0 {
+                CubeFace::PosX
+            } else {
+                CubeFace::NegX
+            }
+        } else if a.y >= a.z {
+            if d.y >= 0.0 {
+                CubeFace::PosY
+            } else {
+                CubeFace::NegY
+            }
+        } else if d.z >= 0.0 {
+            CubeFace::PosZ
+        } else {
+            CubeFace::NegZ
+        }
+    }
+
+    /// The spot light that one cube face's map is fitted for: the light's position, the
+    /// face's axis, and a square frustum a little wider than the face's 90 degrees, by
+    /// [`CUBE_FACE_BORDER_TEXELS`] texels of a `resolution`-texel map on each side (so that a
+    /// lookup filtered near a face's edge reads texels that hold the casters). The frustum's
+    /// sides lie along the cube's edges: the spot's fixed frame has a world axis as its up.
+    pub fn face_light(&self, face: CubeFace, resolution: u32) -> SpotLight {
+        let t = cube_face_tangent(resolution);
+        SpotLight {
+            position: self.position,
+            direction: face.axis(),
+            half_angle: t.atan(),
+            range: self.range,
+        }
+    }
+}
+
+/// Texels of border that each cube face's map keeps beyond the face's 90 degrees, on each
+/// side: more than the 5x5 filter's reach of two texels.
+pub const CUBE_FACE_BORDER_TEXELS: u32 = 3;
+
+/// The tangent of a cube face frustum's half-angle for `resolution`-texel maps: 1 (45
+/// degrees) widened so that [`CUBE_FACE_BORDER_TEXELS`] of its texels lie beyond it.
+pub fn cube_face_tangent(resolution: u32) -> f64 {
+    let border = f64::from(CUBE_FACE_BORDER_TEXELS);
+    let r = f64::from(resolution.max(4 * CUBE_FACE_BORDER_TEXELS));
+    1.0 / (1.0 - 2.0 * border / r)
+}
+
+/// One face of a point light's cube, named by its axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CubeFace {
+    /// +x.
+    PosX,
+    /// -x.
+    NegX,
+    /// +y.
+    PosY,
+    /// -y.
+    NegY,
+    /// +z.
+    PosZ,
+    /// -z.
+    NegZ,
+}
+
+impl CubeFace {
+    /// The six faces, in the order of their maps.
+    pub const ALL: [CubeFace; 6] = [
+        CubeFace::PosX,
+        CubeFace::NegX,
+        CubeFace::PosY,
+        CubeFace::NegY,
+        CubeFace::PosZ,
+        CubeFace::NegZ,
+    ];
+
+    /// The face's axis (a unit world axis).
+    pub fn axis(&self) -> DVec3 {
+        match self {
+            CubeFace::PosX => DVec3::X,
+            CubeFace::NegX => DVec3::NEG_X,
+            CubeFace::PosY => DVec3::Y,
+            CubeFace::NegY => DVec3::NEG_Y,
+            CubeFace::PosZ => DVec3::Z,
+            CubeFace::NegZ => DVec3::NEG_Z,
+        }
+    }
+
+    /// The face's index in [`CubeFace::ALL`].
+    pub fn index(&self) -> usize {
+        *self as usize
+    }
+
+    /// `+x`, `-x`, ... (JSON and logs).
+    pub fn name(&self) -> &'static str {
+        match self {
+            CubeFace::PosX => "+x",
+            CubeFace::NegX => "-x",
+            CubeFace::PosY => "+y",
+            CubeFace::NegY => "-y",
+            CubeFace::PosZ => "+z",
+            CubeFace::NegZ => "-z",
+        }
+    }
+}
+
 /// The light whose shadows are computed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
@@ -126,15 +271,27 @@ pub enum Light {
     Directional(DirectionalLight),
     /// A spot light.
     Spot(SpotLight),
+    /// A point light.
+    Point(PointLight),
 }
 
 impl Light {
     /// The light's main direction: the direction of travel for a directional light, the
-    /// cone's axis for a spot light.
+    /// cone's axis for a spot light, straight down (-y) for a point light, which has none.
     pub fn direction(&self) -> DVec3 {
         match self {
             Light::Directional(l) => l.direction(),
             Light::Spot(s) => s.direction(),
+            Light::Point(_) => DVec3::NEG_Y,
+        }
+    }
+
+    /// Where the light is (`None` for a directional light).
+    pub fn position(&self) -> Option<DVec3> {
+        match self {
+            Light::Directional(_) => None,
+            Light::Spot(s) => Some(s.position()),
+            Light::Point(p) => Some(p.position()),
         }
     }
 
@@ -144,16 +301,21 @@ impl Light {
         match self {
             Light::Directional(l) => (-l.direction()).extend(0.0),
             Light::Spot(s) => s.position().extend(1.0),
+            Light::Point(p) => p.position().extend(1.0),
         }
     }
 
     /// The row of the linear depth along the light (world units): `row . (p, 1)` is the
     /// distance along the direction of travel (from the plane through the origin for a
-    /// directional light, from the light's plane for a spot light).
+    /// directional light, from the light's plane for a spot light; for a point light along
+    /// -y from its height).
     pub(crate) fn linear_depth_row(&self) -> DVec4 {
         match self {
             Light::Directional(l) => l.direction().extend(0.0),
             Light::Spot(s) => s.direction().extend(-s.direction().dot(s.position())),
+            // No single axis: along its nominal direction (techniques see a point light's
+            // faces as spot lights, never the point light itself).
+            Light::Point(p) => DVec3::NEG_Y.extend(p.position().y),
         }
     }
 }

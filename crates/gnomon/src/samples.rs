@@ -211,6 +211,13 @@ impl ViewSamples {
         self.samples.is_empty()
     }
 
+    /// The samples that `keep` accepts.
+    pub(crate) fn filtered(&self, keep: impl Fn(&ViewSample) -> bool) -> ViewSamples {
+        Self {
+            samples: self.samples.iter().filter(|s| keep(s)).copied().collect(),
+        }
+    }
+
     /// The samples whose view depth lies in [near, far] (a cascade's slice).
     pub fn within_depth(&self, near: f64, far: f64) -> ViewSamples {
         Self {
@@ -350,9 +357,14 @@ pub fn undersampling(map: &ShadowMap, sample: &ViewSample) -> f64 {
 }
 
 /// Whether the light reaches a surface at `p` with normal `n` (N.L > 0.1; a spot light also
-/// needs `p` inside its cone and range).
+/// needs `p` inside its cone and range, a point light within its range).
 fn lit_facing(light: &Light, p: DVec3, n: DVec3) -> bool {
     match light {
+        Light::Point(l) => {
+            let to_light = l.position() - p;
+            let distance = to_light.length();
+            distance >= l.near() && distance <= l.range() && n.dot(to_light / distance) > 0.1
+        }
         Light::Directional(l) => n.dot(-l.direction()) > 0.1,
         Light::Spot(s) => {
             let to_light = s.position() - p;

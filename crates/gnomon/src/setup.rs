@@ -8,9 +8,9 @@ use glam::{DMat4, DVec3, DVec4};
 use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::error::SetupError;
-use crate::light::Light;
+use crate::light::{CubeFace, Light, PointLight};
 use crate::samples::ViewSamples;
-use crate::techniques::{Cascades, Focused, Lispsm, Psm, Sppsm, Tsm, Uniform, Xpsm};
+use crate::techniques::{Cascades, Cube, Focused, Lispsm, Psm, Sppsm, Tsm, Uniform, Xpsm};
 
 /// Smallest supported shadow-map resolution, in texels.
 pub const MIN_RESOLUTION: u32 = 8;
@@ -145,6 +145,51 @@ pub enum MapSelection {
     },
     /// One map per slice of the view by depth along the camera's forward axis (cascades).
     Cascades(CascadeSlices),
+    /// A point light's cube: one map per face that has one, in the order of
+    /// [`CubeFaceMaps::faces`]; a point reads the map of the face its direction from the
+    /// light falls in ([`crate::PointLight::face_of`]), and a point of a face without a map
+    /// reads as lit.
+    CubeFaces(CubeFaceMaps),
+}
+
+/// The faces of a point light's cube that have maps, in the order of the maps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CubeFaceMaps {
+    /// The light's position, world space.
+    pub position: DVec3,
+    faces: [CubeFace; 6],
+    count: usize,
+}
+
+impl CubeFaceMaps {
+    /// No face yet, for a light at `position`.
+    pub fn new(position: DVec3) -> Self {
+        Self {
+            position,
+            faces: CubeFace::ALL,
+            count: 0,
+        }
+    }
+
+    /// Adds the next map's face (at most six, each once).
+    pub fn push(&mut self, face: CubeFace) {
+        assert!(
+            self.count < 6 && !self.faces().contains(&face),
+            "each face has at most one map"
+        );
+        self.faces[self.count] = face;
+        self.count += 1;
+    }
+
+    /// The faces with maps, in the order of the maps.
+    pub fn faces(&self) -> &[CubeFace] {
+        &self.faces[..self.count]
+    }
+
+    /// The index of `face`'s map, if it has one.
+    pub fn map_of(&self, face: CubeFace) -> Option<usize> {
+        self.faces().iter().position(|f| *f == face)
+    }
 }
 
 /// The most cascades a setup has.
@@ -194,19 +239,22 @@ impl MapSelection {
             MapSelection::Single => "single",
             MapSelection::Plane { .. } => "plane",
             MapSelection::Cascades(_) => "cascades",
+            MapSelection::CubeFaces(_) => "cube_faces",
         }
     }
 
-    /// Which map the world point `p` reads (an index into [`ShadowSetup::maps`]).
-    pub fn map_for(&self, p: DVec3) -> usize {
+    /// Which map the world point `p` reads (an index into [`ShadowSetup::maps`]); `None`
+    /// where no map covers it (a cube face without a map: the point reads as lit).
+    pub fn map_for(&self, p: DVec3) -> Option<usize> {
         match self {
-            MapSelection::Single => 0,
-            MapSelection::Plane { plane_world } => {
-                usize::from(plane_world.truncate().dot(p) + plane_world.w > 0.0)
-            }
+            MapSelection::Single => Some(0),
+            MapSelection::Plane { plane_world } => Some(usize::from(
+                plane_world.truncate().dot(p) + plane_world.w > 0.0,
+            )),
             MapSelection::Cascades(slices) => {
-                slices.slice_of(slices.depth_row_world.dot(p.extend(1.0)))
+                Some(slices.slice_of(slices.depth_row_world.dot(p.extend(1.0))))
             }
+            MapSelection::CubeFaces(faces) => faces.map_of(PointLight::face_of(p - faces.position)),
         }
     }
 }
@@ -375,8 +423,13 @@ pub struct Diagnostics {
     pub casters_by_side: Option<CastersBySide>,
     /// Warps with the limit on: the fraction of the technique's warp strength used (1: the
     /// full warp; less: weakened, [`Fallback::WarpLimited`]; 0: the focused map,
-    /// [`Fallback::WarpCoarserThanFocused`]). `None` where no limit ran.
+    /// [`Fallback::WarpCoarserThanFocused`]). `None` where no limit ran (for a point light:
+    /// the smallest over its faces).
     pub warp_strength: Option<f64>,
+    /// A point light's cube faces without a map: no visible receiver in the face's frustum,
+    /// or none that a caster can shadow. (For a point light the counts above are summed over
+    /// the faces with maps.)
+    pub cube_faces_skipped: usize,
 }
 
 impl Diagnostics {
@@ -394,6 +447,7 @@ impl Diagnostics {
             scene_box_grown: scene.scene_box_grown(),
             casters_by_side: None,
             warp_strength: None,
+            cube_faces_skipped: 0,
         }
     }
 }
@@ -440,7 +494,9 @@ pub trait ShadowTechnique {
     /// The technique's name (`uniform`, `focused`, ...).
     fn name(&self) -> &'static str;
 
-    /// Computes the shadow maps for one frame.
+    /// Computes the shadow maps for one frame. A point light's are the technique's map of
+    /// each cube face ([`crate::techniques::Cube`]'s module documentation); techniques with
+    /// several maps per light (SPPSM, cascades) refuse point lights.
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError>;
 }
 
@@ -465,12 +521,14 @@ pub enum Technique {
     /// Cascaded shadow maps: a map per slice of the view, each fitted by a single-map
     /// technique, or stable cascades.
     Cascades(Cascades),
+    /// A point light's cube maps, each face focused.
+    Cube(Cube),
 }
 
 impl Technique {
     /// The names [`Technique::from_str`] accepts.
     pub const NAMES: &'static [&'static str] = &[
-        "uniform", "focused", "psm", "lispsm", "tsm", "xpsm", "sppsm", "cascades",
+        "uniform", "focused", "psm", "lispsm", "tsm", "xpsm", "sppsm", "cascades", "cube",
     ];
 
     /// Each technique with default parameters.
@@ -479,6 +537,18 @@ impl Technique {
             .iter()
             .map(|n| n.parse().expect("every listed name parses"))
             .collect()
+    }
+
+    /// Whether the technique takes `light`: `cube` takes point lights only; SPPSM and the
+    /// cascades (several maps per light) take every light but point lights; the others take
+    /// every light (a point light per cube face).
+    pub fn takes(&self, light: &Light) -> bool {
+        let point = matches!(light, Light::Point(_));
+        match self {
+            Technique::Cube(_) => point,
+            Technique::Sppsm(_) | Technique::Cascades(_) => !point,
+            _ => true,
+        }
     }
 
     fn as_dyn(&self) -> &dyn ShadowTechnique {
@@ -491,6 +561,7 @@ impl Technique {
             Technique::Psm(t) => t,
             Technique::Sppsm(t) => t,
             Technique::Cascades(t) => t,
+            Technique::Cube(t) => t,
         }
     }
 }
@@ -535,6 +606,7 @@ impl FromStr for Technique {
             "psm" => Ok(Technique::Psm(Psm::default())),
             "sppsm" => Ok(Technique::Sppsm(Sppsm::default())),
             "cascades" | "csm" => Ok(Technique::Cascades(Cascades::default())),
+            "cube" => Ok(Technique::Cube(Cube)),
             _ => Err(UnknownTechnique(s.to_string())),
         }
     }

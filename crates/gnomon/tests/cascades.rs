@@ -94,7 +94,7 @@ fn the_split_rules_cut_the_view_as_their_formulas_say() {
         // Each view depth's map is its slice's.
         for (i, window) in depths.windows(2).enumerate() {
             let p = camera.eye() + camera.forward() * (0.5 * (window[0] + window[1]));
-            assert_eq!(s.selection.map_for(p), i);
+            assert_eq!(s.selection.map_for(p), Some(i));
         }
     }
     // Explicit distances, a shadow distance that cuts the view (and fades over its last 10%),

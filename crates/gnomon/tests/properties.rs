@@ -20,13 +20,18 @@
 //!   plane picks, with its shadowing caster points in that same map;
 //! - cascades (every fit: LiSPSM, focused with equal texels, PSM, TSM, XPSM; every split;
 //!   stable): the same for the map of the point's slice and, in a blend band, the next
-//!   slice's map too.
+//!   slice's map too;
+//! - point lights (anywhere in the scene, inside boxes too, or at the camera): `cube` and
+//!   every single-map technique per face: each visible receiver point reads the map of its
+//!   cube face, and lands inside it with its shadowing caster points (all on the same ray, so
+//!   in the same face); a point whose face has no map has no caster that can shadow it; SPPSM
+//!   and the cascades refuse point lights.
 
 use glam::{DVec3, DVec4};
 use gnomon::{
-    Aabb, Camera, CascadeFit, CascadeSplit, Cascades, DirectionalLight, Focused, Lens, Light,
-    Lispsm, MapSelection, MapSettings, Psm, SceneBounds, ShadowMap, ShadowSetup, SpotLight, Sppsm,
-    Technique, Tsm, Uniform, Xpsm, compute_setup,
+    Aabb, Camera, CascadeFit, CascadeSplit, Cascades, Cube, DirectionalLight, Focused, Lens, Light,
+    Lispsm, MapSelection, MapSettings, PointLight, Psm, SceneBounds, ShadowMap, ShadowSetup,
+    SpotLight, Sppsm, Technique, Tsm, Uniform, Xpsm, compute_setup,
 };
 use proptest::prelude::*;
 use proptest::test_runner::TestRng;
@@ -57,6 +62,8 @@ const CASES: &[&str] = &[
     "spot",
     "spot_behind_camera",
     "ideal_configuration",
+    "point",
+    "point_at_camera",
 ];
 
 fn unit_vector(rng: &mut TestRng) -> DVec3 {
@@ -274,6 +281,23 @@ fn config(seed: u64) -> Config {
                 SpotLight::new(position, direction, rng.random_range(5.0..80.0), range).unwrap(),
             )
         }
+        "point" | "point_at_camera" => {
+            let position = if case == "point" {
+                DVec3::new(
+                    rng.random_range(-0.6..0.6) * s,
+                    rng.random_range(0.002..0.3) * s,
+                    rng.random_range(-0.6..0.6) * s,
+                )
+            } else {
+                // A headlamp: at the eye, or a little above and behind it.
+                eye + if rng.random_bool(0.5) {
+                    DVec3::ZERO
+                } else {
+                    (DVec3::Y - view) * rng.random_range(0.0..0.02) * s
+                }
+            };
+            Light::Point(PointLight::new(position, s * rng.random_range(0.1..3.0)).unwrap())
+        }
         _ => Light::Directional(DirectionalLight::new(light_dir).unwrap()),
     };
     Config {
@@ -334,10 +358,16 @@ fn visible_receiver_points(cfg: &Config, rng: &mut TestRng) -> Vec<DVec3> {
     out
 }
 
-/// Whether `p` is inside a spot light's cone and range (always true for a directional light).
+/// Whether `p` is inside a spot light's cone and range, or a point light's range beyond the
+/// near plane of its face (always true for a directional light).
 fn lit_by_spot(light: &Light, p: DVec3) -> bool {
     match light {
         Light::Directional(_) => true,
+        Light::Point(l) => {
+            let q = p - l.position();
+            let along = q.dot(PointLight::face_of(q).axis());
+            along >= l.near() * 1.001 && q.length() <= l.range()
+        }
         Light::Spot(s) => {
             let q = p - s.position();
             let d = q.dot(s.direction());
@@ -356,6 +386,12 @@ fn shadowing_caster_points(cfg: &Config, r: DVec3) -> Vec<DVec3> {
             // Stop at the light's near plane: closer casters are clipped by design.
             let d = (r - s.position()).dot(s.direction());
             (s.position(), 1.0 - s.near() * 1.001 / d)
+        }
+        Light::Point(l) => {
+            // The same, at the near plane of the ray's cube face.
+            let q = r - l.position();
+            let d = q.dot(PointLight::face_of(q).axis());
+            (l.position(), 1.0 - l.near() * 1.001 / d)
         }
     };
     let dir = toward - r;
@@ -425,6 +461,9 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
     let setup = |t: Technique| -> Result<ShadowSetup, String> {
         compute_setup(&t, &cfg.camera, &cfg.light, &cfg.scene, settings).map_err(|e| format!("{e}"))
     };
+    if matches!(cfg.light, Light::Point(_)) {
+        return check_point(cfg, seed, setup);
+    }
     let uniform = setup(Technique::Uniform(Uniform))?;
     let focused = setup(Technique::Focused(Focused))?;
     let lispsm = setup(Technique::Lispsm(Lispsm::default()))?;
@@ -514,10 +553,87 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
     Ok(())
 }
 
+/// [`check`] for a point light: every technique that takes one, per cube face.
+fn check_point(
+    cfg: &Config,
+    seed: u64,
+    setup: impl Fn(Technique) -> Result<ShadowSetup, String>,
+) -> Result<(), String> {
+    for refused in [
+        Technique::Sppsm(Sppsm::default()),
+        Technique::Cascades(Cascades::default()),
+    ] {
+        if setup(refused).is_ok() {
+            return Err(format!("{refused:?} took a point light"));
+        }
+    }
+    let setups = [
+        setup(Technique::Cube(Cube))?,
+        setup(Technique::Uniform(Uniform))?,
+        setup(Technique::Focused(Focused))?,
+        setup(Technique::Lispsm(Lispsm::default()))?,
+        setup(Technique::Psm(Psm::default()))?,
+        setup(Technique::Tsm(Tsm::default()))?,
+        setup(Technique::Xpsm(Xpsm::default()))?,
+        setup(Technique::Lispsm(Lispsm {
+            limit: false,
+            ..Lispsm::default()
+        }))?,
+    ];
+    let mut rng = TestRng::from_seed(
+        proptest::test_runner::RngAlgorithm::ChaCha,
+        &[seed as u8; 32],
+    );
+    let points = visible_receiver_points(cfg, &mut rng);
+    for setup in &setups {
+        let MapSelection::CubeFaces(faces) = setup.selection else {
+            return Err(format!(
+                "{}: selection {:?}",
+                setup.technique, setup.selection
+            ));
+        };
+        if faces.faces().len() != setup.maps.len() || setup.maps.is_empty() {
+            return Err(format!(
+                "{}: {} maps for {:?}",
+                setup.technique,
+                setup.maps.len(),
+                faces.faces()
+            ));
+        }
+        if setup.maps.len() + setup.diagnostics.cube_faces_skipped != 6 {
+            return Err(format!(
+                "{}: maps and skipped faces do not add up to six",
+                setup.technique
+            ));
+        }
+        for map in &setup.maps {
+            if !map.is_finite() {
+                return Err(format!("{}: non-finite matrix", setup.technique));
+            }
+        }
+        for &r in &points {
+            let casters = shadowing_caster_points(cfg, r);
+            match setup.selection.map_for(r) {
+                Some(k) => check_map(setup, &setup.maps[k], r, &casters)?,
+                None if casters.is_empty() => {}
+                None => {
+                    return Err(format!(
+                        "{}: {r} can be shadowed, but its face {:?} has no map ({:?})",
+                        setup.technique,
+                        PointLight::face_of(r - faces.position),
+                        faces.faces()
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The maps a receiver point reads: the one its selection picks and, in a cascade's blend
 /// band, the next; none beyond a cascade's shadow distance.
 fn maps_read(setup: &ShadowSetup, r: DVec3) -> Vec<usize> {
-    let k = setup.selection.map_for(r);
+    let k = setup.selection.map_for(r).unwrap();
     let MapSelection::Cascades(c) = setup.selection else {
         return vec![k];
     };
@@ -610,6 +726,10 @@ fn seeds_that_once_failed() {
 /// the map (in the ideal configuration a hull edge between two corners that project to one
 /// point, up to round-off, once cut B through the view).
 fn check_body(cfg: &Config, seed: u64) -> Result<usize, String> {
+    if matches!(cfg.light, Light::Point(_)) {
+        // A point light's B is its faces' (each a spot light's, checked as such).
+        return Ok(0);
+    }
     let body = gnomon::convex_body_b(&cfg.camera, &cfg.light, &cfg.scene);
     let scene_box = cfg.scene.scene_box();
     let (lo, hi) = (scene_box.min(), scene_box.max());
@@ -670,6 +790,9 @@ proptest! {
 /// a superset of what the map fits to). A map fitted to the receivers alone would spread over
 /// a ground that does not cast (613 times the area for a post on such ground).
 fn check_tightness(cfg: &Config) -> Result<bool, String> {
+    if matches!(cfg.light, Light::Point(_)) {
+        return Ok(false);
+    }
     let setup = compute_setup(
         &Focused,
         &cfg.camera,
@@ -777,7 +900,7 @@ fn hard_cases_are_drawn_and_name_their_fallbacks() {
 fn depth_row_matches_the_clip_depth_for_orthographic_maps() {
     for seed in 0..200u64 {
         let cfg = config(seed);
-        if matches!(cfg.light, Light::Spot(_)) {
+        if matches!(cfg.light, Light::Spot(_) | Light::Point(_)) {
             continue;
         }
         let setup = compute_setup(

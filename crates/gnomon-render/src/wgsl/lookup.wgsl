@@ -18,6 +18,7 @@ const GNOMON_MAX_MAPS: u32 = 48u;
 // GnomonLight.info.x: the light's kind.
 const GNOMON_LIGHT_DIRECTIONAL: u32 = 0u;
 const GNOMON_LIGHT_SPOT: u32 = 1u;
+const GNOMON_LIGHT_POINT: u32 = 2u;
 // GnomonLight.info.y: how a point picks one of the light's maps.
 const GNOMON_SELECT_SINGLE: u32 = 0u;
 // params[0] is a plane (view space): points on its positive side read the second map (SPPSM).
@@ -27,6 +28,11 @@ const GNOMON_SELECT_PLANE: u32 = 1u;
 // params[2].z where shadows begin to fade (nothing is shadowed beyond z_K), params[3] the
 // view-depth row (view space).
 const GNOMON_SELECT_CASCADES: u32 = 2u;
+// A point light's cube: params[0..3].xyz the world axes x, y, z (view space), the map of face
+// k (+x, -x, +y, -y, +z, -z) relative to the first, or -1 where the face has none: faces 0 to
+// 2 in params[0..3].w, 3 to 5 in params[3].xyz. A point reads the face of its direction's
+// major world axis; a face without a map reads as lit.
+const GNOMON_SELECT_CUBE: u32 = 3u;
 // GnomonShadows.info.y: the filter.
 const GNOMON_FILTER_ONE_TAP: u32 = 0u;
 const GNOMON_FILTER_HARDWARE_2X2: u32 = 1u;
@@ -49,11 +55,12 @@ struct GnomonMap {
 };
 
 struct GnomonLight {
-    // xyz: the direction the light travels (directional) or its position (spot), view space.
+    // xyz: the direction the light travels (directional) or its position (spot, point), view
+    // space.
     vector: vec4<f32>,
     // xyz: the spot's axis, w: cos of its half-angle.
     spot: vec4<f32>,
-    // x: the spot's range, y: its near distance.
+    // x: the spot's or point light's range, y: its near distance.
     range: vec4<f32>,
     // x: kind, y: selection, z: first map, w: number of maps.
     info: vec4<u32>,
@@ -93,11 +100,36 @@ struct GnomonSelection {
     fade: f32,
 };
 
+// The map of a point light's cube face that the direction from the light to p falls in,
+// relative to the light's first map; -1 where that face has none.
+fn gnomon_cube_face_map(light: u32, p: vec3<f32>) -> i32 {
+    let axes_0 = gnomon_shadows.lights[light].params[0];
+    let axes_1 = gnomon_shadows.lights[light].params[1];
+    let axes_2 = gnomon_shadows.lights[light].params[2];
+    let rest = gnomon_shadows.lights[light].params[3];
+    let d = p - gnomon_shadows.lights[light].vector.xyz;
+    let w = vec3<f32>(dot(d, axes_0.xyz), dot(d, axes_1.xyz), dot(d, axes_2.xyz));
+    let a = abs(w);
+    // The major axis, the first of x, y, z on a tie (as gnomon::PointLight::face_of).
+    var map = select(rest.z, rest.y, w.z >= 0.0);
+    if (a.x >= a.y && a.x >= a.z) {
+        map = select(axes_1.w, axes_0.w, w.x >= 0.0);
+    } else if (a.y >= a.z) {
+        map = select(rest.x, axes_2.w, w.y >= 0.0);
+    }
+    return i32(round(map));
+}
+
 fn gnomon_select(light: u32, p: vec3<f32>) -> GnomonSelection {
     let info = gnomon_shadows.lights[light].info;
     let count = max(info.w, 1u);
     var out = GnomonSelection(info.z, 0.0, 0.0);
-    if (info.y != GNOMON_SELECT_CASCADES) {
+    if (info.y == GNOMON_SELECT_CUBE) {
+        let k = gnomon_cube_face_map(light, p);
+        out.map = info.z + u32(max(k, 0));
+        // A face without a map: nothing there is shadowed.
+        out.fade = select(0.0, 1.0, k < 0);
+    } else if (info.y != GNOMON_SELECT_CASCADES) {
         out.map = gnomon_plane_map_index(light, p);
     } else {
         // Without indexing by a computed value (a gather per fragment on a CPU rasteriser):
@@ -146,9 +178,10 @@ fn gnomon_plane_map_index(light: u32, p: vec3<f32>) -> u32 {
 }
 
 // The map of `light` that point `p` reads, any selection (in a cascade's blend band, the
-// nearer one).
+// nearer one; for a cube face without a map, the first).
 fn gnomon_map_index(light: u32, p: vec3<f32>) -> u32 {
-    if (gnomon_shadows.lights[light].info.y == GNOMON_SELECT_CASCADES) {
+    let selection = gnomon_shadows.lights[light].info.y;
+    if (selection == GNOMON_SELECT_CASCADES || selection == GNOMON_SELECT_CUBE) {
         return gnomon_select(light, p).map;
     }
     return gnomon_plane_map_index(light, p);
@@ -173,9 +206,16 @@ fn gnomon_incidence(light: u32, p: vec3<f32>) -> GnomonIncidence {
         out.cone = 1.0;
         return out;
     }
-    let spot = gnomon_shadows.lights[light].spot;
     let range = gnomon_shadows.lights[light].range;
     let d = vector.xyz - p;
+    if (gnomon_shadows.lights[light].info.x == GNOMON_LIGHT_POINT) {
+        let distance = length(d);
+        out.to_light = d / distance;
+        out.in_light = distance <= range.x && distance >= range.y;
+        out.cone = 1.0;
+        return out;
+    }
+    let spot = gnomon_shadows.lights[light].spot;
     out.to_light = normalize(d);
     let along = dot(-d, spot.xyz);
     let cos_angle = dot(-out.to_light, spot.xyz);
@@ -284,6 +324,41 @@ fn gnomon_offset_point(view: GnomonMapView, p: vec3<f32>, n_geo: vec3<f32>, n_do
     return p + n_geo * view.normal_offset * size * clamp(1.0 - n_dot_l, 0.0, 1.0);
 }
 
+// Where `light`'s map `map` is read for the surface point p: the map's view and the point
+// moved by its normal offset. For a point light's cube the face is picked again at the moved
+// point (the offset can cross a face's border); `covered` is false where that face has no
+// map (the point reads as lit).
+struct GnomonReadAt {
+    view: GnomonMapView,
+    point: vec3<f32>,
+    covered: bool,
+};
+
+fn gnomon_read_at(light: u32, map: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32) -> GnomonReadAt {
+    var out: GnomonReadAt;
+    out.view = gnomon_map_view(map);
+    out.point = gnomon_offset_point(out.view, p, n_geo, n_dot_l);
+    out.covered = true;
+    if (gnomon_shadows.lights[light].info.y == GNOMON_SELECT_CUBE) {
+        let k = gnomon_cube_face_map(light, out.point);
+        out.covered = k >= 0;
+        let again = gnomon_shadows.lights[light].info.z + u32(max(k, 0));
+        if (again != map) {
+            out.view = gnomon_map_view(again);
+        }
+    }
+    return out;
+}
+
+// `light`'s map `map` read at the surface point p (see gnomon_read_at).
+fn gnomon_read_surface(light: u32, map: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32, filter_mode: u32) -> f32 {
+    let at = gnomon_read_at(light, map, p, n_geo, n_dot_l);
+    if (!at.covered) {
+        return 1.0;
+    }
+    return gnomon_lookup_view(at.view, at.point, filter_mode);
+}
+
 // One map's lookup at the surface point p (its normal offset applied).
 fn gnomon_lookup_surface(map: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f32, filter_mode: u32) -> f32 {
     let view = gnomon_map_view(map);
@@ -298,9 +373,9 @@ fn gnomon_shadow_filtered(light: u32, p: vec3<f32>, n_geo: vec3<f32>, n_dot_l: f
     if (s.fade >= 1.0) {
         return 1.0;
     }
-    var shadow = gnomon_lookup_surface(s.map, p, n_geo, n_dot_l, filter_mode);
+    var shadow = gnomon_read_surface(light, s.map, p, n_geo, n_dot_l, filter_mode);
     if (s.next_weight > 0.0) {
-        let next = gnomon_lookup_surface(s.map + 1u, p, n_geo, n_dot_l, filter_mode);
+        let next = gnomon_read_surface(light, s.map + 1u, p, n_geo, n_dot_l, filter_mode);
         shadow = mix(shadow, next, s.next_weight);
     }
     return mix(shadow, 1.0, s.fade);

@@ -112,8 +112,9 @@ fn vs_main_infinite(@location(0) position: vec3<f32>, @location(1) normal: vec3<
 // 1.4x the main pass on lavapipe).
 override METRICS: bool = false;
 override LIGHT_COUNT: u32 = 1u;
-// Whether a light has cascades (their per-pixel choice of map and blend band, their fade).
-override CASCADES: bool = false;
+// Whether a light picks its map per pixel: cascades (with their blend band and fade) or a
+// point light's cube faces.
+override PER_PIXEL: bool = false;
 
 // A fragment's surface: geometric normal (the triangle's plane) and shading normal, both
 // turned toward the camera (at the origin of view space).
@@ -145,7 +146,7 @@ fn surface(in: MainOut, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> Surface {
 
 // The map light 0 reads at p, as the main pass is specialised (for the tint and metrics).
 fn main_map_index(light: u32, p: vec3<f32>) -> u32 {
-    if (CASCADES) {
+    if (PER_PIXEL) {
         return gnomon_select(light, p).map;
     }
     return gnomon_plane_map_index(light, p);
@@ -187,17 +188,18 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
             // pixel of a draw, which keeps the reads of its record scalar.
             var map = gnomon_plane_map_index(light, s.p);
             var fade = 0.0;
-            if (CASCADES) {
+            if (PER_PIXEL) {
                 let selected = gnomon_select(light, s.p);
                 map = select(
                     selected.map, selected.map + 1u, selected.next_weight > gnomon_dither(s.pixel));
                 fade = selected.fade;
             }
-            let view = gnomon_map_view(map);
-            let lookup = gnomon_offset_point(view, s.p, s.n_geo, n_dot_l_geo);
-            one_tap = gnomon_lookup_view(view, lookup, GNOMON_FILTER_ONE_TAP);
-            shadow = gnomon_lookup_view(view, lookup, gnomon_shadows.info.y);
-            if (CASCADES) {
+            let at = gnomon_read_at(light, map, s.p, s.n_geo, n_dot_l_geo);
+            if (at.covered) {
+                one_tap = gnomon_lookup_view(at.view, at.point, GNOMON_FILTER_ONE_TAP);
+                shadow = gnomon_lookup_view(at.view, at.point, gnomon_shadows.info.y);
+            }
+            if (PER_PIXEL) {
                 // Shadows fade toward the shadow distance.
                 shadow = mix(shadow, 1.0, fade);
                 if (fade > 0.5) {
@@ -231,6 +233,10 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
 // derivatives (so no derivative crosses from one map to another).
 fn sampling_metrics(p: vec3<f32>, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> vec2<f32> {
     if (gnomon_shadows.info.x == 0u) {
+        return vec2<f32>(-1.0, -1.0);
+    }
+    if (PER_PIXEL && gnomon_select(0u, p).fade >= 1.0) {
+        // Beyond the cascades' shadow distance, or a cube face without a map.
         return vec2<f32>(-1.0, -1.0);
     }
     let map = main_map_index(0u, p);
@@ -511,9 +517,8 @@ fn fs_probe(in: ProbeOut) -> @location(0) vec4<u32> {
     let selected = gnomon_select(0u, p);
     var lit = 1u;
     if (selected.fade <= 0.5) {
-        let view = gnomon_map_view(selected.map);
-        let lookup = gnomon_offset_point(view, p, n, n_dot_l);
-        lit = select(0u, 1u, gnomon_lookup_view(view, lookup, GNOMON_FILTER_ONE_TAP) > 0.5);
+        let read = gnomon_read_surface(0u, selected.map, p, n, n_dot_l, GNOMON_FILTER_ONE_TAP);
+        lit = select(0u, 1u, read > 0.5);
     }
     return vec4<u32>(lit | 2u, 0u, 0u, 0u);
 }

@@ -114,6 +114,11 @@ pub fn oracle(
                         && (-d).normalize().dot(s.direction()) >= s.half_angle().cos();
                     (d.normalize(), d.length(), inside)
                 }
+                Light::Point(l) => {
+                    let d = l.position() - p;
+                    let inside = d.length() >= l.near() && d.length() <= l.range();
+                    (d.normalize(), d.length(), inside)
+                }
             };
             let ndl = normal.dot(to_light);
             n_dot_l[i] = ndl;

@@ -306,6 +306,12 @@ impl ShadowTechnique for Cascades {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        if let Light::Point(_) = input.light {
+            // Several maps per light do not fit a point light's one map per cube face.
+            return Err(SetupError::PointLightUnsupported {
+                technique: self.name(),
+            });
+        }
         input.map.validate()?;
         let lens = input.camera.lens();
         self.validate(&lens)?;

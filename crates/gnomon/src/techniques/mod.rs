@@ -2,6 +2,7 @@
 
 pub(crate) mod basis;
 mod cascades;
+mod cube;
 mod focused;
 mod lispsm;
 mod psm;
@@ -13,6 +14,8 @@ mod warp_limit;
 mod xpsm;
 
 pub use cascades::{CascadeFit, CascadeSplit, Cascades};
+pub use cube::Cube;
+pub(crate) use cube::per_face;
 pub use focused::Focused;
 pub use lispsm::Lispsm;
 pub use psm::Psm;
@@ -35,8 +38,10 @@ pub(crate) fn tolerance(scene: &SceneBounds, camera: Option<&Camera>, light: &Li
     if let Some(camera) = camera {
         scale += (camera.eye() - center).length();
     }
-    if let Light::Spot(spot) = light {
-        scale += (spot.position() - center).length() + spot.range();
+    match light {
+        Light::Directional(_) => {}
+        Light::Spot(spot) => scale += (spot.position() - center).length() + spot.range(),
+        Light::Point(point) => scale += (point.position() - center).length() + point.range(),
     }
     1e-9 * scale
 }

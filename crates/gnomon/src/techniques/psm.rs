@@ -192,7 +192,7 @@ impl LimitedWarp for Psm {
         // both the light and the virtual camera) on its inner side.
         let fallback_axis = match input.light {
             Light::Directional(_) => -DVec3::Z,
-            Light::Spot(_) => {
+            Light::Spot(_) | Light::Point(_) => {
                 let plane = pps_from_world.inverse().transpose() * linear_row;
                 plane.truncate().normalize_or(-DVec3::Z)
             }
@@ -308,6 +308,9 @@ impl ShadowTechnique for Psm {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        if let Light::Point(point) = input.light {
+            return crate::techniques::per_face(self, input, point);
+        }
         on_whole_frame(input, |basis| self.setup_with(input, basis))
     }
 }

@@ -186,7 +186,7 @@ fn ray_rows(map: &ShadowMap, basis: &[DVec4; 3]) -> DMat3 {
 
 /// The basis in which the maps' rows are compared, and how a 3-vector of coefficients in it
 /// becomes a world plane (n, d): for a directional light (right, 0), (up, 0), (0, 1); for a
-/// spot light the world axes as directions from the light.
+/// spot (or point) light the world axes as directions from the light.
 fn ray_basis(light: &Light) -> ([DVec4; 3], impl Fn(DVec3) -> DVec4) {
     match light {
         Light::Directional(d) => {
@@ -199,8 +199,8 @@ fn ray_basis(light: &Light) -> ([DVec4; 3], impl Fn(DVec3) -> DVec4) {
                     as Box<dyn Fn(DVec3) -> DVec4>,
             )
         }
-        Light::Spot(s) => {
-            let position = s.position();
+        Light::Spot(_) | Light::Point(_) => {
+            let position = light.position().unwrap_or(DVec3::ZERO);
             (
                 [DVec4::X, DVec4::Y, DVec4::Z],
                 Box::new(move |l: DVec3| l.extend(-l.dot(position))) as Box<dyn Fn(DVec3) -> DVec4>,
@@ -363,6 +363,12 @@ impl ShadowTechnique for Sppsm {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        if let Light::Point(_) = input.light {
+            // Several maps per light do not fit a point light's one map per cube face.
+            return Err(SetupError::PointLightUnsupported {
+                technique: self.name(),
+            });
+        }
         self.validate()?;
         input.map.validate()?;
         // P, the receivers against the view and B once for both maps; each refocusing cuts

@@ -8,7 +8,7 @@
 use crate::bounds::SceneBounds;
 use crate::error::SetupError;
 use crate::geometry::ConvexPolyhedron;
-use crate::light::{Light, SpotLight};
+use crate::light::{CubeFace, Light, SpotLight};
 use crate::light_space::{Extents, LightFrame, Projector, build_map};
 use crate::setup::{
     Diagnostics, Fallback, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup,
@@ -33,6 +33,9 @@ impl ShadowTechnique for Uniform {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        if let Light::Point(point) = input.light {
+            return crate::techniques::per_face(self, input, point);
+        }
         input.map.validate()?;
         let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
         let map = uniform_map(input.light, input.scene, input.map, &mut diagnostics);
@@ -53,6 +56,10 @@ pub(crate) fn fixed_projector(light: &Light) -> Projector {
             frame: LightFrame::fixed(s.direction()),
             position: s.position(),
         },
+        Light::Point(p) => Projector::Point {
+            frame: LightFrame::fixed(DVec3::NEG_Y),
+            position: p.position(),
+        },
     }
 }
 
@@ -71,6 +78,12 @@ pub(crate) fn uniform_map(
         Light::Directional(_) => {
             let region = projector.box_extents(&scene_box);
             build_map(&projector, &region, settings, tolerance, tolerance)
+        }
+        Light::Point(point) => {
+            // Techniques see a point light's faces as spot lights; a point light itself gets
+            // the map of its downward face.
+            let face = Light::Spot(point.face_light(CubeFace::NegY, settings.resolution));
+            uniform_map(&face, scene, settings, diagnostics)
         }
         Light::Spot(spot) => {
             let planes = spot.frustum_planes(projector.frame().up);

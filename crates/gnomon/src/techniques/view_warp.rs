@@ -420,6 +420,8 @@ impl WarpSpace {
     pub fn new(input: &SetupInput<'_>, basis: &FocusBasis) -> Result<Self, Fallback> {
         let (eye, view) = (input.camera.eye(), input.camera.forward());
         let (space, sin_gamma) = match input.light {
+            // Techniques see a point light's faces as spot lights, never the point itself.
+            Light::Point(_) => return Err(Fallback::LightParallelToView),
             Light::Directional(light) => {
                 let frame = LightFrame::view_aligned(light.direction(), view)
                     .ok_or(Fallback::LightParallelToView)?;

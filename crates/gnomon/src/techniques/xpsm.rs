@@ -108,6 +108,9 @@ impl ShadowTechnique for Xpsm {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        if let crate::Light::Point(point) = input.light {
+            return crate::techniques::per_face(self, input, point);
+        }
         on_whole_frame(input, |basis| self.setup_with(input, basis))
     }
 }

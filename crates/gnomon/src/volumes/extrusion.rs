@@ -72,6 +72,7 @@ pub fn extrude_volume(
     let (point, travel) = match light {
         Light::Directional(d) => (None, d.direction()),
         Light::Spot(s) => (Some(s.position()), DVec3::ZERO),
+        Light::Point(p) => (Some(p.position()), DVec3::ZERO),
     };
     let to_infinity = |p: DVec3| match point {
         Some(c) => (p - c).extend(0.0),

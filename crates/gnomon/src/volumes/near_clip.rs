@@ -50,6 +50,7 @@ impl NearClipVolume {
         let (toward_light, apex) = match light {
             Light::Directional(d) => (-d.direction(), None),
             Light::Spot(s) => (s.position() - centre, Some(s.position())),
+            Light::Point(p) => (p.position() - centre, Some(p.position())),
         };
         // The light's side of the near plane, relative to the rectangle's size: a light in
         // the plane (or travelling along it) makes the volume flat.
@@ -149,6 +150,7 @@ mod tests {
         let end = match light {
             Light::Directional(d) => r - d.direction() * 1e4,
             Light::Spot(s) => s.position(),
+            Light::Point(p) => p.position(),
         };
         // Clip the segment to the slab of each axis (exact segment-box test).
         let (mut t0, mut t1) = (0.0f64, 1.0f64);

@@ -1,0 +1,144 @@
+//! Point lights: a map per cube face, each fitted like a spot light's map (`cube`: the
+//! focused map with unit cube clipping per face), and any single-map technique run per face.
+//!
+//! The shadows lecture (`shared/papers/shadows-lecture-volumes-and-maps.md`) covers point
+//! lights with six 90-degree maps; the unit cube clipping blog post fits each frustum to what
+//! it must hold. Each face here is a spot light at the point light's position looking along
+//! the face's axis ([`PointLight::face_light`]): a square frustum a few texels wider than the
+//! face, whose sides lie along the cube's edges. The face's map is that spot's map from the
+//! chosen technique (focused for `cube`; LiSPSM or PSM warp after the face's own perspective,
+//! as they do for a spot light, an extension of ours; TSM and XPSM use the focused map there)
+//! on the view samples inside the face. A face that sees no visible receiver, or none that a
+//! caster can shadow, gets no map ([`crate::Diagnostics::cube_faces_skipped`]): its points
+//! read as lit.
+//!
+//! A point reads the map of the face its direction from the light falls in (its major axis,
+//! [`PointLight::face_of`]); [`MapSelection::CubeFaces`] lists the faces that have maps.
+
+use crate::error::SetupError;
+use crate::light::{CubeFace, Light, PointLight, cube_face_tangent};
+use crate::samples::ViewSamples;
+use crate::setup::{
+    CubeFaceMaps, Diagnostics, Fallback, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
+};
+use crate::techniques::Focused;
+
+/// Cube shadow maps for a point light: six faces, each the focused map with unit cube
+/// clipping of the visible receivers in that face's frustum and the casters that can shadow
+/// them; a face with nothing to shadow is skipped. For a directional or spot light it is
+/// refused ([`SetupError::NeedsPointLight`]); other techniques take point lights too (per
+/// face; `focused` then gives the same maps under its own name).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Cube;
+
+impl ShadowTechnique for Cube {
+    fn name(&self) -> &'static str {
+        "cube"
+    }
+
+    fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        input.map.validate()?;
+        let Light::Point(point) = input.light else {
+            return Err(SetupError::NeedsPointLight {
+                technique: self.name(),
+            });
+        };
+        let mut setup = per_face(&Focused, input, point)?;
+        setup.technique = self.name();
+        Ok(setup)
+    }
+}
+
+/// The setup of `technique` for a point light: its map of each face (see the module
+/// documentation). A technique with more than one map per face (SPPSM, cascades) is refused
+/// ([`SetupError::PointLightUnsupported`]).
+pub(crate) fn per_face<T: ShadowTechnique + ?Sized>(
+    technique: &T,
+    input: &SetupInput<'_>,
+    point: &PointLight,
+) -> Result<ShadowSetup, SetupError> {
+    input.map.validate()?;
+    let cast;
+    let samples = match input.samples {
+        Some(samples) => samples,
+        None => {
+            cast = ViewSamples::new(input.camera, input.light, input.scene);
+            &cast
+        }
+    };
+    let t = cube_face_tangent(input.map.resolution);
+    let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
+    let mut maps = Vec::new();
+    let mut faces = CubeFaceMaps::new(point.position());
+    let mut first = None;
+    for face in CubeFace::ALL {
+        let light = Light::Spot(point.face_light(face, input.map.resolution));
+        let axis = face.axis();
+        let face_samples = samples.filtered(|s| {
+            let d = s.position - point.position();
+            let along = d.dot(axis);
+            along > 0.0 && (d - along * axis).abs().max_element() <= t * along
+        });
+        let face_input = SetupInput {
+            light: &light,
+            samples: Some(&face_samples),
+            ..*input
+        };
+        let setup = technique.setup(&face_input)?;
+        if setup.maps.len() != 1 || setup.selection != MapSelection::Single {
+            return Err(SetupError::PointLightUnsupported {
+                technique: technique.name(),
+            });
+        }
+        let nothing_to_shadow = setup.diagnostics.fallbacks.iter().any(|f| {
+            matches!(
+                f,
+                Fallback::NoVisibleReceiver
+                    | Fallback::SpotLightMissesView
+                    | Fallback::NoCasterForReceivers
+            )
+        });
+        if nothing_to_shadow {
+            diagnostics.cube_faces_skipped += 1;
+            first.get_or_insert((face, setup));
+            continue;
+        }
+        add_face(&mut diagnostics, &setup.diagnostics);
+        faces.push(face);
+        maps.push(setup.maps[0]);
+    }
+    if maps.is_empty() {
+        // Nothing visible can be shadowed: the first face keeps its (fallback) map, so that
+        // a setup always has one.
+        let (face, setup) = first.expect("six faces were set up");
+        diagnostics.cube_faces_skipped -= 1;
+        add_face(&mut diagnostics, &setup.diagnostics);
+        faces.push(face);
+        maps.push(setup.maps[0]);
+    }
+    Ok(ShadowSetup {
+        technique: technique.name(),
+        maps,
+        selection: MapSelection::CubeFaces(faces),
+        diagnostics,
+    })
+}
+
+/// Adds one face's counts and fallbacks to the point light's diagnostics.
+fn add_face(total: &mut Diagnostics, face: &Diagnostics) {
+    for f in &face.fallbacks {
+        if !total.fallbacks.contains(f) {
+            total.fallbacks.push(*f);
+        }
+    }
+    total.visible_receivers += face.visible_receivers;
+    total.relevant_casters += face.relevant_casters;
+    total.culled_casters += face.culled_casters;
+    total.casters_clipped_by_light_near += face.casters_clipped_by_light_near;
+    total.focus_body_vertices += face.focus_body_vertices;
+    total.light_frame = face.light_frame;
+    total.warp_strength = match (total.warp_strength, face.warp_strength) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+}
