@@ -147,10 +147,10 @@ pub const DEMO_VIEWS: &[DemoView] = &[
     DemoView {
         name: "courtyard_lamp",
         far: 300.0,
-        eye: [-138.0, 16.0, -97.0],
+        eye: [-128.0, 95.0, -104.0],
         target: [-138.0, 0.0, -140.0],
         light: DemoLight::Lamp {
-            position: [-137.0, 5.0, -139.0],
+            position: [-141.0, 3.0, -135.0],
             range: 150.0,
         },
         description: "a lamp at a crossing between four blocks: each face of its cube sees a street",
@@ -158,8 +158,8 @@ pub const DEMO_VIEWS: &[DemoView] = &[
     DemoView {
         name: "lamp_by_wall",
         far: 300.0,
-        eye: [-56.0, 9.0, -58.0],
-        target: [-66.0, 2.0, -80.0],
+        eye: [-50.0, 14.0, -48.0],
+        target: [-78.0, 0.0, -62.0],
         light: DemoLight::Lamp {
             position: [-63.5, 4.0, -77.0],
             range: 100.0,

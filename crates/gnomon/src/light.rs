@@ -207,7 +207,7 @@ pub fn cube_face_tangent(resolution: u32) -> f64 {
 }
 
 /// One face of a point light's cube, named by its axis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum CubeFace {
     /// +x.
     PosX,

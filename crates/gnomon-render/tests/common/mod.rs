@@ -50,6 +50,8 @@ pub struct OracleMask {
     pub mask: Vec<u8>,
     /// N.L with the geometric normal turned toward the camera (0 where no geometry).
     pub n_dot_l: Vec<f64>,
+    /// The surface point each pixel sees (`None`: no geometry).
+    pub points: Vec<Option<DVec3>>,
 }
 
 /// Ray casts the mask the renderer's `--mask` draws: primary rays through pixel centres,
@@ -88,6 +90,7 @@ pub fn oracle(
     let n = (width * height) as usize;
     let mut mask = vec![MASK_EMPTY; n];
     let mut n_dot_l = vec![0.0; n];
+    let mut points = vec![None; n];
     for py in 0..height {
         for px in 0..width {
             let x = (px as f64 + 0.5) / width as f64 * 2.0 - 1.0;
@@ -100,6 +103,7 @@ pub fn oracle(
             };
             let i = (py * width + px) as usize;
             let p = near + (far - near) * hit.time_of_impact;
+            points[i] = Some(p);
             let mut normal = dvec(hit.normal).normalize();
             if normal.dot(near - p) < 0.0 {
                 normal = -normal;
@@ -140,6 +144,7 @@ pub fn oracle(
         height,
         mask,
         n_dot_l,
+        points,
     }
 }
 
