@@ -139,6 +139,64 @@ fn spot_light_gives_a_perspective_map() {
 }
 
 #[test]
+fn point_light_gives_a_map_per_cube_face_it_needs() {
+    // A lamp above the tallest block, the camera above it: the faces beside and below it see
+    // the city; the one looking up sees nothing and gets no map.
+    let out = gnomon_ok(&[
+        "setup",
+        "--eye",
+        "-60,90,60",
+        "--target",
+        "-78,0,-78",
+        "--point",
+        "-63.5,70,-77,300",
+        "--technique",
+        "cube",
+        "--json",
+    ]);
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["technique"], "cube");
+    assert_eq!(json["selection"]["kind"], "cube_faces");
+    let faces: Vec<&str> = json["selection"]["faces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    let maps = json["maps"].as_array().unwrap();
+    assert_eq!(faces.len(), maps.len());
+    assert!(faces.contains(&"-y") && !faces.contains(&"+y"), "{faces:?}");
+    assert_eq!(
+        json["diagnostics"]["cube_faces_skipped"].as_u64().unwrap() as usize,
+        6 - faces.len()
+    );
+    assert!(maps.iter().all(|m| m["projection"] == "perspective"));
+    // Techniques that do not take the light are refused in one line.
+    for (light, technique, expected) in [
+        (["--light-dir", "0,-1,0"], "cube", "needs a point light"),
+        (
+            ["--point", "0,10,0,50"],
+            "sppsm",
+            "does not take point lights",
+        ),
+        (
+            ["--point", "0,10,0,50"],
+            "cascades",
+            "does not take point lights",
+        ),
+    ] {
+        let mut args = vec!["setup", "--eye", "0,2,0", "--target", "1,2,0"];
+        args.extend(light);
+        args.extend(["--technique", technique]);
+        let out = gnomon(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{technique}: {stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(expected), "{stderr}");
+    }
+}
+
+#[test]
 fn degenerate_configurations_name_their_fallback() {
     // Looking straight down along a vertical sun: the miner's lamp.
     let out = gnomon(&[
@@ -213,7 +271,13 @@ fn bad_input_gives_one_line_and_exit_code_2() {
             &["--light-dir", "0,-1,0", "--spot", "0,10,0,0,-1,0,30,50"],
             "cannot be used",
         ),
-        (&[], "--light-dir and --spot, or a named --view"),
+        (&[], "--light-dir, --spot and --point, or a named --view"),
+        (&["--point", "0,10,0,-5"], "range"),
+        (&["--point", "0,10,0"], "4 comma-separated"),
+        (
+            &["--point", "0,10,0,50", "--spot", "0,10,0,0,-1,0,30,50"],
+            "cannot be used",
+        ),
         (&["--view", "nowhere"], "unknown view"),
         (
             &["--light-dir", "0,-1,0", "--scene", "moon"],

@@ -42,7 +42,7 @@ impl ShadowAtlas {
         // texture of 6k layers a cube map (a point light's six faces hit that), which an
         // array view reads wrongly too.
         let mut layers = layers.max(MIN_LAYERS);
-        if layers % 6 == 0 {
+        if layers.is_multiple_of(6) {
             layers += 1;
         }
         let texture = resources.texture(

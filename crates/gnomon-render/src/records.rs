@@ -235,9 +235,8 @@ pub(crate) fn light_record(
             // world axis picks its face); the map of face k (+x, -x, +y, -y, +z, -z) relative
             // to the first, or -1 for none: faces 0 to 2 in params[0..3].w, 3 to 5 in
             // params[3].xyz.
-            for axis in 0..3 {
-                let v = view_from_world.transform_vector3(DVec3::AXES[axis]);
-                params[axis] = vec4(v, 0.0);
+            for (param, axis) in params.iter_mut().zip(DVec3::AXES) {
+                *param = vec4(view_from_world.transform_vector3(axis), 0.0);
             }
             for face in gnomon::CubeFace::ALL {
                 let k = face.index();

@@ -24,11 +24,12 @@
 //! fov = 60                    # optional, vertical, degrees (default 60)
 //! near = 1                    # optional (default 1)
 //! far = 400                   # optional (default 400)
-//! light_dir = [0.3, -1, 0.2]  # or spot = [px, py, pz, dx, dy, dz, half_angle, range]
+//! light_dir = [0.3, -1, 0.2]  # or spot = [px, py, pz, dx, dy, dz, half_angle, range],
+//!                             # or point = [px, py, pz, range]
 //! description = "..."         # optional
 //!
 //! [[view.light]]              # optional: more lights of the view above (up to 4 in all),
-//! spot = [0, 20, 0, 0, -1, 0, 30, 50]   # each with light_dir or spot
+//! spot = [0, 20, 0, 0, -1, 0, 30, 50]   # each with light_dir, spot or point
 //! ```
 //!
 //! An object is `world_from_object = translate * rotate_y * scale`. A mesh file used by
@@ -182,6 +183,7 @@ struct RawView {
     far: Option<Spanned<f64>>,
     light_dir: Option<Spanned<[f64; 3]>>,
     spot: Option<Spanned<[f64; 8]>>,
+    point: Option<Spanned<[f64; 4]>>,
     light: Option<Vec<Spanned<RawLight>>>,
 }
 
@@ -191,6 +193,7 @@ struct RawView {
 struct RawLight {
     light_dir: Option<Spanned<[f64; 3]>>,
     spot: Option<Spanned<[f64; 8]>>,
+    point: Option<Spanned<[f64; 4]>>,
 }
 
 /// Errors at places in one file's text.
@@ -304,13 +307,28 @@ impl Located<'_> {
 }
 
 impl Located<'_> {
-    /// The light given by `light_dir` or `spot` (`None` for neither; both is an error).
+    /// The light given by `light_dir`, `spot` or `point` (`None` for none; two is an error).
     fn light(
         &self,
         light_dir: &Option<Spanned<[f64; 3]>>,
         spot: &Option<Spanned<[f64; 8]>>,
+        point: &Option<Spanned<[f64; 4]>>,
         view: &str,
     ) -> Result<Option<ViewLight>, SceneFileError> {
+        if let Some(p) = point {
+            if light_dir.is_some() || spot.is_some() {
+                return Err(self.at(
+                    p.span().start,
+                    "point",
+                    format!("a light of view '{view}' gives point and another light; give one"),
+                ));
+            }
+            let p = self.vector(p, "point")?;
+            return Ok(Some(ViewLight::Point {
+                position: DVec3::new(p[0], p[1], p[2]),
+                range: p[3],
+            }));
+        }
         Ok(match (light_dir, spot) {
             (Some(d), None) => Some(ViewLight::Directional {
                 direction: self.vec3(d, "light_dir")?,
@@ -581,16 +599,16 @@ impl SceneFile {
                 None => Ok(default),
             };
             let mut lights = Vec::new();
-            lights.extend(at.light(&view.light_dir, &view.spot, &name)?);
+            lights.extend(at.light(&view.light_dir, &view.spot, &view.point, &name)?);
             for table in view.light.iter().flatten() {
                 let light = table.get_ref();
-                match at.light(&light.light_dir, &light.spot, &name)? {
+                match at.light(&light.light_dir, &light.spot, &light.point, &name)? {
                     Some(l) => lights.push(l),
                     None => {
                         return Err(at.at(
                             table.span().start,
                             "view.light",
-                            format!("a light of view '{name}' needs light_dir or spot"),
+                            format!("a light of view '{name}' needs light_dir, spot or point"),
                         ));
                     }
                 }
@@ -599,7 +617,9 @@ impl SceneFile {
                 return Err(at.at(
                     start,
                     "view",
-                    format!("view '{name}' needs a light: light_dir, spot or [[view.light]]"),
+                    format!(
+                        "view '{name}' needs a light: light_dir, spot, point or [[view.light]]"
+                    ),
                 ));
             }
             if lights.len() > MAX_VIEW_LIGHTS {
@@ -697,13 +717,20 @@ mod tests {
         let file = parse(
             "[ground]\nsize = 100\n[[view]]\nname = \"a\"\neye = [0, 10, 30]\ntarget = [0, 0, 0]\n\
              [[view.light]]\nlight_dir = [0, -1, 0]\n[[view.light]]\n\
-             spot = [0, 20, 0, 0, -1, 0, 30, 50]\n",
+             spot = [0, 20, 0, 0, -1, 0, 30, 50]\n[[view.light]]\npoint = [1, 3, -2, 40]\n",
         )
         .unwrap();
         let view = &file.views[0];
         assert!(matches!(view.light, ViewLight::Directional { .. }));
-        assert_eq!(view.more_lights.len(), 1);
-        assert_eq!(view.lights().unwrap().len(), 2);
+        assert_eq!(view.more_lights.len(), 2);
+        assert_eq!(
+            view.more_lights[1],
+            ViewLight::Point {
+                position: DVec3::new(1.0, 3.0, -2.0),
+                range: 40.0
+            }
+        );
+        assert_eq!(view.lights().unwrap().len(), 3);
     }
 
     /// Each broken file: the line and key named, one line of text.

@@ -9,8 +9,8 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec3;
 use gnomon::{
-    Aabb, Camera, Cascades, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, Psm,
-    SceneBounds, SpotLight, Sppsm, Tsm, Uniform, ViewSamples, Xpsm, compute_setup,
+    Aabb, Camera, Cascades, Cube, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings,
+    PointLight, Psm, SceneBounds, SpotLight, Sppsm, Tsm, Uniform, ViewSamples, Xpsm, compute_setup,
     compute_setup_with_samples,
 };
 
@@ -58,6 +58,8 @@ fn bench(c: &mut Criterion) {
         )
         .unwrap(),
     );
+    // A lamp among the buildings, in the camera's view.
+    let lamp = Light::Point(PointLight::new(DVec3::new(-40.0, 10.0, 60.0), 250.0).unwrap());
     let settings = MapSettings::with_resolution(2048);
     let mut group = c.benchmark_group("setup");
     for n in [10usize, 100, 1000] {
@@ -211,6 +213,27 @@ fn bench(c: &mut Criterion) {
                 compute_setup(&Lispsm::default(), black_box(&camera), &spot, s, settings).unwrap()
             })
         });
+        group.bench_with_input(BenchmarkId::new("cube_point", n), &scene, |b, s| {
+            b.iter(|| compute_setup(&Cube, black_box(&camera), &lamp, s, settings).unwrap())
+        });
+        let lamp_samples = ViewSamples::new(&camera, &lamp, &scene);
+        group.bench_with_input(
+            BenchmarkId::new("cube_point_given_samples", n),
+            &scene,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup_with_samples(
+                        &Cube,
+                        black_box(&camera),
+                        &lamp,
+                        s,
+                        settings,
+                        &lamp_samples,
+                    )
+                    .unwrap()
+                })
+            },
+        );
         group.bench_with_input(BenchmarkId::new("psm_spot", n), &scene, |b, s| {
             b.iter(|| {
                 compute_setup(&Psm::default(), black_box(&camera), &spot, s, settings).unwrap()
