@@ -142,3 +142,80 @@ fn add_face(total: &mut Diagnostics, face: &Diagnostics) {
         (a, b) => a.or(b),
     };
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::bounds::{Aabb, SceneBounds};
+    use crate::camera::{Camera, Lens};
+    use crate::light::DirectionalLight;
+    use crate::setup::{MapSettings, compute_setup};
+
+    fn street() -> SceneBounds {
+        let ground =
+            Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
+        let block = Aabb::new(DVec3::new(4.0, 0.0, -6.0), DVec3::new(12.0, 20.0, 6.0)).unwrap();
+        SceneBounds::new(vec![block], vec![ground, block], None).unwrap()
+    }
+
+    #[test]
+    fn cube_is_focused_per_face_and_refuses_other_lights() {
+        let scene = street();
+        let camera = Camera::look_at(
+            DVec3::new(-20.0, 15.0, 25.0),
+            DVec3::new(5.0, 0.0, 0.0),
+            DVec3::Y,
+            Lens::default(),
+        )
+        .unwrap();
+        let lamp = Light::Point(PointLight::new(DVec3::new(0.0, 5.0, 0.0), 80.0).unwrap());
+        let map = MapSettings::with_resolution(1024);
+        let cube = compute_setup(&Cube, &camera, &lamp, &scene, map).unwrap();
+        let focused = compute_setup(&Focused, &camera, &lamp, &scene, map).unwrap();
+        assert_eq!(cube.technique, "cube");
+        assert_eq!(focused.technique, "focused");
+        assert_eq!(cube.maps, focused.maps);
+        let MapSelection::CubeFaces(faces) = cube.selection else {
+            panic!("{:?}", cube.selection);
+        };
+        // The ground the -x face sees has no caster that can shadow it (the block stands on
+        // the +x side): that face is skipped; the ground below and the block's wall have
+        // maps.
+        assert!(
+            !faces.faces().contains(&CubeFace::NegX),
+            "{:?}",
+            faces.faces()
+        );
+        assert!(faces.faces().contains(&CubeFace::PosX));
+        assert!(faces.faces().contains(&CubeFace::NegY));
+        assert_eq!(cube.maps.len() + cube.diagnostics.cube_faces_skipped, 6);
+        // A point of the block's wall facing the lamp reads the +x face's map.
+        let k = cube.selection.map_for(DVec3::new(4.0, 3.0, 1.0)).unwrap();
+        assert_eq!(faces.faces()[k], CubeFace::PosX);
+        let sun = Light::Directional(DirectionalLight::new(-DVec3::Y).unwrap());
+        assert!(matches!(
+            compute_setup(&Cube, &camera, &sun, &scene, map),
+            Err(SetupError::NeedsPointLight { .. })
+        ));
+    }
+
+    #[test]
+    fn a_lamp_that_shadows_nothing_visible_keeps_one_map() {
+        let scene = street();
+        // The camera looks away from everything.
+        let camera = Camera::look_at(
+            DVec3::new(0.0, 30.0, 0.0),
+            DVec3::new(0.0, 60.0, 1.0),
+            DVec3::Y,
+            Lens::default(),
+        )
+        .unwrap();
+        let lamp = Light::Point(PointLight::new(DVec3::new(0.0, 5.0, 0.0), 80.0).unwrap());
+        let setup = compute_setup(&Cube, &camera, &lamp, &scene, MapSettings::default()).unwrap();
+        assert_eq!(setup.maps.len(), 1);
+        assert_eq!(setup.diagnostics.cube_faces_skipped, 5);
+        assert!(setup.maps.iter().all(|m| m.is_finite()));
+    }
+}
