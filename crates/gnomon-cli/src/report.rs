@@ -19,6 +19,7 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
                 "projection": match m.projection {
                     MapProjection::Orthographic => "orthographic",
                     MapProjection::Perspective => "perspective",
+                    MapProjection::Paraboloid => "paraboloid",
                 },
             })
         })
@@ -38,6 +39,11 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
                 "view_depths": c.depths(),
                 "blend": c.blend,
                 "fade_start": c.fade_start,
+            }),
+            MapSelection::DualParaboloid { position, axis } => json!({
+                "kind": "dual_paraboloid",
+                "position": position.to_array(),
+                "axis": axis.to_array(),
             }),
             MapSelection::CubeFaces(c) => json!({
                 "kind": "cube_faces",

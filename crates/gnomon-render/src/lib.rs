@@ -69,3 +69,31 @@ pub const MASK_EMPTY: u8 = 128;
 pub fn lookup_wgsl(group: u32) -> String {
     include_str!("wgsl/lookup.wgsl").replace("GNOMON_GROUP", &group.to_string())
 }
+
+#[cfg(test)]
+mod tests {
+    /// The value of `const NAME: f32 = ...;` in the lookup module.
+    fn wgsl_constant(name: &str) -> f64 {
+        let text = super::lookup_wgsl(0);
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(&format!("const {name}: f32 = ")))
+            .unwrap_or_else(|| panic!("no {name}"));
+        line.split('=')
+            .nth(1)
+            .unwrap()
+            .trim()
+            .trim_end_matches(';')
+            .parse()
+            .unwrap()
+    }
+
+    #[test]
+    fn the_shader_s_paraboloid_matches_the_core_s() {
+        let scale = wgsl_constant("GNOMON_PARABOLOID_SCALE");
+        assert!((scale - gnomon::PARABOLOID_SCALE).abs() < 1e-9);
+        let margin = gnomon::PARABOLOID_MARGIN_DEGREES.to_radians();
+        assert!((wgsl_constant("GNOMON_PARABOLOID_RIM") + margin.sin()).abs() < 1e-9);
+        assert!((1.0 / (0.5 * (90f64.to_radians() + margin)).tan() - scale).abs() < 1e-9);
+    }
+}

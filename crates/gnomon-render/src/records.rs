@@ -25,6 +25,7 @@ pub(crate) const SELECT_CASCADES: u32 = 2;
 pub(crate) const SELECT_CUBE: u32 = 3;
 /// `GnomonMap.info.y`.
 pub(crate) const MAP_PERSPECTIVE: u32 = 1;
+pub(crate) const MAP_PARABOLOID: u32 = 2;
 
 /// `GnomonMap`.
 #[repr(C)]
@@ -169,6 +170,7 @@ pub(crate) fn map_record(
             match map.projection {
                 MapProjection::Orthographic => 0,
                 MapProjection::Perspective => MAP_PERSPECTIVE,
+                MapProjection::Paraboloid => MAP_PARABOLOID,
             },
             map.resolution,
             map.viewport_inset,
@@ -229,6 +231,15 @@ pub(crate) fn light_record(
                 .as_vec4()
                 .to_array();
             SELECT_CASCADES
+        }
+        Some((_, MapSelection::DualParaboloid { position, axis }, 2)) => {
+            // The plane selection: the second map on the far side of the plane through the
+            // light across the first hemisphere's axis.
+            let plane_world = (-axis).extend(axis.dot(position));
+            params[0] = row_in_camera(plane_world, world_from_camera)
+                .as_vec4()
+                .to_array();
+            SELECT_PLANE
         }
         Some((_, MapSelection::CubeFaces(faces), n)) if n == faces.faces().len() => {
             // params[0..3].xyz: the world axes x, y, z in view space (a direction's major

@@ -28,7 +28,8 @@
 //! clipping), [`Lispsm`] (LiSPSM), [`Tsm`] (TSM), [`Xpsm`] (XPSM), [`Psm`] (PSM), [`Sppsm`]
 //! (two maps and a separating plane), [`Cascades`] (a map per slice of the view, each fitted by
 //! a single-map technique, or stable cascades), [`Cube`] (a point light's six faces, each
-//! focused; the single-map techniques take point lights per face too). The warps are limited so that they sample the
+//! focused; the single-map techniques take point lights per face too), [`DualParaboloid`] (a
+//! point light's two hemispheres). The warps are limited so that they sample the
 //! frame's [`ViewSamples`] no more coarsely than the focused map. Every technique implements
 //! [`ShadowTechnique`];
 //! [`Technique`] names them all. [`analysis`] measures aliasing from the matrices;
@@ -66,12 +67,12 @@ pub use samples::{ViewSample, ViewSamples, undersampling};
 pub use setup::{
     CascadeSlices, CastersBySide, CubeFaceMaps, Diagnostics, Fallback, LightFrameKind,
     MAX_CASCADES, MAX_RESOLUTION, MIN_RESOLUTION, MapProjection, MapSelection, MapSettings,
-    SetupInput, ShadowMap, ShadowSetup, ShadowTechnique, Technique, UnknownTechnique,
-    compute_setup, compute_setup_with_samples,
+    PARABOLOID_MARGIN_DEGREES, PARABOLOID_SCALE, SetupInput, ShadowMap, ShadowSetup,
+    ShadowTechnique, Technique, UnknownTechnique, compute_setup, compute_setup_with_samples,
 };
 pub use techniques::{
-    CascadeFit, CascadeSplit, Cascades, Cube, Focused, Lispsm, PerspectiveMap, Psm, Sppsm, Tsm,
-    Uniform, Xpsm,
+    CascadeFit, CascadeSplit, Cascades, Cube, DualParaboloid, Focused, Lispsm, PerspectiveMap, Psm,
+    Sppsm, Tsm, Uniform, Xpsm,
 };
 
 /// Largest magnitude accepted for positions and distances (world units). Beyond it `f32`

@@ -10,7 +10,9 @@ use crate::camera::Camera;
 use crate::error::SetupError;
 use crate::light::{CubeFace, Light, PointLight};
 use crate::samples::ViewSamples;
-use crate::techniques::{Cascades, Cube, Focused, Lispsm, Psm, Sppsm, Tsm, Uniform, Xpsm};
+use crate::techniques::{
+    Cascades, Cube, DualParaboloid, Focused, Lispsm, Psm, Sppsm, Tsm, Uniform, Xpsm,
+};
 
 /// Smallest supported shadow-map resolution, in texels.
 pub const MIN_RESOLUTION: u32 = 8;
@@ -67,14 +69,31 @@ impl MapSettings {
     }
 }
 
-/// How a shadow map projects: parallel rays or rays from a point.
+/// How a shadow map projects: parallel rays or rays from a point, through a matrix; or a
+/// paraboloid, which no matrix is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MapProjection {
     /// `w = 1` everywhere (directional lights, uniform and focused maps).
     Orthographic,
     /// `w` is the distance along the light's axis (spot lights) or a warp.
     Perspective,
+    /// One hemisphere of a dual paraboloid map (Heidrich and Seidel 1998; Brabec, Annen and
+    /// Seidel 2002): `clip_from_world` is only the affine map to the hemisphere's frame in
+    /// units of the light's range (q, with q.z along the hemisphere's axis); a point lands at
+    /// x, y = [`PARABOLOID_SCALE`] q.xy / (|q| + q.z) (scaled into the inset square), with
+    /// depth |q| (the distance over the range). Straight edges map to curves, which the
+    /// rasteriser draws straight between the vertices: the technique's known error.
+    Paraboloid,
 }
+
+/// The angle in degrees by which each hemisphere of a dual paraboloid map reaches past 90
+/// degrees, so that filtering near its rim reads texels that hold the casters.
+pub const PARABOLOID_MARGIN_DEGREES: f64 = 3.0;
+
+/// The scale from the paraboloid's q.xy / (|q| + q.z) (1 at 90 degrees) to the map's
+/// normalised coordinates before the inset: the rim at 90 + [`PARABOLOID_MARGIN_DEGREES`]
+/// lands on the map's edge (1 / tan(45 + margin / 2)).
+pub const PARABOLOID_SCALE: f64 = 0.948_964_566_714_88;
 
 /// One shadow map: where world points land in it and how deep they are.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,14 +119,29 @@ pub struct ShadowMap {
 
 impl ShadowMap {
     /// Where `p` lands: normalised device coordinates (x, y in [-1, 1] across the map; z the
-    /// clip-space depth). Points behind a perspective map's centre (w <= 0) give `None`.
+    /// clip-space depth). Points behind a perspective map's centre (w <= 0) give `None`, and
+    /// so do points beyond a paraboloid hemisphere's rim (whose z is then its depth).
     pub fn project(&self, p: DVec3) -> Option<DVec3> {
+        if self.projection == MapProjection::Paraboloid {
+            let q = self.clip_from_world.transform_point3(p);
+            let d = q.length();
+            let rim = -PARABOLOID_MARGIN_DEGREES.to_radians().sin();
+            let s = PARABOLOID_SCALE * self.inset_ndc();
+            return (d > 0.0 && q.z >= rim * d).then(|| {
+                let xy = q.truncate() * (s / (d + q.z));
+                xy.extend(d)
+            });
+        }
         let clip = self.clip_from_world * p.extend(1.0);
         (clip.w > 0.0).then(|| clip.truncate() / clip.w)
     }
 
-    /// The linear depth of `p` (see [`ShadowMap::depth_from_world`]).
+    /// The depth `p` is compared at (see [`ShadowMap::depth_from_world`]; a paraboloid
+    /// map's: the distance from the light over its range).
     pub fn linear_depth(&self, p: DVec3) -> f64 {
+        if self.projection == MapProjection::Paraboloid {
+            return self.clip_from_world.transform_point3(p).length();
+        }
         self.depth_from_world.dot(p.extend(1.0))
     }
 
@@ -145,6 +179,14 @@ pub enum MapSelection {
     },
     /// One map per slice of the view by depth along the camera's forward axis (cascades).
     Cascades(CascadeSlices),
+    /// A point light's dual paraboloid maps: `maps[0]` is the hemisphere around `axis`,
+    /// `maps[1]` the other; a point reads `maps[0]` where (p - position) . axis >= 0.
+    DualParaboloid {
+        /// The light's position, world space.
+        position: DVec3,
+        /// The first hemisphere's axis (unit).
+        axis: DVec3,
+    },
     /// A point light's cube: one map per face that has one, in the order of
     /// [`CubeFaceMaps::faces`]; a point reads the map of the face its direction from the
     /// light falls in ([`crate::PointLight::face_of`]), and a point of a face without a map
@@ -240,6 +282,7 @@ impl MapSelection {
             MapSelection::Plane { .. } => "plane",
             MapSelection::Cascades(_) => "cascades",
             MapSelection::CubeFaces(_) => "cube_faces",
+            MapSelection::DualParaboloid { .. } => "dual_paraboloid",
         }
     }
 
@@ -255,6 +298,9 @@ impl MapSelection {
                 Some(slices.slice_of(slices.depth_row_world.dot(p.extend(1.0))))
             }
             MapSelection::CubeFaces(faces) => faces.map_of(PointLight::face_of(p - faces.position)),
+            MapSelection::DualParaboloid { position, axis } => {
+                Some(usize::from((p - *position).dot(*axis) < 0.0))
+            }
         }
     }
 }
@@ -523,12 +569,23 @@ pub enum Technique {
     Cascades(Cascades),
     /// A point light's cube maps, each face focused.
     Cube(Cube),
+    /// A point light's two paraboloid maps.
+    Paraboloid(DualParaboloid),
 }
 
 impl Technique {
     /// The names [`Technique::from_str`] accepts.
     pub const NAMES: &'static [&'static str] = &[
-        "uniform", "focused", "psm", "lispsm", "tsm", "xpsm", "sppsm", "cascades", "cube",
+        "uniform",
+        "focused",
+        "psm",
+        "lispsm",
+        "tsm",
+        "xpsm",
+        "sppsm",
+        "cascades",
+        "cube",
+        "paraboloid",
     ];
 
     /// Each technique with default parameters.
@@ -539,13 +596,13 @@ impl Technique {
             .collect()
     }
 
-    /// Whether the technique takes `light`: `cube` takes point lights only; SPPSM and the
+    /// Whether the technique takes `light`: `cube` and `paraboloid` take point lights only; SPPSM and the
     /// cascades (several maps per light) take every light but point lights; the others take
     /// every light (a point light per cube face).
     pub fn takes(&self, light: &Light) -> bool {
         let point = matches!(light, Light::Point(_));
         match self {
-            Technique::Cube(_) => point,
+            Technique::Cube(_) | Technique::Paraboloid(_) => point,
             Technique::Sppsm(_) | Technique::Cascades(_) => !point,
             _ => true,
         }
@@ -562,6 +619,7 @@ impl Technique {
             Technique::Sppsm(t) => t,
             Technique::Cascades(t) => t,
             Technique::Cube(t) => t,
+            Technique::Paraboloid(t) => t,
         }
     }
 }
@@ -607,6 +665,7 @@ impl FromStr for Technique {
             "sppsm" => Ok(Technique::Sppsm(Sppsm::default())),
             "cascades" | "csm" => Ok(Technique::Cascades(Cascades::default())),
             "cube" => Ok(Technique::Cube(Cube)),
+            "paraboloid" | "dpsm" => Ok(Technique::Paraboloid(DualParaboloid)),
             _ => Err(UnknownTechnique(s.to_string())),
         }
     }

@@ -25,13 +25,14 @@
 //!   every single-map technique per face: each visible receiver point reads the map of its
 //!   cube face, and lands inside it with its shadowing caster points (all on the same ray, so
 //!   in the same face); a point whose face has no map has no caster that can shadow it; SPPSM
-//!   and the cascades refuse point lights.
+//!   and the cascades refuse point lights; dual paraboloid maps: each point and its shadowing
+//!   caster points land inside the hemisphere it reads.
 
 use glam::{DVec3, DVec4};
 use gnomon::{
-    Aabb, Camera, CascadeFit, CascadeSplit, Cascades, Cube, DirectionalLight, Focused, Lens, Light,
-    Lispsm, MapSelection, MapSettings, PointLight, Psm, SceneBounds, ShadowMap, ShadowSetup,
-    SpotLight, Sppsm, Technique, Tsm, Uniform, Xpsm, compute_setup,
+    Aabb, Camera, CascadeFit, CascadeSplit, Cascades, Cube, DirectionalLight, DualParaboloid,
+    Focused, Lens, Light, Lispsm, MapSelection, MapSettings, PointLight, Psm, SceneBounds,
+    ShadowMap, ShadowSetup, SpotLight, Sppsm, Technique, Tsm, Uniform, Xpsm, compute_setup,
 };
 use proptest::prelude::*;
 use proptest::test_runner::TestRng;
@@ -585,6 +586,14 @@ fn check_point(
         &[seed as u8; 32],
     );
     let points = visible_receiver_points(cfg, &mut rng);
+    // Dual paraboloid maps: the hemisphere a point's direction falls in holds it and its
+    // shadowing caster points.
+    let paraboloid = setup(Technique::Paraboloid(DualParaboloid))?;
+    for &r in &points {
+        let casters = shadowing_caster_points(cfg, r);
+        let k = paraboloid.selection.map_for(r).unwrap();
+        check_map(&paraboloid, &paraboloid.maps[k], r, &casters)?;
+    }
     for setup in &setups {
         let MapSelection::CubeFaces(faces) = setup.selection else {
             return Err(format!(

@@ -39,6 +39,13 @@ const GNOMON_FILTER_HARDWARE_2X2: u32 = 1u;
 const GNOMON_FILTER_PCF_5X5: u32 = 2u;
 // GnomonMap.info.y: flags.
 const GNOMON_MAP_PERSPECTIVE: u32 = 1u;
+// One hemisphere of a dual paraboloid map: clip_from_camera takes a point to q, the
+// hemisphere's frame in units of the light's range; it lands at
+// GNOMON_PARABOLOID_SCALE q.xy / (|q| + q.z) (inset), compared at depth |q|; the hemisphere
+// reaches GNOMON_PARABOLOID_RIM (-sin of gnomon::PARABOLOID_MARGIN_DEGREES) past 90 degrees.
+const GNOMON_MAP_PARABOLOID: u32 = 2u;
+const GNOMON_PARABOLOID_SCALE: f32 = 0.94896456671488;
+const GNOMON_PARABOLOID_RIM: f32 = -0.05233595624294383;
 
 struct GnomonMap {
     // View space to the map's clip space.
@@ -233,6 +240,9 @@ struct GnomonMapView {
     layer: i32,
     resolution: f32,
     normal_offset: f32,
+    // A paraboloid hemisphere, and its scale into the inset square.
+    paraboloid: bool,
+    paraboloid_scale: f32,
 };
 
 fn gnomon_map_view(map: u32) -> GnomonMapView {
@@ -244,6 +254,8 @@ fn gnomon_map_view(map: u32) -> GnomonMapView {
         i32(info.x),
         f32(info.z),
         gnomon_shadows.maps[map].bias.w,
+        (info.y & GNOMON_MAP_PARABOLOID) != 0u,
+        GNOMON_PARABOLOID_SCALE * (1.0 - 2.0 * f32(info.w) / f32(info.z)),
     );
 }
 
@@ -251,6 +263,27 @@ fn gnomon_map_view(map: u32) -> GnomonMapView {
 // (row_i - ndc_i row_w) / w, exact for any projective map. Zero behind the map.
 fn gnomon_ndc_gradients(view: GnomonMapView, p: vec3<f32>) -> mat2x3<f32> {
     let m = view.clip_from_camera;
+    let row_0 = vec3<f32>(m[0][0], m[1][0], m[2][0]);
+    let row_1 = vec3<f32>(m[0][1], m[1][1], m[2][1]);
+    let row_2 = vec3<f32>(m[0][2], m[1][2], m[2][2]);
+    if (view.paraboloid) {
+        // f = k q.xy / s with s = |q| + q.z: df/dq = k (e / s - q.xy (q / |q| + e_z) / s^2),
+        // then through q's rows.
+        let q = (m * vec4<f32>(p, 1.0)).xyz;
+        let d = length(q);
+        let s = d + q.z;
+        if (d <= 0.0 || s <= 0.0) {
+            return mat2x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0));
+        }
+        let k = view.paraboloid_scale;
+        let g = q / d + vec3<f32>(0.0, 0.0, 1.0);
+        let dfx = k * (vec3<f32>(1.0, 0.0, 0.0) / s - (q.x / (s * s)) * g);
+        let dfy = k * (vec3<f32>(0.0, 1.0, 0.0) / s - (q.y / (s * s)) * g);
+        return mat2x3<f32>(
+            dfx.x * row_0 + dfx.y * row_1 + dfx.z * row_2,
+            dfy.x * row_0 + dfy.y * row_1 + dfy.z * row_2,
+        );
+    }
     let clip = m * vec4<f32>(p, 1.0);
     if (clip.w <= 0.0) {
         return mat2x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0));
@@ -286,14 +319,39 @@ fn gnomon_tap(view: GnomonMapView, uv: vec2<f32>, reference: f32) -> f32 {
 }
 
 // 1 where p is lit according to the map, 0 where shadowed, between for filtered lookups.
-fn gnomon_lookup_view(view: GnomonMapView, p: vec3<f32>, filter_mode: u32) -> f32 {
+// Where p lands in a map (normalised x, y), the depth it is compared at, and whether the map
+// holds it (in front of a perspective map, inside a paraboloid hemisphere's rim).
+struct GnomonMapPoint {
+    ndc: vec2<f32>,
+    reference: f32,
+    inside: bool,
+};
+
+fn gnomon_map_point(view: GnomonMapView, p: vec3<f32>) -> GnomonMapPoint {
+    var out: GnomonMapPoint;
     let clip = view.clip_from_camera * vec4<f32>(p, 1.0);
-    if (clip.w <= 0.0) {
+    if (view.paraboloid) {
+        let q = clip.xyz;
+        let d = length(q);
+        out.inside = d > 0.0 && q.z >= GNOMON_PARABOLOID_RIM * d;
+        out.ndc = q.xy * (view.paraboloid_scale / max(d + q.z, 1e-30));
+        out.reference = d;
+        return out;
+    }
+    out.inside = clip.w > 0.0;
+    out.ndc = clip.xy / clip.w;
+    out.reference = dot(view.depth_from_camera, vec4<f32>(p, 1.0));
+    return out;
+}
+
+fn gnomon_lookup_view(view: GnomonMapView, p: vec3<f32>, filter_mode: u32) -> f32 {
+    let at = gnomon_map_point(view, p);
+    if (!at.inside) {
         return 1.0;
     }
-    let ndc = clip.xy / clip.w;
+    let ndc = at.ndc;
     let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
-    let reference = dot(view.depth_from_camera, vec4<f32>(p, 1.0));
+    let reference = at.reference;
     if (filter_mode == GNOMON_FILTER_HARDWARE_2X2) {
         return textureSampleCompareLevel(
             gnomon_depth, gnomon_compare, gnomon_layer_uv(view, uv), view.layer, reference);

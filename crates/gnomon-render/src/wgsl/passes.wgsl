@@ -60,8 +60,20 @@ fn vs_depth(@location(0) position: vec3<f32>, instance: CasterInstance) -> Depth
     let camera_from_object = mat4x4<f32>(instance.c0, instance.c1, instance.c2, instance.c3);
     let p = camera_from_object * vec4<f32>(position, 1.0);
     var out: DepthOut;
+    let info = gnomon_shadows.maps[slot.map].info;
     out.clip = gnomon_shadows.maps[slot.map].clip_from_camera * p;
     out.depth = dot(gnomon_shadows.maps[slot.map].depth_from_camera, p);
+    if ((info.y & GNOMON_MAP_PARABOLOID) != 0u) {
+        // The vertex's place in the paraboloid, its distance as the depth, and a clip z that
+        // cuts the hemisphere at its rim (the edges between vertices stay straight: the
+        // technique's known error).
+        let q = out.clip.xyz;
+        let d = max(length(q), 1e-30);
+        let scale = GNOMON_PARABOLOID_SCALE * (1.0 - 2.0 * f32(info.w) / f32(info.z));
+        let xy = q.xy * (scale / max(d + q.z, 1e-6 * d));
+        out.clip = vec4<f32>(xy, (q.z / d - GNOMON_PARABOLOID_RIM) / (1.0 - GNOMON_PARABOLOID_RIM), 1.0);
+        out.depth = d;
+    }
     return out;
 }
 
