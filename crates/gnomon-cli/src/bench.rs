@@ -27,8 +27,9 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub views: ViewListArgs,
     /// What to time, comma-separated: shadow-map techniques and compare's rows (uniform,
-    /// focused, lispsm, tsm, xpsm, psm, sppsm, cascades, sppsm-same-texels, cascades-stable,
-    /// cascades-lispsm, cascades-best) and shadow volumes (volumes = z-fail, volumes-z-pass,
+    /// focused, lispsm, tsm, xpsm, psm, sppsm, cascades, cube, paraboloid, sppsm-same-texels,
+    /// paraboloid-cube-texels, cascades-stable, cascades-lispsm, cascades-best; a row that
+    /// cannot draw a view's light is not timed there) and shadow volumes (volumes = z-fail, volumes-z-pass,
     /// volumes-per-caster).
     #[arg(
         long,

@@ -223,7 +223,10 @@ fn compare_scene(
          pixels: share of the pixels with N.L > 0.1 whose one-tap shadow-map mask differs from \
          the exact shadow volumes' (false shadow: shadowed by the map, lit in fact; missed \
          shadow: the reverse). SPPSM comes twice: its two maps at the size above each, and \
-         (sppsm-same-texels) two maps of half the area, the texels of one map. Undersampling: pixels per texel along the worst direction \
+         (sppsm-same-texels) two maps of half the area, the texels of one map; dual paraboloid maps \
+         likewise (paraboloid-cube-texels: two maps with the texels of a cube's six faces). A row \
+         that cannot draw a view's light (cube and paraboloid: point lights only; SPPSM and \
+         cascades: no point light) says n/a. Undersampling: pixels per texel along the worst direction \
          (1 = one texel per pixel), over the same pixels; area p99: pixels per texel in area \
          (1 / |det J|, the measure SPPSM's plane compares). Frame: setup + shadow pass + main pass \
          (pass times from {}).\n\n\

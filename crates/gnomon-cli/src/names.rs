@@ -15,6 +15,10 @@ pub const VOLUMES: [(&str, StencilMode); 3] = [
 /// `compare`'s row of SPPSM with two maps of half the area each (the texels of one map).
 pub const SPPSM_SAME_TEXELS: &str = "sppsm-same-texels";
 
+/// `compare`'s row of dual paraboloid maps with the texels of a cube's six faces (two maps of
+/// three times the area each).
+pub const PARABOLOID_CUBE_TEXELS: &str = "paraboloid-cube-texels";
+
 /// `compare`'s cascade rows, each four cascades sharing the texels of one map (what the
 /// engines ship, and ours), with the options that give them:
 /// - `cascades-stable`: stable focused cascades, the first slice to 10 m then logarithmic to

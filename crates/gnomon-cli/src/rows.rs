@@ -1,13 +1,13 @@
 //! The rows of `compare` and `flicker`: a label, a technique with its parameters, its maps'
 //! resolution, and the parameters that give it (for the command that reproduces a cell).
 //! A row is named by a technique of [`crate::names`] or one of its fixed rows
-//! (`sppsm-same-texels`, [`crate::names::CASCADE_ROWS`]).
+//! (`sppsm-same-texels`, `paraboloid-cube-texels`, [`crate::names::CASCADE_ROWS`]).
 
 use gnomon::{ShadowTechnique, Technique};
 
 use crate::CliError;
 use crate::args::TechniqueParams;
-use crate::names::{CASCADE_ROWS, SPPSM_SAME_TEXELS};
+use crate::names::{CASCADE_ROWS, PARABOLOID_CUBE_TEXELS, SPPSM_SAME_TEXELS};
 
 /// One row.
 #[derive(Debug, Clone)]
@@ -61,6 +61,14 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
             params: *params,
         });
     }
+    if name == PARABOLOID_CUBE_TEXELS {
+        return Ok(Row {
+            label: name.into(),
+            technique: params.apply(Technique::Paraboloid(Default::default())),
+            resolution: ((shadow_map as f64) * 3f64.sqrt()).round() as u32,
+            params: *params,
+        });
+    }
     if let Some((label, options)) = CASCADE_ROWS.iter().find(|(n, _)| *n == name) {
         let params = fixed_row_params(options);
         return Ok(Row {
@@ -72,7 +80,7 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
     }
     let technique = crate::names::parse_map(name).map_err(|e| {
         CliError::usage(format!(
-            "{e}; rows: {SPPSM_SAME_TEXELS}, {}",
+            "{e}; rows: {SPPSM_SAME_TEXELS}, {PARABOLOID_CUBE_TEXELS}, {}",
             CASCADE_ROWS.map(|r| r.0).join(", ")
         ))
     })?;
@@ -86,7 +94,7 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
 
 /// Rows by name (`all`: every technique), each named once; `params` must be read by one of
 /// the techniques (the fixed rows keep their own). With `expand`, SPPSM is followed by
-/// `sppsm-same-texels` and cascades by the cascade rows (`compare`'s tables).
+/// `sppsm-same-texels`, paraboloid by `paraboloid-cube-texels` and cascades by the cascade rows (`compare`'s tables).
 pub fn rows(
     names: &[String],
     params: &TechniqueParams,
@@ -124,6 +132,7 @@ pub fn rows(
     for r in rows {
         let extras: Vec<&str> = match r.technique {
             Technique::Sppsm(_) if r.label == "sppsm" => vec![SPPSM_SAME_TEXELS],
+            Technique::Paraboloid(_) if r.label == "paraboloid" => vec![PARABOLOID_CUBE_TEXELS],
             Technique::Cascades(_) if r.label == "cascades" => {
                 CASCADE_ROWS.iter().map(|(n, _)| *n).collect()
             }
