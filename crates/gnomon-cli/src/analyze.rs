@@ -54,7 +54,11 @@ struct Row {
 /// Figure 6 plots.
 fn techniques(params: &TechniqueParams) -> Vec<(String, Technique)> {
     let mut out = Vec::new();
-    for technique in Technique::all() {
+    // The ideal configuration has a directional light.
+    let sun = gnomon::Light::Directional(
+        gnomon::DirectionalLight::new(glam::DVec3::NEG_Y).expect("a unit direction"),
+    );
+    for technique in Technique::all().into_iter().filter(|t| t.takes(&sun)) {
         // The papers' warps along the view axis: the warp limit judges a frame's pixels, and
         // the ideal configuration's scene is the view frustum's box, which holds the eye.
         let technique = TechniqueParams {

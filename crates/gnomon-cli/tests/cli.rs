@@ -1504,6 +1504,11 @@ fn no_warp_samples_worse_than_the_focused_map() {
     );
     let mut limited = 0;
     for view in report["views"].as_array().unwrap() {
+        // A point light's warps are limited per cube face, on that face's samples; the
+        // frame's percentile over all faces is not what each limit compares.
+        if view["light"]["point"].is_object() {
+            continue;
+        }
         let rows = view["techniques"].as_array().unwrap();
         let row = |name: &str| rows.iter().find(|r| r["technique"] == name).unwrap();
         let focused = row("focused");
