@@ -495,6 +495,14 @@ impl Renderer {
                     let sign = if i == 0 { -1.0 } else { 1.0 };
                     prepared.planes.push(sign * plane_world);
                 }
+                if map.projection == gnomon::MapProjection::Paraboloid {
+                    // A hemisphere holds what lies on its side of the light, to its rim
+                    // (q.z >= -sin(margin) |q|, and |q| <= 1 within the range).
+                    let rim = gnomon::PARABOLOID_MARGIN_DEGREES.to_radians().sin();
+                    prepared
+                        .planes
+                        .push(map.clip_from_world.row(2) + DVec4::new(0.0, 0.0, 0.0, rim));
+                }
                 self.scene
                     .casters_reaching(&prepared.planes, &mut prepared.casters);
                 layer += 1;
