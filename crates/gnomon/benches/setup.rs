@@ -58,8 +58,10 @@ fn bench(c: &mut Criterion) {
         )
         .unwrap(),
     );
-    // A lamp among the buildings, in the camera's view.
+    // A lamp among the buildings, in the camera's view, lighting most of the city (250 m), and
+    // a street lamp's reach (40 m).
     let lamp = Light::Point(PointLight::new(DVec3::new(-40.0, 10.0, 60.0), 250.0).unwrap());
+    let street_lamp = Light::Point(PointLight::new(DVec3::new(-40.0, 10.0, 60.0), 40.0).unwrap());
     let settings = MapSettings::with_resolution(2048);
     let mut group = c.benchmark_group("setup");
     for n in [10usize, 100, 1000] {
@@ -229,6 +231,24 @@ fn bench(c: &mut Criterion) {
                         s,
                         settings,
                         &lamp_samples,
+                    )
+                    .unwrap()
+                })
+            },
+        );
+        let street_samples = ViewSamples::new(&camera, &street_lamp, &scene);
+        group.bench_with_input(
+            BenchmarkId::new("cube_point_40m_given_samples", n),
+            &scene,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup_with_samples(
+                        &Cube,
+                        black_box(&camera),
+                        &street_lamp,
+                        s,
+                        settings,
+                        &street_samples,
                     )
                     .unwrap()
                 })
