@@ -16,7 +16,7 @@ use std::cell::OnceCell;
 
 use crate::bounds::SceneBounds;
 use crate::bvh::{Classified, all_planes};
-use crate::focus::{VisibleScene, box_planes};
+use crate::focus::{ReuseCuts, VisibleScene, box_planes, refine};
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
 use crate::light_space::Projector;
@@ -44,6 +44,10 @@ pub(crate) struct Frame<'a> {
     pub receiver_planes: Vec<Plane>,
     /// The receivers against `receiver_planes` (empty when P is).
     pub receiver_codes: Classified,
+    /// A point light's view frame this frame of one of its cube faces refines: its visible
+    /// scene (whose cuts by the view's planes alone are taken) and the bits of the face's
+    /// planes.
+    parent: Option<(&'a VisibleScene, u32)>,
     /// The whole view's visible scene, made on first use.
     visible: OnceCell<VisibleScene>,
     /// The view samples when the input has none, cast on first use.
@@ -86,6 +90,52 @@ impl<'a> Frame<'a> {
             view_body,
             receiver_planes,
             receiver_codes,
+            parent: None,
+            visible: OnceCell::new(),
+            cast_samples: OnceCell::new(),
+        }
+    }
+
+    /// The frame of one cube face of a point light, refined from the point light's frame
+    /// `view` (the same camera and scene; its receivers classified against the view's planes
+    /// alone): `input`'s light is the face's spot light, and P and the receivers are only cut
+    /// again by the face's frustum. The same frame as [`Frame::new`] of `input` would make.
+    pub fn of_face(view: &'a Frame<'a>, input: &SetupInput<'a>) -> Self {
+        let Light::Spot(spot) = input.light else {
+            return Self::new(input);
+        };
+        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
+        let fixed = fixed_projector(input.light);
+        let light_planes = spot.frustum_planes(fixed.frame().up);
+        let region =
+            ConvexPolyhedron::from_box(&input.scene.scene_box()).clip_all(&light_planes, tolerance);
+        let view_body = view.view_body.clip_all(&light_planes, tolerance);
+        let receiver_planes =
+            frame_planes(input.camera.frustum_planes(), Some(&light_planes), None);
+        // The face's planes follow the view's six.
+        let changed = all_planes(receiver_planes.len()) & !all_planes(6);
+        let (receiver_codes, parent) = if view_body.is_empty() {
+            (Classified::default(), None)
+        } else {
+            let codes = refine(
+                &view.receiver_codes,
+                input.scene,
+                &receiver_planes,
+                changed,
+                tolerance,
+            );
+            (codes, Some((view.visible(), changed)))
+        };
+        Self {
+            input: *input,
+            tolerance,
+            fixed,
+            light_planes: Some(light_planes),
+            region,
+            view_body,
+            receiver_planes,
+            receiver_codes,
+            parent,
             visible: OnceCell::new(),
             cast_samples: OnceCell::new(),
         }
@@ -100,7 +150,8 @@ impl<'a> Frame<'a> {
                 &self.receiver_planes,
                 &self.receiver_codes,
                 self.tolerance,
-                None,
+                self.parent
+                    .map(|(frame, changed)| ReuseCuts { frame, changed }),
             )
         })
     }

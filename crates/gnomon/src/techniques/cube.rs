@@ -16,12 +16,14 @@
 //! [`PointLight::face_of`]); [`MapSelection::CubeFaces`] lists the faces that have maps.
 
 use crate::error::SetupError;
+use crate::frame::Frame;
 use crate::light::{CubeFace, Light, PointLight, cube_face_tangent};
 use crate::samples::ViewSamples;
 use crate::setup::{
     CubeFaceMaps, Diagnostics, Fallback, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
 };
 use crate::techniques::Focused;
+use crate::techniques::basis::{FocusBasis, Part};
 
 /// Cube shadow maps for a point light: six faces, each the focused map with unit cube
 /// clipping of the visible receivers in that face's frustum and the casters that can shadow
@@ -43,19 +45,21 @@ impl ShadowTechnique for Cube {
                 technique: self.name(),
             });
         };
-        let mut setup = per_face(&Focused, input, point)?;
-        setup.technique = self.name();
-        Ok(setup)
+        per_face(self.name(), input, point, |input, basis| {
+            Ok(Focused.setup_on(input, basis))
+        })
     }
 }
 
-/// The setup of `technique` for a point light: its map of each face (see the module
-/// documentation). A technique with more than one map per face (SPPSM, cascades) is refused
-/// ([`SetupError::PointLightUnsupported`]).
-pub(crate) fn per_face<T: ShadowTechnique + ?Sized>(
-    technique: &T,
+/// The setup of technique `name` for a point light: its map of each face (see the module
+/// documentation), `fit` making it on the face's basis (for the face's spot light). The
+/// faces share the point light's frame: P and the receivers' classification against the
+/// view are made once and cut by each face's frustum.
+pub(crate) fn per_face(
+    name: &'static str,
     input: &SetupInput<'_>,
     point: &PointLight,
+    fit: impl Fn(&SetupInput<'_>, &FocusBasis<'_>) -> Result<ShadowSetup, SetupError>,
 ) -> Result<ShadowSetup, SetupError> {
     input.map.validate()?;
     let cast;
@@ -66,12 +70,13 @@ pub(crate) fn per_face<T: ShadowTechnique + ?Sized>(
             &cast
         }
     };
+    let view = Frame::new(input);
     let t = cube_face_tangent(input.map.resolution);
     let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
     let mut maps = Vec::new();
     let mut faces = CubeFaceMaps::new(point.position());
-    let mut first = None;
-    for face in CubeFace::ALL {
+    // The face's setup, or `None` where its frustum does not meet the view.
+    let face_setup = |face: CubeFace, always: bool| -> Result<Option<ShadowSetup>, SetupError> {
         let light = Light::Spot(point.face_light(face, input.map.resolution));
         let axis = face.axis();
         let face_samples = samples.filtered(|s| {
@@ -84,12 +89,22 @@ pub(crate) fn per_face<T: ShadowTechnique + ?Sized>(
             samples: Some(&face_samples),
             ..*input
         };
-        let setup = technique.setup(&face_input)?;
-        if setup.maps.len() != 1 || setup.selection != MapSelection::Single {
-            return Err(SetupError::PointLightUnsupported {
-                technique: technique.name(),
-            });
+        let frame = Frame::of_face(&view, &face_input);
+        if frame.view_body.is_empty() && !always {
+            return Ok(None);
         }
+        let basis = FocusBasis::new(&frame, Part::Whole);
+        let setup = fit(&face_input, &basis)?;
+        if setup.maps.len() != 1 || setup.selection != MapSelection::Single {
+            return Err(SetupError::PointLightUnsupported { technique: name });
+        }
+        Ok(Some(setup))
+    };
+    for face in CubeFace::ALL {
+        let Some(setup) = face_setup(face, false)? else {
+            diagnostics.cube_faces_skipped += 1;
+            continue;
+        };
         let nothing_to_shadow = setup.diagnostics.fallbacks.iter().any(|f| {
             matches!(
                 f,
@@ -100,7 +115,6 @@ pub(crate) fn per_face<T: ShadowTechnique + ?Sized>(
         });
         if nothing_to_shadow {
             diagnostics.cube_faces_skipped += 1;
-            first.get_or_insert((face, setup));
             continue;
         }
         add_face(&mut diagnostics, &setup.diagnostics);
@@ -110,14 +124,15 @@ pub(crate) fn per_face<T: ShadowTechnique + ?Sized>(
     if maps.is_empty() {
         // Nothing visible can be shadowed: the first face keeps its (fallback) map, so that
         // a setup always has one.
-        let (face, setup) = first.expect("six faces were set up");
+        let face = CubeFace::ALL[0];
+        let setup = face_setup(face, true)?.expect("made when asked always");
         diagnostics.cube_faces_skipped -= 1;
         add_face(&mut diagnostics, &setup.diagnostics);
         faces.push(face);
         maps.push(setup.maps[0]);
     }
     Ok(ShadowSetup {
-        technique: technique.name(),
+        technique: name,
         maps,
         selection: MapSelection::CubeFaces(faces),
         diagnostics,
@@ -217,5 +232,68 @@ mod tests {
         assert_eq!(setup.maps.len(), 1);
         assert_eq!(setup.diagnostics.cube_faces_skipped, 5);
         assert!(setup.maps.iter().all(|m| m.is_finite()));
+    }
+}
+
+#[cfg(test)]
+mod shared_frame_tests {
+    use glam::DVec3;
+    use proptest::prelude::*;
+
+    use super::*;
+    use crate::bounds::{Aabb, SceneBounds};
+    use crate::camera::{Camera, Lens};
+    use crate::setup::{MapSettings, compute_setup_with_samples};
+    use crate::techniques::Lispsm;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 200, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// The faces refined from the point light's shared frame get the maps that a frame of
+        /// each face's own spot light gives.
+        #[test]
+        fn shared_faces_match_faces_set_up_alone(
+            boxes in prop::collection::vec((prop::array::uniform3(-40.0f64..40.0), prop::array::uniform3(0.5f64..15.0)), 1..30),
+            eye in prop::array::uniform3(-60.0f64..60.0),
+            target in prop::array::uniform3(-20.0f64..20.0),
+            lamp in prop::array::uniform3(-30.0f64..30.0),
+            range in 10.0f64..200.0,
+            warp in any::<bool>(),
+        ) {
+            let boxes: Vec<Aabb> = boxes.iter().map(|(lo, size)| {
+                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.2);
+                Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap()
+            }).collect();
+            let ground = Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
+            let mut receivers = boxes.clone();
+            receivers.push(ground);
+            let scene = SceneBounds::new(boxes, receivers, None).unwrap();
+            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
+            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
+            let camera = Camera::look_at(eye, target, DVec3::Y, Lens { near: 0.5, far: 150.0, ..Lens::default() }).unwrap();
+            let position = DVec3::from_array(lamp).with_y(lamp[1].abs() * 0.3 + 0.5);
+            let point = PointLight::new(position, range).unwrap();
+            let light = Light::Point(point);
+            let map = MapSettings::with_resolution(1024);
+            let samples = ViewSamples::new(&camera, &light, &scene);
+            let technique: &dyn ShadowTechnique = if warp { &Lispsm::default() as &dyn ShadowTechnique } else { &Focused };
+            let shared = compute_setup_with_samples(technique, &camera, &light, &scene, map, &samples).unwrap();
+            let MapSelection::CubeFaces(faces) = shared.selection else { panic!() };
+            let t = cube_face_tangent(map.resolution);
+            for (k, face) in faces.faces().iter().enumerate() {
+                let spot = Light::Spot(point.face_light(*face, map.resolution));
+                let axis = face.axis();
+                let own = samples.filtered(|s| {
+                    let d = s.position - position;
+                    let along = d.dot(axis);
+                    along > 0.0 && (d - along * axis).abs().max_element() <= t * along
+                });
+                let alone = compute_setup_with_samples(technique, &camera, &spot, &scene, map, &own).unwrap();
+                let (a, b) = (shared.maps[k].clip_from_world, alone.maps[0].clip_from_world);
+                let scale = b.abs().to_cols_array().iter().copied().fold(0.0, f64::max);
+                let diff = (a - b).abs().to_cols_array().iter().copied().fold(0.0, f64::max);
+                prop_assert!(diff <= 1e-9 * scale, "face {face:?}: {a} vs {b}");
+            }
+        }
     }
 }

@@ -138,7 +138,9 @@ impl ShadowTechnique for Lispsm {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         if let crate::Light::Point(point) = input.light {
-            return crate::techniques::per_face(self, input, point);
+            return crate::techniques::per_face(self.name(), input, point, |input, basis| {
+                self.setup_with(input, basis)
+            });
         }
         on_whole_frame(input, |basis| self.setup_with(input, basis))
     }

@@ -34,7 +34,9 @@ impl ShadowTechnique for Uniform {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         if let Light::Point(point) = input.light {
-            return crate::techniques::per_face(self, input, point);
+            return crate::techniques::per_face(self.name(), input, point, |input, _| {
+                self.setup(input)
+            });
         }
         input.map.validate()?;
         let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
