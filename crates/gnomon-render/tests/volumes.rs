@@ -85,6 +85,33 @@ fn volumes_agree_with_exact_shadows() {
     assert!(failures.is_empty(), "below 99.9%: {failures:?}");
 }
 
+/// The exact volumes lit by a point light (the core's extrusion from its position) agree with
+/// the oracle in every named point-light view of the demo, with each counting.
+#[test]
+fn point_light_volumes_agree_with_exact_shadows() {
+    let scene = RenderScene::from_layout(&gnomon_scene::demo());
+    let mut renderer = common::renderer(&scene);
+    let mut failures = Vec::new();
+    let mut lamps = 0;
+    for view in gnomon_scene::DEMO_VIEWS {
+        let (camera, light) = view.camera_and_light(1.0).unwrap();
+        if !matches!(light, Light::Point(_)) {
+            continue;
+        }
+        lamps += 1;
+        failures.extend(compare_modes(
+            &mut renderer,
+            &scene,
+            view.name,
+            &camera,
+            &light,
+            false,
+        ));
+    }
+    assert_eq!(lamps, 3);
+    assert!(failures.is_empty(), "below 99.9%: {failures:?}");
+}
+
 /// Renders a view with z-fail, z-pass and per caster and compares each with the oracle.
 /// Returns the failures: z-fail or per caster below 99.9%; z-pass below 99.9% where
 /// `z_pass_wrong` is false, or above 99% where it is true (a volume reaches the near plane).
