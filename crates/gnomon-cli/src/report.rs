@@ -122,6 +122,22 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
             p.x, p.y, p.z, p.w
         );
     }
+    if let MapSelection::CubeFaces(c) = setup.selection {
+        let faces: Vec<&str> = c.faces().iter().map(|f| f.name()).collect();
+        let _ = writeln!(
+            s,
+            "selection: cube faces {} (map i is the i-th; a point reads its direction's major axis), {} face(s) skipped with nothing to shadow",
+            faces.join(", "),
+            d.cube_faces_skipped
+        );
+    }
+    if let MapSelection::DualParaboloid { axis, .. } = setup.selection {
+        let _ = writeln!(
+            s,
+            "selection: dual paraboloid, map 0 the hemisphere around ({}, {}, {}), map 1 the other",
+            axis.x, axis.y, axis.z
+        );
+    }
     if let Some(c) = d.casters_by_side {
         let _ = writeln!(
             s,
