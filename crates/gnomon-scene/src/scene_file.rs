@@ -770,6 +770,20 @@ mod tests {
                 "needs a light",
             ),
             (
+                "[ground]\nsize = 10\n[[view]]\nname = \"v\"\neye = [0, 1, 2]\ntarget = [0, 0, 0]\n\
+                 light_dir = [0, -1, 0]\npoint = [0, 5, 0, 20]\n",
+                8,
+                Some("point"),
+                "gives point and another light",
+            ),
+            (
+                "[ground]\nsize = 10\n[[view]]\nname = \"v\"\neye = [0, 1, 2]\ntarget = [0, 0, 0]\n\
+                 point = [0, 5, 0, -20]\n",
+                3,
+                Some("view"),
+                "range",
+            ),
+            (
                 "[ground]\nsize = 10\n[[view]]\nname = \"v\"\neye = [0, 1]\n",
                 5,
                 Some("eye"),
