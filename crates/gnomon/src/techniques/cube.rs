@@ -241,8 +241,7 @@ mod shared_frame_tests {
     use proptest::prelude::*;
 
     use super::*;
-    use crate::bounds::{Aabb, SceneBounds};
-    use crate::camera::{Camera, Lens};
+    use crate::bvh::test_scenes;
     use crate::setup::{MapSettings, compute_setup_with_samples};
     use crate::techniques::Lispsm;
 
@@ -253,24 +252,17 @@ mod shared_frame_tests {
         /// each face's own spot light gives.
         #[test]
         fn shared_faces_match_faces_set_up_alone(
-            boxes in prop::collection::vec((prop::array::uniform3(-40.0f64..40.0), prop::array::uniform3(0.5f64..15.0)), 1..30),
+            boxes in prop::collection::vec((prop::array::uniform3(-40.0f64..40.0), prop::array::uniform3(0.5f64..15.0), 0u8..3), 1..30),
             eye in prop::array::uniform3(-60.0f64..60.0),
             target in prop::array::uniform3(-20.0f64..20.0),
             lamp in prop::array::uniform3(-30.0f64..30.0),
             range in 10.0f64..200.0,
             warp in any::<bool>(),
         ) {
-            let boxes: Vec<Aabb> = boxes.iter().map(|(lo, size)| {
-                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.2);
-                Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap()
-            }).collect();
-            let ground = Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
-            let mut receivers = boxes.clone();
-            receivers.push(ground);
-            let scene = SceneBounds::new(boxes, receivers, None).unwrap();
-            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
-            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
-            let camera = Camera::look_at(eye, target, DVec3::Y, Lens { near: 0.5, far: 150.0, ..Lens::default() }).unwrap();
+            let scene = test_scenes::mixed(&boxes);
+            let camera = test_scenes::camera(eye, target);
+            prop_assume!(camera.is_some());
+            let camera = camera.unwrap();
             let position = DVec3::from_array(lamp).with_y(lamp[1].abs() * 0.3 + 0.5);
             let point = PointLight::new(position, range).unwrap();
             let light = Light::Point(point);
