@@ -98,8 +98,9 @@ pub struct RenderArgs {
     /// SPPSM: both maps side by side, the focused one on the left).
     #[arg(long)]
     pub light_view: Option<PathBuf>,
-    /// SPPSM: tint pixels by the map they read (red: the perspective map, blue: the focused
-    /// map), as in the paper's figures.
+    /// Tint pixels by the map they read: SPPSM's (red: the perspective map, blue: the focused
+    /// map, as in the paper's figures), the cascades', a point light's cube faces or
+    /// hemispheres.
     #[arg(long)]
     pub tint: bool,
     /// Also write the per-pixel sampling error as a heat map with a legend (PNG): pixels per
@@ -276,12 +277,14 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     let technique = args.params.apply(technique);
     args.params.check_used_by(&[technique])?;
-    // Before any work where the technique says (SPPSM may still fall back to one map).
+    // Before any work where the technique says (SPPSM may still fall back to one map; a
+    // point light's maps are its cube faces or hemispheres).
     if args.tint
         && !matches!(
             technique,
             gnomon::Technique::Sppsm(_) | gnomon::Technique::Cascades(_)
         )
+        && !matches!(lights[0], gnomon::Light::Point(_))
     {
         return Err(tint_needs_two_maps(&technique));
     }
@@ -474,7 +477,7 @@ pub fn export(args: &ExportArgs) -> Result<(), CliError> {
 /// `--tint` with a setup of one map.
 fn tint_needs_two_maps(technique: &gnomon::Technique) -> CliError {
     CliError::usage(format!(
-        "--tint colours the maps of a technique with several (sppsm, cascades); {} has one map",
+        "--tint colours the maps of a technique with several (sppsm, cascades, any under a point light); {} has one map",
         technique.name()
     ))
 }
