@@ -57,15 +57,7 @@ pub(crate) struct Frame<'a> {
 impl<'a> Frame<'a> {
     /// The frame of `input`.
     pub fn new(input: &SetupInput<'a>) -> Self {
-        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
-        let fixed = fixed_projector(input.light);
-        let light_planes = match input.light {
-            Light::Directional(_) | Light::Point(_) => None,
-            Light::Spot(spot) => Some(spot.frustum_planes(fixed.frame().up)),
-        };
-        let scene_box = input.scene.scene_box();
-        let region = ConvexPolyhedron::from_box(&scene_box)
-            .clip_all(light_planes.iter().flatten(), tolerance);
+        let (tolerance, fixed, light_planes, region) = light_facts(input);
         let view_body = view_body(input.camera, input.scene, light_planes.as_ref(), tolerance);
         let receiver_planes =
             frame_planes(input.camera.frustum_planes(), light_planes.as_ref(), None);
@@ -101,14 +93,9 @@ impl<'a> Frame<'a> {
     /// alone): `input`'s light is the face's spot light, and P and the receivers are only cut
     /// again by the face's frustum. The same frame as [`Frame::new`] of `input` would make.
     pub fn of_face(view: &'a Frame<'a>, input: &SetupInput<'a>) -> Self {
-        let Light::Spot(spot) = input.light else {
+        let (tolerance, fixed, Some(light_planes), region) = light_facts(input) else {
             return Self::new(input);
         };
-        let tolerance = tolerance(input.scene, Some(input.camera), input.light);
-        let fixed = fixed_projector(input.light);
-        let light_planes = spot.frustum_planes(fixed.frame().up);
-        let region =
-            ConvexPolyhedron::from_box(&input.scene.scene_box()).clip_all(&light_planes, tolerance);
         let view_body = view.view_body.clip_all(&light_planes, tolerance);
         let receiver_planes =
             frame_planes(input.camera.frustum_planes(), Some(&light_planes), None);
@@ -170,6 +157,21 @@ impl<'a> Frame<'a> {
             }),
         }
     }
+}
+
+/// What a frame knows of its light alone: the setup's tolerance, the light's projector in its
+/// fixed frame, a spot light's frustum, and the region B lies in (the scene box clipped by
+/// that frustum).
+fn light_facts(input: &SetupInput<'_>) -> (f64, Projector, Option<[Plane; 6]>, ConvexPolyhedron) {
+    let tolerance = tolerance(input.scene, Some(input.camera), input.light);
+    let fixed = fixed_projector(input.light);
+    let light_planes = match input.light {
+        Light::Directional(_) | Light::Point(_) => None,
+        Light::Spot(spot) => Some(spot.frustum_planes(fixed.frame().up)),
+    };
+    let region = ConvexPolyhedron::from_box(&input.scene.scene_box())
+        .clip_all(light_planes.iter().flatten(), tolerance);
+    (tolerance, fixed, light_planes, region)
 }
 
 /// The planes a part of the frame classifies receivers against: the view frustum (near, far,

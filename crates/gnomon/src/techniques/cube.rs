@@ -39,12 +39,7 @@ impl ShadowTechnique for Cube {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        input.map.validate()?;
-        let Light::Point(point) = input.light else {
-            return Err(SetupError::NeedsPointLight {
-                technique: self.name(),
-            });
-        };
+        let point = point_light_only(input, self.name())?;
         per_face(self.name(), input, point, |input, basis| {
             Ok(Focused.setup_on(input, basis))
         })
@@ -71,19 +66,13 @@ pub(crate) fn per_face(
         }
     };
     let view = Frame::new(input);
-    let t = cube_face_tangent(input.map.resolution);
     let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
     let mut maps = Vec::new();
     let mut faces = CubeFaceMaps::new(point.position());
     // The face's setup, or `None` where its frustum does not meet the view.
     let face_setup = |face: CubeFace, always: bool| -> Result<Option<ShadowSetup>, SetupError> {
         let light = Light::Spot(point.face_light(face, input.map.resolution));
-        let axis = face.axis();
-        let face_samples = samples.filtered(|s| {
-            let d = s.position - point.position();
-            let along = d.dot(axis);
-            along > 0.0 && (d - along * axis).abs().max_element() <= t * along
-        });
+        let face_samples = face_share(samples, point, face, input.map.resolution);
         let face_input = SetupInput {
             light: &light,
             samples: Some(&face_samples),
@@ -137,6 +126,34 @@ pub(crate) fn per_face(
         selection: MapSelection::CubeFaces(faces),
         diagnostics,
     })
+}
+
+/// The samples inside the frustum of `face` (for `resolution`-texel maps): its share of the
+/// view, which its warp limit judges on.
+fn face_share(
+    samples: &ViewSamples,
+    point: &PointLight,
+    face: CubeFace,
+    resolution: u32,
+) -> ViewSamples {
+    let (axis, t) = (face.axis(), cube_face_tangent(resolution));
+    samples.filtered(|s| {
+        let d = s.position - point.position();
+        let along = d.dot(axis);
+        along > 0.0 && (d - along * axis).abs().max_element() <= t * along
+    })
+}
+
+/// The point light of `input` for a technique that takes point lights only.
+pub(crate) fn point_light_only<'a>(
+    input: &SetupInput<'a>,
+    technique: &'static str,
+) -> Result<&'a PointLight, SetupError> {
+    input.map.validate()?;
+    match input.light {
+        Light::Point(point) => Ok(point),
+        _ => Err(SetupError::NeedsPointLight { technique }),
+    }
 }
 
 /// Adds one face's counts and fallbacks to the point light's diagnostics.
@@ -271,15 +288,9 @@ mod shared_frame_tests {
             let technique: &dyn ShadowTechnique = if warp { &Lispsm::default() as &dyn ShadowTechnique } else { &Focused };
             let shared = compute_setup_with_samples(technique, &camera, &light, &scene, map, &samples).unwrap();
             let MapSelection::CubeFaces(faces) = shared.selection else { panic!() };
-            let t = cube_face_tangent(map.resolution);
             for (k, face) in faces.faces().iter().enumerate() {
                 let spot = Light::Spot(point.face_light(*face, map.resolution));
-                let axis = face.axis();
-                let own = samples.filtered(|s| {
-                    let d = s.position - position;
-                    let along = d.dot(axis);
-                    along > 0.0 && (d - along * axis).abs().max_element() <= t * along
-                });
+                let own = face_share(&samples, &point, *face, map.resolution);
                 let alone = compute_setup_with_samples(technique, &camera, &spot, &scene, map, &own).unwrap();
                 let (a, b) = (shared.maps[k].clip_from_world, alone.maps[0].clip_from_world);
                 let scale = b.abs().to_cols_array().iter().copied().fold(0.0, f64::max);

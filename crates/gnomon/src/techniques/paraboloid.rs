@@ -15,11 +15,11 @@
 use glam::{DMat4, DVec3, DVec4};
 
 use crate::error::SetupError;
-use crate::light::Light;
 use crate::light_space::LightFrame;
 use crate::setup::{
     Diagnostics, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
+use crate::techniques::cube::point_light_only;
 
 /// Dual paraboloid maps for a point light: `maps[0]` the hemisphere below the light (around
 /// -y, where a lamp's receivers mostly are), `maps[1]` the one above
@@ -34,12 +34,7 @@ impl ShadowTechnique for DualParaboloid {
     }
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        input.map.validate()?;
-        let Light::Point(point) = input.light else {
-            return Err(SetupError::NeedsPointLight {
-                technique: self.name(),
-            });
-        };
+        let point = point_light_only(input, self.name())?;
         let position = point.position();
         let scale = 1.0 / point.range();
         let map = |axis: DVec3| {
@@ -70,7 +65,7 @@ mod tests {
     use super::*;
     use crate::bounds::{Aabb, SceneBounds};
     use crate::camera::{Camera, Lens};
-    use crate::light::PointLight;
+    use crate::light::{Light, PointLight};
     use crate::setup::{MapSettings, compute_setup};
 
     #[test]
