@@ -23,8 +23,8 @@ pub struct Row {
 }
 
 impl Row {
-    /// Why the row cannot draw `lights` (`cube` takes point lights only; SPPSM and the
-    /// cascades take no point light), or `None` when it can.
+    /// Why the row cannot draw `lights` (`cube` and `paraboloid` take point lights only;
+    /// SPPSM and the cascades take no point light), or `None` when it can.
     pub fn refuses(&self, lights: &[gnomon::Light]) -> Option<&'static str> {
         let refused = lights.iter().find(|l| !self.technique.takes(l))?;
         Some(match refused {

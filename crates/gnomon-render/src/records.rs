@@ -213,7 +213,15 @@ pub(crate) fn light_record(
     let mut params = [[0.0f32; 4]; 4];
     let selection = match setup.map(|s| (s, s.selection, s.maps.len())) {
         None | Some((_, MapSelection::Single, 1)) => SELECT_SINGLE,
-        Some((_, MapSelection::Plane { plane_world }, 2)) => {
+        Some((
+            _,
+            selection @ (MapSelection::Plane { .. } | MapSelection::DualParaboloid { .. }),
+            2,
+        )) => {
+            // SPPSM's plane, or the one across a point light's paraboloid axis.
+            let plane_world = selection
+                .two_map_plane()
+                .expect("a selection by a plane has one");
             params[0] = row_in_camera(plane_world, world_from_camera)
                 .as_vec4()
                 .to_array();
@@ -231,15 +239,6 @@ pub(crate) fn light_record(
                 .as_vec4()
                 .to_array();
             SELECT_CASCADES
-        }
-        Some((_, MapSelection::DualParaboloid { position, axis }, 2)) => {
-            // The plane selection: the second map on the far side of the plane through the
-            // light across the first hemisphere's axis.
-            let plane_world = (-axis).extend(axis.dot(position));
-            params[0] = row_in_camera(plane_world, world_from_camera)
-                .as_vec4()
-                .to_array();
-            SELECT_PLANE
         }
         Some((_, MapSelection::CubeFaces(faces), n)) if n == faces.faces().len() => {
             // params[0..3].xyz: the world axes x, y, z in view space (a direction's major

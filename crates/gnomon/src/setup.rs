@@ -291,16 +291,27 @@ impl MapSelection {
     pub fn map_for(&self, p: DVec3) -> Option<usize> {
         match self {
             MapSelection::Single => Some(0),
-            MapSelection::Plane { plane_world } => Some(usize::from(
-                plane_world.truncate().dot(p) + plane_world.w > 0.0,
-            )),
+            MapSelection::Plane { .. } | MapSelection::DualParaboloid { .. } => {
+                let plane = self.two_map_plane()?;
+                Some(usize::from(plane.dot(p.extend(1.0)) > 0.0))
+            }
             MapSelection::Cascades(slices) => {
                 Some(slices.slice_of(slices.depth_row_world.dot(p.extend(1.0))))
             }
             MapSelection::CubeFaces(faces) => faces.map_of(PointLight::face_of(p - faces.position)),
+        }
+    }
+
+    /// For the selections of two maps by a plane, the world plane (a, b, c, d) whose positive
+    /// side reads `maps[1]`: SPPSM's, or the plane through a point light across its
+    /// paraboloid maps' axis (the far side of the first hemisphere).
+    pub fn two_map_plane(&self) -> Option<DVec4> {
+        match self {
+            MapSelection::Plane { plane_world } => Some(*plane_world),
             MapSelection::DualParaboloid { position, axis } => {
-                Some(usize::from((p - *position).dot(*axis) < 0.0))
+                Some((-*axis).extend(axis.dot(*position)))
             }
+            _ => None,
         }
     }
 }
@@ -719,5 +730,61 @@ fn checked_setup(
         Err(SetupError::NumericalFailure {
             technique: technique.name(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::bounds::Aabb;
+    use crate::camera::Lens;
+    use crate::light::{DirectionalLight, PointLight, SpotLight};
+
+    /// `Technique::takes` says what the setups themselves refuse: a technique takes a light
+    /// exactly when its setup does not refuse it for its kind.
+    #[test]
+    fn takes_agrees_with_the_setups_refusals() {
+        let ground =
+            Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
+        let block = Aabb::new(DVec3::new(-5.0, 0.0, -5.0), DVec3::new(5.0, 10.0, 5.0)).unwrap();
+        let scene = SceneBounds::new(vec![block], vec![ground, block], None).unwrap();
+        let camera = Camera::look_at(
+            DVec3::new(30.0, 20.0, 30.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            Lens::default(),
+        )
+        .unwrap();
+        let lights = [
+            Light::Directional(DirectionalLight::new(DVec3::new(0.3, -1.0, 0.2)).unwrap()),
+            Light::Spot(
+                SpotLight::new(DVec3::new(0.0, 40.0, 10.0), -DVec3::Y, 50.0, 100.0).unwrap(),
+            ),
+            Light::Point(PointLight::new(DVec3::new(8.0, 6.0, 8.0), 60.0).unwrap()),
+        ];
+        for technique in Technique::all() {
+            for light in &lights {
+                let result =
+                    compute_setup(&technique, &camera, light, &scene, MapSettings::default());
+                let refused = matches!(
+                    result,
+                    Err(SetupError::NeedsPointLight { .. }
+                        | SetupError::PointLightUnsupported { .. })
+                );
+                assert_eq!(
+                    technique.takes(light),
+                    !refused,
+                    "{} with {light:?}: {result:?}",
+                    technique.name()
+                );
+                assert!(
+                    refused || result.is_ok(),
+                    "{}: {result:?}",
+                    technique.name()
+                );
+            }
+        }
     }
 }
