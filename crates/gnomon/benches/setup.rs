@@ -218,42 +218,25 @@ fn bench(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("cube_point", n), &scene, |b, s| {
             b.iter(|| compute_setup(&Cube, black_box(&camera), &lamp, s, settings).unwrap())
         });
-        let lamp_samples = ViewSamples::new(&camera, &lamp, &scene);
-        group.bench_with_input(
-            BenchmarkId::new("cube_point_given_samples", n),
-            &scene,
-            |b, s| {
+        for (name, light) in [
+            ("cube_point_given_samples", &lamp),
+            ("cube_point_40m_given_samples", &street_lamp),
+        ] {
+            let samples = ViewSamples::new(&camera, light, &scene);
+            group.bench_with_input(BenchmarkId::new(name, n), &scene, |b, s| {
                 b.iter(|| {
                     compute_setup_with_samples(
                         &Cube,
                         black_box(&camera),
-                        &lamp,
+                        light,
                         s,
                         settings,
-                        &lamp_samples,
+                        &samples,
                     )
                     .unwrap()
                 })
-            },
-        );
-        let street_samples = ViewSamples::new(&camera, &street_lamp, &scene);
-        group.bench_with_input(
-            BenchmarkId::new("cube_point_40m_given_samples", n),
-            &scene,
-            |b, s| {
-                b.iter(|| {
-                    compute_setup_with_samples(
-                        &Cube,
-                        black_box(&camera),
-                        &street_lamp,
-                        s,
-                        settings,
-                        &street_samples,
-                    )
-                    .unwrap()
-                })
-            },
-        );
+            });
+        }
         group.bench_with_input(BenchmarkId::new("psm_spot", n), &scene, |b, s| {
             b.iter(|| {
                 compute_setup(&Psm::default(), black_box(&camera), &spot, s, settings).unwrap()

@@ -47,6 +47,12 @@ const GNOMON_MAP_PARABOLOID: u32 = 2u;
 const GNOMON_PARABOLOID_SCALE: f32 = 0.94896456671488;
 const GNOMON_PARABOLOID_RIM: f32 = -0.05233595624294383;
 
+// A paraboloid map's scale from q.xy / (|q| + q.z) into its inset square (`info`: its
+// GnomonMap.info, resolution and inset in z and w).
+fn gnomon_paraboloid_scale(info: vec4<u32>) -> f32 {
+    return GNOMON_PARABOLOID_SCALE * (1.0 - 2.0 * f32(info.w) / f32(info.z));
+}
+
 struct GnomonMap {
     // View space to the map's clip space.
     clip_from_camera: mat4x4<f32>,
@@ -255,7 +261,7 @@ fn gnomon_map_view(map: u32) -> GnomonMapView {
         f32(info.z),
         gnomon_shadows.maps[map].bias.w,
         (info.y & GNOMON_MAP_PARABOLOID) != 0u,
-        GNOMON_PARABOLOID_SCALE * (1.0 - 2.0 * f32(info.w) / f32(info.z)),
+        gnomon_paraboloid_scale(info),
     );
 }
 

@@ -69,8 +69,7 @@ fn vs_depth(@location(0) position: vec3<f32>, instance: CasterInstance) -> Depth
         // technique's known error).
         let q = out.clip.xyz;
         let d = max(length(q), 1e-30);
-        let scale = GNOMON_PARABOLOID_SCALE * (1.0 - 2.0 * f32(info.w) / f32(info.z));
-        let xy = q.xy * (scale / max(d + q.z, 1e-6 * d));
+        let xy = q.xy * (gnomon_paraboloid_scale(info) / max(d + q.z, 1e-6 * d));
         out.clip = vec4<f32>(xy, (q.z / d - GNOMON_PARABOLOID_RIM) / (1.0 - GNOMON_PARABOLOID_RIM), 1.0);
         out.depth = d;
     }
