@@ -596,6 +596,198 @@ impl VisibleScene {
     }
 }
 
+/// A spot light's frustum as its own map sees it: its planes (near, far, then the four
+/// sides, [`crate::light::SpotLight::frustum_planes`]) and the tangent of its half-angle,
+/// so that its sides are the map's square `|x|, |y| <= tangent`. Since the sides are the
+/// light's rays through the square's edges, the image of a part in front of the light
+/// (beyond its near plane) cut by the sides is the image of the uncut part clamped to the
+/// square: exact in x and y with no cut.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SpotFrustum {
+    pub planes: [Plane; 6],
+    pub tangent: f64,
+}
+
+impl SpotFrustum {
+    /// The bits of the near and far planes in `planes`.
+    pub const NEAR_FAR: u32 = 0b11;
+    /// The bits of the sides.
+    pub const SIDES: u32 = 0b11_1100;
+
+    /// `e` clamped to the square in x and y, or empty where it misses it.
+    pub fn clamp(&self, e: Extents) -> Extents {
+        let t = self.tangent;
+        let c = Extents {
+            min: e.min.max(DVec3::new(-t, -t, f64::NEG_INFINITY)),
+            max: e.max.min(DVec3::new(t, t, f64::INFINITY)),
+        };
+        if c.is_empty() { Extents::EMPTY } else { c }
+    }
+}
+
+/// A caster walk's images under a spot light's own projector with the sides clamped
+/// ([`SpotFrustum`]): the walk cuts by the near and far planes only where boxes cross them.
+pub(crate) struct SpotImages<'a> {
+    pub scene: &'a SceneBounds,
+    pub projector: &'a Projector,
+    pub frustum: &'a SpotFrustum,
+}
+
+impl CasterImages for SpotImages<'_> {
+    const AFFINE: bool = false;
+    fn node(&self, n: usize) -> Extents {
+        let tree = self.scene.caster_tree();
+        self.frustum
+            .clamp(self.projector.box_extents(&tree.node_box(n)))
+    }
+    fn caster(&self, i: usize) -> Extents {
+        self.frustum
+            .clamp(self.projector.box_extents(&self.scene.casters()[i]))
+    }
+    fn point(&self, p: DVec3) -> DVec3 {
+        self.projector.project(p)
+    }
+    fn clamped_planes(&self) -> u32 {
+        SpotFrustum::SIDES
+    }
+    fn bound(&self, e: Extents) -> Extents {
+        self.frustum.clamp(e)
+    }
+}
+
+impl VisibleScene {
+    /// The extents, under a spot light's own `projector`, of the visible receiver parts
+    /// inside its `frustum`, straight from this scene (cut by the view's `view_planes`
+    /// alone): the same as [`Self::receiver_extents`] of the scene cut by the frustum. A
+    /// part in front of the light's near plane is cut by the frustum's sides only where its
+    /// clamped image ([`SpotFrustum::clamp`], which holds the image of its cut) adds to the
+    /// extents gathered so far; a subtree whose clamped image adds nothing is not opened.
+    pub fn extents_in_frustum(
+        &self,
+        scene: &SceneBounds,
+        view_planes: &[Plane],
+        frustum: &SpotFrustum,
+        projector: &Projector,
+    ) -> Extents {
+        let tolerance = self.tolerance;
+        let (tree, arrays, receivers) = (
+            scene.receiver_tree(),
+            scene.receiver_arrays(),
+            scene.receivers(),
+        );
+        let image = |points: &[DVec3]| {
+            let mut e = Extents::EMPTY;
+            for p in points {
+                e.add(projector.project(*p));
+            }
+            e
+        };
+        let planes: Vec<Plane> = view_planes.iter().chain(&frustum.planes).copied().collect();
+        let shift = view_planes.len();
+        let against_frustum =
+            |c: DVec3, h: DVec3| straddled(c, h, &frustum.planes, all_planes(6), tolerance);
+        let mut scratch = Vec::new();
+        // Adds receiver `i`'s part inside the view planes `view.0` (or `view.1`, the plane
+        // that alone cuts it) and the frustum planes `frustum_mask` that cross it, given an
+        // image `bound` that holds its part's where the part lies in front of the light (and
+        // is the image of its part inside the view planes where `view.1` is `None`).
+        let mut add = |ext: &mut Extents,
+                       i: usize,
+                       view: (u32, Option<&Plane>),
+                       frustum_mask: u32,
+                       bound: Option<Extents>| {
+            if let Some(b) = bound.map(|b| frustum.clamp(b)) {
+                if b.is_empty() || ext.contains(&b) {
+                    return;
+                }
+                if frustum_mask == 0 && view.1.is_none() {
+                    *ext = ext.union(&b);
+                    return;
+                }
+            }
+            scratch.clear();
+            let kept = match view {
+                (view_mask, None) => box_cut_vertices(
+                    &receivers[i],
+                    &planes,
+                    view_mask | frustum_mask << shift,
+                    tolerance,
+                    &mut scratch,
+                ),
+                (_, Some(plane)) => {
+                    let mut cut = [*plane; 7];
+                    cut[1..].copy_from_slice(&frustum.planes);
+                    box_cut_vertices(
+                        &receivers[i],
+                        &cut,
+                        1 | frustum_mask << 1,
+                        tolerance,
+                        &mut scratch,
+                    )
+                }
+            };
+            if kept {
+                *ext = ext.union(&image(&scratch));
+            }
+        };
+        let mut ext = Extents::EMPTY;
+        for &(i, view_mask, start, end) in &self.cuts {
+            let i = i as usize;
+            if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
+                let bound = (m & SpotFrustum::NEAR_FAR == 0)
+                    .then(|| image(&self.points[start as usize..end as usize]));
+                add(&mut ext, i, (view_mask, None), m, bound);
+            }
+        }
+        let whole_box = |add: &mut AddPart<'_>, ext: &mut Extents, i: usize| {
+            if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
+                let bound =
+                    (m & SpotFrustum::NEAR_FAR == 0).then(|| projector.box_extents(&receivers[i]));
+                add(ext, i, (0, None), m, bound);
+            }
+        };
+        for &i in &self.boxes {
+            whole_box(&mut add, &mut ext, i as usize);
+        }
+        let mut stack: Vec<usize> = self.nodes.iter().map(|&n| n as usize).collect();
+        while let Some(node) = stack.pop() {
+            let held = match against_frustum(tree.nodes.center_of(node), tree.nodes.half_of(node)) {
+                None => continue,
+                Some(m) if m & SpotFrustum::NEAR_FAR == 0 => {
+                    let e = frustum.clamp(projector.box_extents(&tree.node_box(node)));
+                    e.is_empty() || ext.contains(&e)
+                }
+                Some(_) => false,
+            };
+            if held {
+                continue;
+            }
+            if tree.is_leaf(node) {
+                for &i in tree.boxes_of(node) {
+                    whole_box(&mut add, &mut ext, i as usize);
+                }
+            } else {
+                stack.extend(tree.children(node));
+            }
+        }
+        for (i, plane) in &self.cut_once {
+            let i = *i as usize;
+            if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
+                // The whole box's image holds its part's.
+                let bound =
+                    (m & SpotFrustum::NEAR_FAR == 0).then(|| projector.box_extents(&receivers[i]));
+                add(&mut ext, i, (0, Some(plane)), m, bound);
+            }
+        }
+        ext
+    }
+}
+
+/// How [`VisibleScene::extents_in_frustum`] adds a receiver's part: the extents, the
+/// receiver, the view planes that cut it, the frustum planes that cross it, and an image
+/// that holds its part's.
+type AddPart<'a> = dyn FnMut(&mut Extents, usize, (u32, Option<&Plane>), u32, Option<Extents>) + 'a;
+
 /// The six planes of a box, normals inward.
 pub(crate) fn box_planes(b: &Aabb) -> [Plane; 6] {
     let (lo, hi) = (b.min(), b.max());
@@ -686,6 +878,17 @@ pub(crate) trait CasterImages {
     /// A depth that orders children nearest the light first, where the map has one.
     fn order(&self, _center: DVec3) -> f64 {
         0.0
+    }
+    /// The bits of the cutting planes whose cut the images make themselves: `node`, `caster`
+    /// and [`CasterImages::bound`] clamp an image to what lies inside those planes, exactly
+    /// in x and y (a spot frustum's sides, whose inside is the map's square). A box only
+    /// they cross needs no cut, but where its depth is read (see [`walk_casters`]).
+    fn clamped_planes(&self) -> u32 {
+        0
+    }
+    /// The image of a part inside the clamped planes, from the extents of its points.
+    fn bound(&self, e: Extents) -> Extents {
+        e
     }
 }
 
@@ -778,6 +981,7 @@ pub(crate) fn walk_casters<I: CasterImages>(
     // walk they are small), to be opened at the end if they still do not.
     let mut deferred = Vec::new();
     let mut strict = false;
+    let clamped = images.clamped_planes();
     loop {
         while let Some((node, active)) = stack.pop() {
             let active = match active {
@@ -794,8 +998,8 @@ pub(crate) fn walk_casters<I: CasterImages>(
                 },
             };
             // A node's image holds its boxes' (for a point light, where the node lies in
-            // front of it: inside every plane of its frustum).
-            if active == 0 || I::AFFINE {
+            // front of it: inside every plane of its frustum but those the images clamp).
+            if active & !clamped == 0 || I::AFFINE {
                 let image = images.node(node);
                 if !receivers.xy_overlaps(&image, xy_slack) || image.min.z > receivers.max.z {
                     continue;
@@ -837,16 +1041,34 @@ pub(crate) fn walk_casters<I: CasterImages>(
                 let (box_ext, crosses_near) = match code {
                     None => continue,
                     Some(0) => (images.caster(i), false),
+                    // Only planes the images clamp cross it: its image holds its part's;
+                    // cut where that image would add to the extents, so that they are its
+                    // part's. (Where it adds nothing, it counts as relevant when its image
+                    // reaches over the receivers.)
+                    Some(mask) if mask & !clamped == 0 => {
+                        let e = images.caster(i);
+                        if !receivers.xy_overlaps(&e, xy_slack)
+                            || e.min.z > receivers.max.z
+                            || ext.contains(&e.clamped_to(&over))
+                        {
+                            (e, false)
+                        } else {
+                            scratch.clear();
+                            let caster = &scene.casters()[i];
+                            if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch)
+                            {
+                                continue;
+                            }
+                            (images.bound(points_image(images, &scratch)), false)
+                        }
+                    }
                     Some(mask) => {
                         scratch.clear();
                         let caster = &scene.casters()[i];
                         if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch) {
                             continue;
                         }
-                        let mut e = Extents::EMPTY;
-                        for p in &scratch {
-                            e.add(images.point(*p));
-                        }
+                        let e = images.bound(points_image(images, &scratch));
                         (e, light_near_first && mask & 1 != 0)
                     }
                 };
@@ -876,6 +1098,15 @@ pub(crate) fn walk_casters<I: CasterImages>(
         relevant,
         near_clipped,
     }
+}
+
+/// The extents of points under a caster walk's map.
+fn points_image<I: CasterImages>(images: &I, points: &[DVec3]) -> Extents {
+    let mut e = Extents::EMPTY;
+    for p in points {
+        e.add(images.point(*p));
+    }
+    e
 }
 
 /// Unit cube clipping (see the module documentation): the region a focused map covers, from

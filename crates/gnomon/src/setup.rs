@@ -484,8 +484,8 @@ pub struct Diagnostics {
     /// the smallest over its faces).
     pub warp_strength: Option<f64>,
     /// A point light's cube faces without a map: no visible receiver in the face's frustum,
-    /// or none that a caster can shadow. (For a point light the counts above are summed over
-    /// the faces with maps.)
+    /// or none that a caster can shadow. (For a point light the caster counts above are
+    /// summed over the faces with maps; each visible receiver counts once.)
     pub cube_faces_skipped: usize,
 }
 

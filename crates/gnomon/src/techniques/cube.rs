@@ -16,14 +16,16 @@
 //! [`PointLight::face_of`]); [`MapSelection::CubeFaces`] lists the faces that have maps.
 
 use crate::error::SetupError;
+use crate::focus::{SpotFrustum, SpotImages, unit_cube_clip, walk_casters};
 use crate::frame::Frame;
-use crate::light::{CubeFace, Light, PointLight, cube_face_tangent};
+use crate::light::{CubeFace, Light, PointLight, SpotLight, cube_face_tangent};
+use crate::light_space::{Extents, build_map};
 use crate::samples::ViewSamples;
 use crate::setup::{
     CubeFaceMaps, Diagnostics, Fallback, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
 };
-use crate::techniques::Focused;
 use crate::techniques::basis::{FocusBasis, Part};
+use crate::techniques::{ANGULAR_PADDING, Focused, fixed_projector};
 
 /// Cube shadow maps for a point light: six faces, each the focused map with unit cube
 /// clipping of the visible receivers in that face's frustum and the casters that can shadow
@@ -40,9 +42,7 @@ impl ShadowTechnique for Cube {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         let point = point_light_only(input, self.name())?;
-        per_face(self.name(), input, point, |input, basis| {
-            Ok(Focused.setup_on(input, basis))
-        })
+        focused_per_face(self.name(), input, point)
     }
 }
 
@@ -56,23 +56,50 @@ pub(crate) fn per_face(
     point: &PointLight,
     fit: impl Fn(&SetupInput<'_>, &FocusBasis<'_>) -> Result<ShadowSetup, SetupError>,
 ) -> Result<ShadowSetup, SetupError> {
+    faces(name, input, point, false, fit)
+}
+
+/// [`per_face`] of the focused map (`cube`, and `focused` for a point light): where the
+/// light stands inside the scene box, each face is fitted straight from the point light's
+/// frame ([`focused_face`]) with no frame of its own.
+pub(crate) fn focused_per_face(
+    name: &'static str,
+    input: &SetupInput<'_>,
+    point: &PointLight,
+) -> Result<ShadowSetup, SetupError> {
+    faces(name, input, point, true, |input, basis| {
+        Ok(Focused.setup_on(input, basis))
+    })
+}
+
+/// [`per_face`], with each face's focused map made by [`focused_face`] where it can
+/// (`quick`).
+fn faces(
+    name: &'static str,
+    input: &SetupInput<'_>,
+    point: &PointLight,
+    quick: bool,
+    fit: impl Fn(&SetupInput<'_>, &FocusBasis<'_>) -> Result<ShadowSetup, SetupError>,
+) -> Result<ShadowSetup, SetupError> {
     input.map.validate()?;
-    let cast;
-    let samples = match input.samples {
-        Some(samples) => samples,
-        None => {
-            cast = ViewSamples::new(input.camera, input.light, input.scene);
-            &cast
-        }
-    };
     let view = Frame::new(input);
     let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
     let mut maps = Vec::new();
     let mut faces = CubeFaceMaps::new(point.position());
-    // The face's setup, or `None` where its frustum does not meet the view.
+    // The face's setup, or `None` where it has nothing to shadow (or, unless `always`, where
+    // its frustum does not meet the view).
     let face_setup = |face: CubeFace, always: bool| -> Result<Option<ShadowSetup>, SetupError> {
-        let light = Light::Spot(point.face_light(face, input.map.resolution));
-        let face_samples = face_share(samples, point, face, input.map.resolution);
+        let spot = point.face_light(face, input.map.resolution);
+        let light = Light::Spot(spot);
+        if quick
+            && !always
+            && let Some(setup) = focused_face(&view, input, &spot)
+        {
+            return Ok(setup);
+        }
+        // The face's share of the view samples (cast for the point light on first use),
+        // which its warp limit judges on.
+        let face_samples = face_share(view.samples(), point, face, input.map.resolution);
         let face_input = SetupInput {
             light: &light,
             samples: Some(&face_samples),
@@ -87,13 +114,6 @@ pub(crate) fn per_face(
         if setup.maps.len() != 1 || setup.selection != MapSelection::Single {
             return Err(SetupError::PointLightUnsupported { technique: name });
         }
-        Ok(Some(setup))
-    };
-    for face in CubeFace::ALL {
-        let Some(setup) = face_setup(face, false)? else {
-            diagnostics.cube_faces_skipped += 1;
-            continue;
-        };
         let nothing_to_shadow = setup.diagnostics.fallbacks.iter().any(|f| {
             matches!(
                 f,
@@ -102,10 +122,13 @@ pub(crate) fn per_face(
                     | Fallback::NoCasterForReceivers
             )
         });
-        if nothing_to_shadow {
+        Ok((always || !nothing_to_shadow).then_some(setup))
+    };
+    for face in CubeFace::ALL {
+        let Some(setup) = face_setup(face, false)? else {
             diagnostics.cube_faces_skipped += 1;
             continue;
-        }
+        };
         add_face(&mut diagnostics, &setup.diagnostics);
         faces.push(face);
         maps.push(setup.maps[0]);
@@ -120,12 +143,88 @@ pub(crate) fn per_face(
         faces.push(face);
         maps.push(setup.maps[0]);
     }
+    // Each receiver counts once, whichever faces see it.
+    diagnostics.visible_receivers = view.visible().visible_receivers();
     Ok(ShadowSetup {
         technique: name,
         maps,
         selection: MapSelection::CubeFaces(faces),
         diagnostics,
     })
+}
+
+/// The focused map with unit cube clipping of one face (`spot`, its spot light), fitted
+/// straight from the point light's frame `view` rather than from a frame of the face: the
+/// view's visible receiver parts and the casters are taken under the face's projector with
+/// its sides clamped ([`SpotFrustum`]: exact in x and y), and cut only where they cross its
+/// near or far plane, or where a caster's depth would be the map's near plane. `Some(None)`
+/// when the face has nothing to shadow (no visible receiver, or no caster for them).
+///
+/// B is not built: with the light inside the scene box (the corners of the face's near
+/// plane inside it) B reaches the face's near plane (the segments from the light to P run
+/// in it), so it cannot raise the map's near plane above the casters'. Elsewhere this
+/// returns `None` and the face gets its own frame.
+fn focused_face(
+    view: &Frame<'_>,
+    input: &SetupInput<'_>,
+    spot: &SpotLight,
+) -> Option<Option<ShadowSetup>> {
+    let light = Light::Spot(*spot);
+    let projector = fixed_projector(&light);
+    let up = projector.frame().up;
+    let (tolerance, scene) = (view.tolerance, input.scene);
+    let (d, t) = (spot.direction(), spot.half_angle().tan());
+    let right = d.cross(up).normalize();
+    let up = right.cross(d);
+    let center = spot.position() + spot.near() * d;
+    let scene_box = scene.scene_box();
+    let near_inside = [(-1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)]
+        .iter()
+        .all(|(a, b)| {
+            let corner = center + spot.near() * t * (a * right + b * up);
+            scene_box.contains_point(corner, -tolerance)
+        });
+    if !near_inside {
+        return None;
+    }
+    let frustum = SpotFrustum {
+        planes: spot.frustum_planes(projector.frame().up),
+        tangent: t,
+    };
+    let mut diagnostics = Diagnostics::new(input.camera, &light, scene);
+    let receivers = if view.view_body.is_empty() {
+        Extents::EMPTY
+    } else {
+        view.visible()
+            .extents_in_frustum(scene, &view.receiver_planes, &frustum, &projector)
+    };
+    if receivers.is_empty() {
+        return Some(None);
+    }
+    let images = SpotImages {
+        scene,
+        projector: &projector,
+        frustum: &frustum,
+    };
+    let walked = walk_casters(scene, &images, &receivers, &frustum.planes, true, tolerance);
+    diagnostics.relevant_casters = walked.relevant;
+    diagnostics.culled_casters = scene.casters().len() - walked.relevant;
+    diagnostics.casters_clipped_by_light_near = walked.near_clipped;
+    let Some(region) = unit_cube_clip(&receivers, &walked.extents, None) else {
+        return Some(None);
+    };
+    Some(Some(ShadowSetup {
+        technique: "cube",
+        maps: vec![build_map(
+            &projector,
+            &region,
+            input.map,
+            ANGULAR_PADDING,
+            tolerance,
+        )],
+        selection: MapSelection::Single,
+        diagnostics,
+    }))
 }
 
 /// The samples inside the frustum of `face` (for `resolution`-texel maps): its share of the
@@ -163,7 +262,6 @@ fn add_face(total: &mut Diagnostics, face: &Diagnostics) {
             total.fallbacks.push(*f);
         }
     }
-    total.visible_receivers += face.visible_receivers;
     total.relevant_casters += face.relevant_casters;
     total.culled_casters += face.culled_casters;
     total.casters_clipped_by_light_near += face.casters_clipped_by_light_near;
@@ -265,8 +363,8 @@ mod shared_frame_tests {
     proptest! {
         #![proptest_config(ProptestConfig { cases: 200, failure_persistence: None, ..ProptestConfig::default() })]
 
-        /// The faces refined from the point light's shared frame get the maps that a frame of
-        /// each face's own spot light gives.
+        /// The faces refined from the point light's shared frame (or, for the focused map,
+        /// fitted from it) get the maps that a frame of each face's own spot light gives.
         #[test]
         fn shared_faces_match_faces_set_up_alone(
             boxes in prop::collection::vec((prop::array::uniform3(-40.0f64..40.0), prop::array::uniform3(0.5f64..15.0), 0u8..3), 1..30),
@@ -275,12 +373,16 @@ mod shared_frame_tests {
             lamp in prop::array::uniform3(-30.0f64..30.0),
             range in 10.0f64..200.0,
             warp in any::<bool>(),
+            above_scene in any::<bool>(),
         ) {
             let scene = test_scenes::mixed(&boxes);
             let camera = test_scenes::camera(eye, target);
             prop_assume!(camera.is_some());
             let camera = camera.unwrap();
-            let position = DVec3::from_array(lamp).with_y(lamp[1].abs() * 0.3 + 0.5);
+            // Above the scene box the focused faces get frames of their own; inside it they
+            // are fitted from the point light's frame.
+            let high = if above_scene { 60.0 } else { 0.0 };
+            let position = DVec3::from_array(lamp).with_y(lamp[1].abs() * 0.3 + 0.5 + high);
             let point = PointLight::new(position, range).unwrap();
             let light = Light::Point(point);
             let map = MapSettings::with_resolution(1024);

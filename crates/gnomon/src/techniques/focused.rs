@@ -48,9 +48,7 @@ impl ShadowTechnique for Focused {
 
     fn setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         if let Light::Point(point) = input.light {
-            return crate::techniques::per_face(self.name(), input, point, |input, basis| {
-                Ok(self.setup_on(input, basis))
-            });
+            return crate::techniques::focused_per_face(self.name(), input, point);
         }
         input.map.validate()?;
         Ok(on_whole_frame(input, |basis| self.setup_on(input, basis)))

@@ -16,7 +16,7 @@ mod xpsm;
 
 pub use cascades::{CascadeFit, CascadeSplit, Cascades};
 pub use cube::Cube;
-pub(crate) use cube::per_face;
+pub(crate) use cube::{focused_per_face, per_face};
 pub use focused::Focused;
 pub use lispsm::Lispsm;
 pub use paraboloid::DualParaboloid;
