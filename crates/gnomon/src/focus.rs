@@ -563,13 +563,7 @@ impl VisibleScene {
 
     /// The extents of the visible receiver parts under `projector`.
     pub fn receiver_extents(&self, scene: &SceneBounds, projector: &Projector) -> Extents {
-        let points_image = |points: &[DVec3]| {
-            let mut ext = Extents::EMPTY;
-            for p in points {
-                ext.add(projector.project(*p));
-            }
-            ext
-        };
+        let points_image = |points: &[DVec3]| projector.points_extents(points);
         let tree = scene.receiver_tree();
         match projector {
             Projector::Parallel(frame) => {
@@ -675,13 +669,7 @@ impl VisibleScene {
             scene.receiver_arrays(),
             scene.receivers(),
         );
-        let image = |points: &[DVec3]| {
-            let mut e = Extents::EMPTY;
-            for p in points {
-                e.add(projector.project(*p));
-            }
-            e
-        };
+        let image = |points: &[DVec3]| projector.points_extents(points);
         let planes: Vec<Plane> = view_planes.iter().chain(&frustum.planes).copied().collect();
         let shift = view_planes.len();
         let against_frustum =
@@ -856,9 +844,7 @@ pub(crate) fn caster_extents(
             )
         }
     };
-    diagnostics.relevant_casters = walked.relevant;
-    diagnostics.culled_casters = scene.casters().len() - walked.relevant;
-    diagnostics.casters_clipped_by_light_near = walked.near_clipped;
+    walked.count_into(scene, diagnostics);
     walked.extents
 }
 
@@ -946,6 +932,15 @@ pub(crate) struct WalkedCasters {
     pub extents: Extents,
     pub relevant: usize,
     pub near_clipped: usize,
+}
+
+impl WalkedCasters {
+    /// Puts the walk's caster counts into `diagnostics`.
+    pub fn count_into(&self, scene: &SceneBounds, diagnostics: &mut Diagnostics) {
+        diagnostics.relevant_casters = self.relevant;
+        diagnostics.culled_casters = scene.casters().len() - self.relevant;
+        diagnostics.casters_clipped_by_light_near = self.near_clipped;
+    }
 }
 
 /// The walk of [`caster_extents`] under any map (`images`).
@@ -1041,35 +1036,36 @@ pub(crate) fn walk_casters<I: CasterImages>(
                 let (box_ext, crosses_near) = match code {
                     None => continue,
                     Some(0) => (images.caster(i), false),
-                    // Only planes the images clamp cross it: its image holds its part's;
-                    // cut where that image would add to the extents, so that they are its
-                    // part's. (Where it adds nothing, it counts as relevant when its image
-                    // reaches over the receivers.)
-                    Some(mask) if mask & !clamped == 0 => {
-                        let e = images.caster(i);
-                        if !receivers.xy_overlaps(&e, xy_slack)
-                            || e.min.z > receivers.max.z
-                            || ext.contains(&e.clamped_to(&over))
-                        {
-                            (e, false)
-                        } else {
-                            scratch.clear();
-                            let caster = &scene.casters()[i];
-                            if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch)
-                            {
-                                continue;
-                            }
-                            (images.bound(points_image(images, &scratch)), false)
-                        }
-                    }
                     Some(mask) => {
-                        scratch.clear();
-                        let caster = &scene.casters()[i];
-                        if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch) {
-                            continue;
+                        // Where only planes the images clamp cross it, its image holds its
+                        // part's, and it is cut only where that image would add to the
+                        // extents, so that they are its part's. (Where it adds nothing, it
+                        // counts as relevant when its image reaches over the receivers.)
+                        let uncut = (mask & !clamped == 0)
+                            .then(|| images.caster(i))
+                            .filter(|e| {
+                                !receivers.xy_overlaps(e, xy_slack)
+                                    || e.min.z > receivers.max.z
+                                    || ext.contains(&e.clamped_to(&over))
+                            });
+                        match uncut {
+                            Some(e) => (e, false),
+                            None => {
+                                scratch.clear();
+                                let caster = &scene.casters()[i];
+                                if !box_cut_vertices(
+                                    caster,
+                                    cut_planes,
+                                    mask,
+                                    tolerance,
+                                    &mut scratch,
+                                ) {
+                                    continue;
+                                }
+                                let e = images.bound(points_image(images, &scratch));
+                                (e, light_near_first && mask & 1 != 0)
+                            }
                         }
-                        let e = images.bound(points_image(images, &scratch));
-                        (e, light_near_first && mask & 1 != 0)
                     }
                 };
                 if !receivers.xy_overlaps(&box_ext, xy_slack) || box_ext.min.z > receivers.max.z {

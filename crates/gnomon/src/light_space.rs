@@ -104,6 +104,15 @@ impl Projector {
         }
     }
 
+    /// The extents of points (for a point projector, points in front of it).
+    pub fn points_extents(&self, points: &[DVec3]) -> Extents {
+        let mut ext = Extents::EMPTY;
+        for p in points {
+            ext.add(self.project(*p));
+        }
+        ext
+    }
+
     /// The world plane of the rays through the 2D line `n2 . (x, y) + c2 = 0` of the map plane,
     /// its inside where `n2 . (x, y) + c2 >= 0`.
     pub fn plane_from_line(&self, n2: DVec2, c2: f64) -> Option<Plane> {

@@ -207,9 +207,7 @@ fn focused_face(
         frustum: &frustum,
     };
     let walked = walk_casters(scene, &images, &receivers, &frustum.planes, true, tolerance);
-    diagnostics.relevant_casters = walked.relevant;
-    diagnostics.culled_casters = scene.casters().len() - walked.relevant;
-    diagnostics.casters_clipped_by_light_near = walked.near_clipped;
+    walked.count_into(scene, &mut diagnostics);
     let Some(region) = unit_cube_clip(&receivers, &walked.extents, None) else {
         return Some(None);
     };

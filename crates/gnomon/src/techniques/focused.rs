@@ -150,13 +150,7 @@ fn choose_frame(
         return fixed;
     };
     let aligned = Projector::Parallel(frame);
-    let area = |projector: &Projector| {
-        let mut ext = Extents::EMPTY;
-        for p in body {
-            ext.add(projector.project(*p));
-        }
-        ext.xy_area()
-    };
+    let area = |projector: &Projector| projector.points_extents(body).xy_area();
     if !body.is_empty() && area(&aligned) <= area(&fixed) {
         diagnostics.light_frame = LightFrameKind::ViewAligned;
         aligned
@@ -176,10 +170,7 @@ fn usable_body_extents(
     if body.is_empty() {
         return None;
     }
-    let mut ext = Extents::EMPTY;
-    for p in body {
-        ext.add(projector.project(*p));
-    }
+    let ext = projector.points_extents(body);
     let slack = 1e-6 * (receivers.max.z - receivers.min.z) + tolerance;
     (ext.min.z <= receivers.min.z + slack).then_some(ext)
 }
