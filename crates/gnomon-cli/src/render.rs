@@ -56,6 +56,39 @@ pub struct RenderArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub light: LightArgs,
+    #[command(flatten)]
+    pub draw: DrawArgs,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Where to write the image (PNG).
+    #[arg(long, default_value = "frame.png")]
+    pub out: PathBuf,
+    /// Also write the direct-light mask (PNG, one value per pixel sampled at its centre:
+    /// 255 lit, 0 not lit, 128 no geometry).
+    #[arg(long)]
+    pub mask: Option<PathBuf>,
+    /// Also write the shadow map as the light sees it, with the view frustum over it (PNG;
+    /// SPPSM: both maps side by side, the focused one on the left).
+    #[arg(long)]
+    pub light_view: Option<PathBuf>,
+    /// Also write the per-pixel sampling error as a heat map with a legend (PNG): pixels per
+    /// texel along the worst direction, from the shader's derivatives of the shadow
+    /// coordinate; 1 = one texel per pixel (white), warmer = undersampled, blue = more than
+    /// one texel per pixel.
+    #[arg(long)]
+    pub error_map: Option<PathBuf>,
+    /// Print a JSON summary on stdout: timings, fallback, and the sampling error's
+    /// percentiles (p50, p95, p99, max) over the visible pixels that face the light
+    /// (N.L > 0.1).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What is drawn and how: the technique, its parameters, the map, filtering, bias and tint;
+/// shared by `render` and `view` (one definition of each option).
+#[derive(Debug, Clone, Args)]
+pub struct DrawArgs {
     /// The shadow technique: a shadow-map technique, or `volumes` (exact stenciled shadow
     /// volumes; `volumes-z-pass`, `volumes-per-caster` name a way of counting them): the
     /// names of [`crate::names`].
@@ -72,9 +105,6 @@ pub struct RenderArgs {
     /// (Default z-fail.)
     #[arg(long, value_enum)]
     pub stencil: Option<StencilArg>,
-    /// Image size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
-    pub size: (u32, u32),
     /// Shadow-map filtering.
     #[arg(long, value_enum, default_value = "2x2")]
     pub pcf: PcfArg,
@@ -87,33 +117,74 @@ pub struct RenderArgs {
     /// Normal offset, in texels, 0 to 64.
     #[arg(long, default_value_t = DepthBias::default().normal_offset_texels, value_parser = parse_texels, allow_hyphen_values = true)]
     pub normal_offset: f64,
-    /// Where to write the image (PNG).
-    #[arg(long, default_value = "frame.png")]
-    pub out: PathBuf,
-    /// Also write the direct-light mask (PNG, one value per pixel sampled at its centre:
-    /// 255 lit, 0 not lit, 128 no geometry).
-    #[arg(long)]
-    pub mask: Option<PathBuf>,
-    /// Also write the shadow map as the light sees it, with the view frustum over it (PNG;
-    /// SPPSM: both maps side by side, the focused one on the left).
-    #[arg(long)]
-    pub light_view: Option<PathBuf>,
     /// Tint pixels by the map they read: SPPSM's (red: the perspective map, blue: the focused
     /// map, as in the paper's figures), the cascades', a point light's cube faces or
     /// hemispheres.
     #[arg(long)]
     pub tint: bool,
-    /// Also write the per-pixel sampling error as a heat map with a legend (PNG): pixels per
-    /// texel along the worst direction, from the shader's derivatives of the shadow
-    /// coordinate; 1 = one texel per pixel (white), warmer = undersampled, blue = more than
-    /// one texel per pixel.
-    #[arg(long)]
-    pub error_map: Option<PathBuf>,
-    /// Print a JSON summary on stdout: timings, fallback, and the sampling error's
-    /// percentiles (p50, p95, p99, max) over the visible pixels that face the light
-    /// (N.L > 0.1).
-    #[arg(long)]
-    pub json: bool,
+}
+
+impl DrawArgs {
+    /// The renderer's settings of a `size` image: filtering, bias and tint.
+    pub fn settings(&self, size: (u32, u32)) -> RenderSettings {
+        RenderSettings {
+            width: size.0,
+            height: size.1,
+            filter: self.pcf.into(),
+            bias: DepthBias {
+                constant_world: self.bias_constant,
+                slope_texels: self.bias_slope,
+                normal_offset_texels: self.normal_offset,
+                ..DepthBias::default()
+            },
+            tint: self.tint,
+            ..RenderSettings::default()
+        }
+    }
+
+    /// The options of filtering, bias, tint and counting that differ from their defaults, as
+    /// they are written on a command line (each with a leading space).
+    pub fn non_default_flags(&self) -> String {
+        let mut flags = String::new();
+        let defaults = DepthBias::default();
+        if self.pcf != PcfArg::Hardware2x2 {
+            let value = self.pcf.to_possible_value().expect("no skipped values");
+            flags += &format!(" --pcf {}", value.get_name());
+        }
+        if self.bias_constant != defaults.constant_world {
+            flags += &format!(" --bias-constant {}", self.bias_constant);
+        }
+        if self.bias_slope != defaults.slope_texels {
+            flags += &format!(" --bias-slope {}", self.bias_slope);
+        }
+        if self.normal_offset != defaults.normal_offset_texels {
+            flags += &format!(" --normal-offset {}", self.normal_offset);
+        }
+        if let Some(stencil) = self.stencil {
+            let value = stencil.to_possible_value().expect("no skipped values");
+            flags += &format!(" --stencil {}", value.get_name());
+        }
+        if self.tint {
+            flags += " --tint";
+        }
+        flags
+    }
+
+    /// The counting of shadow volumes: `--stencil` for `volumes`, else the one the name
+    /// gives; an error where both are given.
+    pub fn stencil_mode(&self, named: StencilMode) -> Result<StencilMode, CliError> {
+        match (self.stencil, self.technique.name()) {
+            (None, _) => Ok(named),
+            (Some(stencil), "volumes") => Ok(match stencil {
+                StencilArg::ZFail => StencilMode::ZFail,
+                StencilArg::ZPass => StencilMode::ZPass,
+                StencilArg::PerCaster => StencilMode::PerCaster,
+            }),
+            (Some(_), name) => Err(CliError::usage(format!(
+                "--technique {name} names the counting already; drop --stencil"
+            ))),
+        }
+    }
 }
 
 /// A bias in world units: a number from 0 to 10^4.
@@ -265,21 +336,21 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     // Every light of the view (a scene file's view may have several), the first the main one.
     let lights = args.light.lights(&args.view, &loaded.views)?;
-    let technique = match args.technique {
+    let technique = match args.draw.technique {
         Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &lights, mode),
         Drawn::Map(technique) => technique,
     };
-    if args.stencil.is_some() {
+    if args.draw.stencil.is_some() {
         return Err(CliError::usage(format!(
             "--stencil counts shadow volumes; technique {} uses a shadow map",
             gnomon::ShadowTechnique::name(&technique)
         )));
     }
-    let technique = args.params.apply(technique);
-    args.params.check_used_by(&[technique])?;
+    let technique = args.draw.params.apply(technique);
+    args.draw.params.check_used_by(&[technique])?;
     // Before any work where the technique says (SPPSM may still fall back to one map; a
     // point light's maps are its cube faces or hemispheres).
-    if args.tint
+    if args.draw.tint
         && !matches!(
             technique,
             gnomon::Technique::Sppsm(_) | gnomon::Technique::Cascades(_)
@@ -291,9 +362,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     // Bad technique parameters are refused before the GPU opens: the setup once from the
     // boxes alone (microseconds), then again with what the renderer's pixels see.
     for light in &lights {
-        timed_setup(&technique, &camera, light, &bounds, args.shadow_map, None)?;
+        timed_setup(&technique, &camera, light, &bounds, args.draw.shadow_map, None)?;
     }
-    let mut renderer = open_renderer(&scene, args.size, Some(args.shadow_map))?;
+    let mut renderer = open_renderer(&scene, args.size, Some(args.draw.shadow_map))?;
     // Each light's setup with what the pixels see from it; the times add up.
     let mut setups = Vec::with_capacity(lights.len());
     let mut setup_us = 0.0;
@@ -304,30 +375,20 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             &camera,
             light,
             &bounds,
-            args.shadow_map,
+            args.draw.shadow_map,
             Some(&samples),
         )?;
         setups.push(setup);
         setup_us += us;
     }
     let setup = &setups[0];
-    if args.tint && setup.maps.len() < 2 {
+    if args.draw.tint && setup.maps.len() < 2 {
         return Err(tint_needs_two_maps(&technique));
     }
     let settings = RenderSettings {
-        width: args.size.0,
-        height: args.size.1,
-        filter: args.pcf.into(),
-        bias: DepthBias {
-            constant_world: args.bias_constant,
-            slope_texels: args.bias_slope,
-            normal_offset_texels: args.normal_offset,
-            ..DepthBias::default()
-        },
         light_view: args.light_view.is_some(),
         metrics: args.error_map.is_some() || args.json,
-        tint: args.tint,
-        ..RenderSettings::default()
+        ..args.draw.settings(args.size)
     };
     let shadowed = gnomon_render::ShadowedLight::pairs(&lights, &setups);
     let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
@@ -404,19 +465,7 @@ fn run_volumes(
         ));
     }
     // `--stencil` picks the counting for `volumes`; a `volumes-*` name already did.
-    let mode = match (args.stencil, args.technique.name()) {
-        (None, _) => named,
-        (Some(stencil), "volumes") => match stencil {
-            StencilArg::ZFail => StencilMode::ZFail,
-            StencilArg::ZPass => StencilMode::ZPass,
-            StencilArg::PerCaster => StencilMode::PerCaster,
-        },
-        (Some(_), name) => {
-            return Err(CliError::usage(format!(
-                "--technique {name} names the counting already; drop --stencil"
-            )));
-        }
-    };
+    let mode = args.draw.stencil_mode(named)?;
     let mut renderer = open_renderer(scene, args.size, None)?;
     let settings = RenderSettings {
         width: args.size.0,

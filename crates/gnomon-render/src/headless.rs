@@ -144,8 +144,9 @@ impl PixelMetrics {
     }
 }
 
-/// The colour image's background.
-pub(crate) const SKY: wgpu::Color = wgpu::Color {
+/// The colour image's background (a window's program clears its target of the main pass
+/// with it to draw what `render` draws).
+pub const SKY: wgpu::Color = wgpu::Color {
     r: 0.55,
     g: 0.7,
     b: 0.9,
@@ -283,6 +284,24 @@ impl FrameClock {
 }
 
 impl Renderer {
+    /// The colour image (Rgba8UnormSrgb: [`crate::COLOR_FORMAT`]) of the last headless frame
+    /// ([`Renderer::render_lights`], [`Renderer::draw_volumes_lit_by`]), kept on the GPU;
+    /// `None` before the first.
+    pub fn frame_color(&self) -> Option<&wgpu::Texture> {
+        self.headless.as_ref().map(|t| &t.color.0)
+    }
+
+    /// Copies a 2D texture (layer 0) to the CPU: `bytes_per_texel` bytes per texel, rows
+    /// tightly packed, top to bottom (through the renderer's kept staging buffer; waits).
+    pub fn read_texture(
+        &mut self,
+        texture: &wgpu::Texture,
+        bytes_per_texel: u32,
+    ) -> Result<Vec<u8>, RenderError> {
+        self.readback
+            .read(&self.gpu, &self.resources, texture, bytes_per_texel, 0)
+    }
+
     /// The image size of `settings`, checked against the GPU's limit.
     pub(crate) fn image_size(&self, settings: &RenderSettings) -> Result<(u32, u32), RenderError> {
         self.gpu

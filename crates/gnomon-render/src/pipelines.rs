@@ -9,8 +9,9 @@ use crate::scene::{INSTANCE_STRIDE, Vertex};
 
 /// The camera's depth in the main pass: reversed Z, 32-bit float.
 pub(crate) const CAMERA_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// The measured main pass's targets.
-pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// The colour of headless frames (the measured main pass's first target), in which
+/// [`crate::Renderer::frame_color`] keeps them.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub(crate) const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Four f32 as their bits (Rgba32Float is not renderable on GL).
 pub(crate) const METRICS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;

@@ -414,6 +414,56 @@ impl Renderer {
         settings: &RenderSettings,
         mode: StencilMode,
     ) -> Result<VolumeFrame, RenderError> {
+        let (timings, stats) = self.draw_volumes_lit_by(camera, lights, settings, mode)?;
+        let (width, height) = (settings.width, settings.height);
+        let start = std::time::Instant::now();
+        let headless = self.headless.as_ref().expect("made by the draw");
+        let color = self
+            .readback
+            .read(&self.gpu, &self.resources, &headless.color.0, 4, 0)?;
+        let targets = self.volume_targets.as_ref().expect("kept by the draw");
+        let mut light_masks = Vec::with_capacity(lights.len());
+        for (texture, _) in targets.masks.iter().take(lights.len()) {
+            light_masks.push(
+                self.readback
+                    .read(&self.gpu, &self.resources, texture, 1, 0)?,
+            );
+        }
+        let mut timings = timings;
+        timings.readback_ms = start.elapsed().as_secs_f64() * 1e3;
+        // Lit by any light: 255 beats 0; empty pixels are empty for every light.
+        let mut mask = light_masks[0].clone();
+        for other in &light_masks[1..] {
+            for (m, o) in mask.iter_mut().zip(other) {
+                *m = (*m).max(*o);
+            }
+        }
+        Ok(VolumeFrame {
+            frame: Frame {
+                width,
+                height,
+                color,
+                mask,
+                light_masks,
+                light_view: None,
+                metrics: None,
+                timings,
+                casters_drawn: Vec::new(),
+            },
+            stats,
+        })
+    }
+
+    /// [`Renderer::render_volumes_lit_by`] without reading the frame back: the image stays in
+    /// [`Renderer::frame_color`] (a window's program copies it to its own target); waits for
+    /// the GPU to time the parts.
+    pub fn draw_volumes_lit_by(
+        &mut self,
+        camera: &Camera,
+        lights: &[Light],
+        settings: &RenderSettings,
+        mode: StencilMode,
+    ) -> Result<(crate::Timings, VolumeStats), RenderError> {
         if lights.is_empty() {
             return Err(RenderError::Invalid(
                 "shadow volumes need at least one light".into(),
@@ -497,42 +547,7 @@ impl Renderer {
         result?;
         let timings = clock.finish(self)?;
         scopes.pop()?;
-        let start = std::time::Instant::now();
-        let headless = self.headless.as_ref().expect("made above");
-        let color = self
-            .readback
-            .read(&self.gpu, &self.resources, &headless.color.0, 4, 0)?;
-        let targets = self.volume_targets.as_ref().expect("kept above");
-        let mut light_masks = Vec::with_capacity(lights.len());
-        for (texture, _) in targets.masks.iter().take(lights.len()) {
-            light_masks.push(
-                self.readback
-                    .read(&self.gpu, &self.resources, texture, 1, 0)?,
-            );
-        }
-        let mut timings = timings;
-        timings.readback_ms = start.elapsed().as_secs_f64() * 1e3;
-        // Lit by any light: 255 beats 0; empty pixels are empty for every light.
-        let mut mask = light_masks[0].clone();
-        for other in &light_masks[1..] {
-            for (m, o) in mask.iter_mut().zip(other) {
-                *m = (*m).max(*o);
-            }
-        }
-        Ok(VolumeFrame {
-            frame: Frame {
-                width,
-                height,
-                color,
-                mask,
-                light_masks,
-                light_view: None,
-                metrics: None,
-                timings,
-                casters_drawn: Vec::new(),
-            },
-            stats,
-        })
+        Ok((timings, stats))
     }
 
     fn encode_volumes(
