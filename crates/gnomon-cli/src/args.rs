@@ -472,7 +472,7 @@ pub fn light_option(light: &Light) -> String {
 }
 
 /// The technique parameters `technique` reads (SPPSM: its own and its perspective map's).
-fn options_read_by(technique: &Technique) -> Vec<&'static str> {
+pub fn options_read_by(technique: &Technique) -> Vec<&'static str> {
     match technique {
         Technique::Lispsm(_) => vec!["--lispsm-n", "--no-warp-limit"],
         Technique::Tsm(_) => vec!["--tsm-xi", "--tsm-focus", "--no-warp-limit"],

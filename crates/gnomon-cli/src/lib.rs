@@ -5,8 +5,9 @@
 //! Subcommands: `setup` (print the shadow-map matrices for a camera, light and scene),
 //! `render` (draw it), `export` (the scene as OBJ), `demo` (a scene from its named views
 //! with every technique), `bench` (frame times side by side), `analyze`
-//! (perspective aliasing of every technique from its matrices) and `compare` (every
-//! technique against the exact shadow volumes). Bad input
+//! (perspective aliasing of every technique from its matrices), `compare` (every
+//! technique against the exact shadow volumes), `flicker` and `view` (the interactive
+//! viewer). Bad input
 //! gives a one-line error on stderr and exit code 2.
 
 #![forbid(unsafe_code)]
@@ -23,6 +24,7 @@ mod output;
 mod render;
 mod report;
 pub mod rows;
+mod view;
 
 use std::process::ExitCode;
 
@@ -62,6 +64,9 @@ enum Command {
     /// How much shadows swim and shimmer while the camera or the sun moves: false flicker
     /// and edge swim on fixed surface points along a path.
     Flicker(Box<flicker::FlickerArgs>),
+    /// An interactive window: fly through the scene, drag the sun, change the technique and
+    /// its parameters, copy the render command of what you see.
+    View(Box<view::ViewCommandArgs>),
 }
 
 /// An error, printed on one line: exit code 2 for bad input, 1 for a failure at run time
@@ -143,6 +148,7 @@ pub fn main() -> ExitCode {
         Command::Analyze(a) => analyze::run(&a),
         Command::Compare(a) => compare::run(&a),
         Command::Flicker(a) => flicker::run(&a),
+        Command::View(a) => view::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

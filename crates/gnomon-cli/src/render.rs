@@ -523,8 +523,17 @@ pub fn export(args: &ExportArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// The `--stencil` value that picks `mode` where it is not the default (z-fail).
+pub(crate) fn stencil_name(mode: StencilMode) -> Option<&'static str> {
+    match mode {
+        StencilMode::ZFail => None,
+        StencilMode::ZPass => Some("z-pass"),
+        StencilMode::PerCaster => Some("per-caster"),
+    }
+}
+
 /// `--tint` with a setup of one map.
-fn tint_needs_two_maps(technique: &gnomon::Technique) -> CliError {
+pub(crate) fn tint_needs_two_maps(technique: &gnomon::Technique) -> CliError {
     CliError::usage(format!(
         "--tint colours the maps of a technique with several (sppsm, cascades, any under a point light); {} has one map",
         technique.name()

@@ -1,0 +1,713 @@
+//! `gnomon view`: the interactive viewer ([`gnomon_viewer`]) over this crate's options. The
+//! panel's controls are made from the clap definitions of [`DrawArgs`] (no second list), the
+//! camera and light come from the same [`ViewArgs`] and [`LightArgs`] as `render`'s, and
+//! "copy as command" prints the `gnomon render` command of the frame ([`render_command`]).
+
+use std::path::PathBuf;
+
+use clap::{Args, FromArgMatches};
+use glam::DVec3;
+use gnomon::{Light, SceneBounds, ShadowTechnique, ViewSamples};
+use gnomon_render::{COLOR_FORMAT, Renderer, SKY, SceneTarget, ShadowedLight};
+use gnomon_scene::{NamedView, ViewLight};
+use gnomon_viewer::rig::{CameraRig, SunRig};
+use gnomon_viewer::script::Script;
+use gnomon_viewer::{
+    FrameInfo, FrameReport, Model, Rigs, ViewTarget, ViewerError, ViewerOptions, egui,
+};
+
+use crate::CliError;
+use crate::args::{
+    LightArgs, LoadedScene, SceneArgs, ViewArgs, options_read_by, render_command, timed_setup,
+};
+use crate::names::Drawn;
+use crate::render::{DrawArgs, parse_size};
+
+/// `gnomon view`.
+#[derive(Debug, Clone, Args)]
+pub struct ViewCommandArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    #[command(flatten)]
+    pub light: LightArgs,
+    #[command(flatten)]
+    pub draw: DrawArgs,
+    /// The window's size, WIDTHxHEIGHT (the 3D view is the window beside the panel; with
+    /// --no-ui all of it).
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Draw this many frames, then exit, printing the `gnomon render` command of the last
+    /// frame on stdout (for scripted runs and tests).
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// With --frames: write the last frame's 3D view here (PNG).
+    #[arg(long, requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// Hide the panel: the 3D view fills the window.
+    #[arg(long)]
+    pub no_ui: bool,
+    /// Replay input from this file, indexed by frame: one JSON object a line, e.g.
+    /// {"frame": 3, "key": "W", "down": true}, {"frame": 5, "drag": [dx, dy], "button":
+    /// "right"} (left: orbit, right: look, middle: the sun), {"frame": 9, "scroll": 2}.
+    #[arg(long)]
+    pub script: Option<PathBuf>,
+}
+
+/// Runs `gnomon view`: everything checked before the window opens.
+pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
+    if let Some(path) = &args.screenshot {
+        crate::output::check_outputs(&[("--screenshot", path.as_path(), &["png"])])?;
+    }
+    if args.frames == Some(0) {
+        return Err(CliError::usage("--frames must be at least 1"));
+    }
+    let script = match &args.script {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| {
+                CliError::usage(format!("cannot read --script {}: {e}", path.display()))
+            })?;
+            Script::parse(&text)
+                .map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?
+        }
+        None => Script::default(),
+    };
+    let loaded = args.scene.load()?;
+    let bounds = loaded.scene.bounds()?;
+    let camera = args
+        .view
+        .camera_with_aspect(&loaded.views, args.size.0 as f64 / args.size.1 as f64)?;
+    if camera.lens().far > gnomon_render::MAX_VIEW_DISTANCE {
+        return Err(CliError::usage(format!(
+            "--far {} is beyond what the renderer draws precisely (at most {})",
+            camera.lens().far,
+            gnomon_render::MAX_VIEW_DISTANCE
+        )));
+    }
+    let light = args
+        .light
+        .main_light(&args.view, &loaded.views, "view")?;
+    let view_light = start_light(&args.light, &args.view, &loaded.views)?;
+    if let Drawn::Map(technique) = args.draw.technique {
+        let technique = args.draw.params.apply(technique);
+        args.draw.params.check_used_by(&[technique])?;
+        timed_setup(
+            &technique,
+            &camera,
+            &light,
+            &bounds,
+            args.draw.shadow_map,
+            None,
+        )?;
+    } else {
+        args.draw.stencil_mode(gnomon_render::StencilMode::ZFail)?;
+    }
+    let named = args.view.named(&loaded.views)?.cloned();
+    let up = args
+        .view
+        .up
+        .or(named.as_ref().map(|v| v.up))
+        .unwrap_or(DVec3::Y);
+    let eye = args.view.eye.or(named.as_ref().map(|v| v.eye));
+    let target = args.view.target.or(named.as_ref().map(|v| v.target));
+    let (Some(eye), Some(target)) = (eye, target) else {
+        return Err(CliError::usage("give --eye and --target, or a named --view"));
+    };
+    let rigs = Rigs {
+        camera: CameraRig::new(eye, target, up),
+        sun: match view_light {
+            ViewLight::Directional { direction } => Some(SunRig::new(direction, up)),
+            _ => None,
+        },
+    };
+    let options = ViewerOptions {
+        title: format!("gnomon view: {}", loaded.name),
+        size: args.size,
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+        no_ui: args.no_ui,
+        script,
+    };
+    let panel = OptionPanel::new(&args.draw);
+    let shadow_map = args.draw.shadow_map;
+    let view_args = args.view.clone();
+    let draw = args.draw.clone();
+    let result = gnomon_viewer::run(options, move |gpu| {
+        let max = gpu.max_texture_size();
+        if shadow_map > max {
+            return Err(format!(
+                "--shadow-map {shadow_map} exceeds this GPU's largest texture, {max} on a side ({})",
+                gpu.describe()
+            ));
+        }
+        let renderer = Renderer::new(gpu, &loaded.scene).map_err(|e| e.to_string())?;
+        let model = ViewModel {
+            loaded,
+            bounds,
+            view: view_args,
+            light: view_light,
+            start: rigs,
+            draw,
+            panel,
+            samples: None,
+        };
+        Ok((renderer, model))
+    });
+    result.map_err(|e| match e {
+        ViewerError::Window(m) => CliError::runtime(m),
+        ViewerError::Model(m) => CliError::usage(m),
+    })
+}
+
+/// The light the viewer starts from, as given (a named view's, or the options' raw values),
+/// so that the printed command gives it bit for bit.
+fn start_light(
+    light: &LightArgs,
+    view: &ViewArgs,
+    views: &[NamedView],
+) -> Result<ViewLight, CliError> {
+    let v = |a: &[f64]| DVec3::new(a[0], a[1], a[2]);
+    Ok(match (light.light_dir, light.spot, light.point) {
+        (Some(direction), _, _) => ViewLight::Directional { direction },
+        (_, Some(s), _) => ViewLight::Spot {
+            position: v(&s[0..3]),
+            direction: v(&s[3..6]),
+            half_angle_degrees: s[6],
+            range: s[7],
+        },
+        (_, _, Some(p)) => ViewLight::Point {
+            position: v(&p[0..3]),
+            range: p[3],
+        },
+        _ => match view.named(views)? {
+            Some(named) => named.light,
+            None => {
+                return Err(CliError::usage(
+                    "give one of --light-dir, --spot and --point, or a named --view",
+                ));
+            }
+        },
+    })
+}
+
+/// What `gnomon view` draws.
+struct ViewModel {
+    loaded: LoadedScene,
+    bounds: SceneBounds,
+    /// The lens options (the rigs give eye, target and up).
+    view: ViewArgs,
+    /// The light as it started (a sun's direction comes from the rig).
+    light: ViewLight,
+    start: Rigs,
+    draw: DrawArgs,
+    panel: OptionPanel,
+    /// The view samples of a still frame, kept while camera and light stay.
+    samples: Option<(String, ViewSamples)>,
+}
+
+impl ViewModel {
+    /// The frame's named view: the rigs' camera and light with the lens of the options.
+    fn named_view(&self, rigs: &Rigs, aspect: f64) -> Result<NamedView, CliError> {
+        let camera = self.camera(rigs, aspect)?;
+        let lens = camera.lens();
+        let light = match (self.light, rigs.sun) {
+            (ViewLight::Directional { .. }, Some(sun)) => ViewLight::Directional {
+                direction: sun.direction,
+            },
+            (light, _) => light,
+        };
+        Ok(NamedView {
+            name: "viewer".into(),
+            description: String::new(),
+            eye: rigs.camera.eye,
+            target: rigs.camera.target,
+            up: rigs.camera.up,
+            fov_y_degrees: lens.fov_y_degrees,
+            near: lens.near,
+            far: lens.far,
+            light,
+            more_lights: Vec::new(),
+        })
+    }
+
+    /// The camera of `rigs`: `render`'s camera from the same options.
+    fn camera(&self, rigs: &Rigs, aspect: f64) -> Result<gnomon::Camera, CliError> {
+        let mut view = self.view.clone();
+        view.eye = Some(rigs.camera.eye);
+        view.target = Some(rigs.camera.target);
+        view.up = Some(rigs.camera.up);
+        view.camera_with_aspect(&self.loaded.views, aspect)
+    }
+
+    fn draw_frame(
+        &mut self,
+        renderer: &mut Renderer,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &ViewTarget<'_>,
+        rigs: &Rigs,
+        info: &FrameInfo,
+    ) -> Result<FrameReport, CliError> {
+        let (width, height) = info.size;
+        let aspect = width as f64 / height as f64;
+        let camera = self.camera(rigs, aspect)?;
+        let view = self.named_view(rigs, aspect)?;
+        let light: Light = view.light.light()?;
+        let settings = self.draw.settings(info.size);
+        let technique = match self.draw.technique {
+            Drawn::Volumes(named) => {
+                let mode = self.draw.stencil_mode(named)?;
+                let (timings, stats) = renderer.draw_volumes_lit_by(
+                    &camera,
+                    std::slice::from_ref(&light),
+                    &settings,
+                    mode,
+                )?;
+                let color = renderer.frame_color().expect("drawn above");
+                encoder.copy_texture_to_texture(
+                    color.as_image_copy(),
+                    target.texture.as_image_copy(),
+                    color.size(),
+                );
+                return Ok(FrameReport {
+                    setup_us: 0.0,
+                    notes: vec![
+                        format!("{}: {} volume triangles", self.draw.technique.name(), stats.triangles),
+                        format!(
+                            "stencil {:.2} ms, shading {:.2} ms ({})",
+                            timings.shadow_pass_ms,
+                            timings.main_pass_ms,
+                            timings.source.name()
+                        ),
+                    ],
+                });
+            }
+            Drawn::Map(technique) => self.draw.params.apply(technique),
+        };
+        // What the pixels see, measured once the view rests (a readback) and kept while it
+        // does; a moving view's setup casts its samples from the boxes.
+        let key = format!("{camera:?} {light:?}");
+        let fresh = self.samples.as_ref().is_some_and(|(k, _)| *k == key);
+        if !fresh && (info.still || info.exact) {
+            self.samples = Some((key.clone(), renderer.view_samples(&camera, &light)?));
+        }
+        let samples = self
+            .samples
+            .as_ref()
+            .filter(|(k, _)| *k == key)
+            .map(|(_, s)| s);
+        let (setup, setup_us) = timed_setup(
+            &technique,
+            &camera,
+            &light,
+            &self.bounds,
+            self.draw.shadow_map,
+            samples,
+        )?;
+        if self.draw.tint && setup.maps.len() < 2 {
+            return Err(crate::render::tint_needs_two_maps(&technique));
+        }
+        let setups = [setup];
+        let lights = [light];
+        renderer.prepare(&camera, &ShadowedLight::pairs(&lights, &setups), &settings)?;
+        renderer.encode_shadow_maps(encoder);
+        renderer.encode_scene(
+            encoder,
+            &SceneTarget {
+                view: target.view,
+                format: COLOR_FORMAT,
+                width,
+                height,
+                sample_count: 1,
+                resolve_target: None,
+                clear: Some(SKY),
+            },
+        )?;
+        let setup = &setups[0];
+        let drawn: Vec<String> = renderer
+            .casters_drawn()
+            .iter()
+            .map(|n| n.to_string())
+            .collect();
+        let mut notes = vec![
+            format!(
+                "{}: {} map{}, casters drawn {}",
+                technique.name(),
+                setup.maps.len(),
+                if setup.maps.len() == 1 { "" } else { "s" },
+                drawn.join(" + ")
+            ),
+            match samples {
+                Some(_) => "view samples: measured".to_string(),
+                None => "view samples: from the boxes (the view moves)".to_string(),
+            },
+        ];
+        if let Some(fallback) = setup.fallback() {
+            notes.push(format!("fallback: {}", fallback.name()));
+        }
+        Ok(FrameReport { setup_us, notes })
+    }
+}
+
+impl Model for ViewModel {
+    fn rigs(&self) -> Rigs {
+        self.start
+    }
+
+    fn draw(
+        &mut self,
+        renderer: &mut Renderer,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &ViewTarget<'_>,
+        rigs: &Rigs,
+        info: &FrameInfo,
+    ) -> Result<FrameReport, String> {
+        self.draw_frame(renderer, encoder, target, rigs, info)
+            .map_err(|e| e.message)
+    }
+
+    fn panel(&mut self, ui: &mut egui::Ui, rigs: &mut Rigs) {
+        if let Some(sun) = &mut rigs.sun {
+            ui.label("Sun (middle drag, arrow keys)");
+            let (mut azimuth, mut elevation) = (sun.azimuth_degrees(), sun.elevation_degrees());
+            let a = ui.add(egui::Slider::new(&mut azimuth, -180.0..=180.0).text("azimuth"));
+            let e = ui.add(egui::Slider::new(&mut elevation, -89.9..=89.9).text("elevation"));
+            if a.changed() || e.changed() {
+                sun.set(azimuth, elevation);
+            }
+            ui.separator();
+        }
+        if let Some(draw) = self.panel.show(ui) {
+            self.draw = draw;
+        }
+    }
+
+    fn command(&self, rigs: &Rigs, size: (u32, u32)) -> String {
+        let aspect = size.0 as f64 / size.1 as f64;
+        let view = match self.named_view(rigs, aspect) {
+            Ok(view) => view,
+            Err(e) => return format!("# no command: {}", e.message),
+        };
+        let technique = match self.draw.technique {
+            Drawn::Map(t) => Some(self.draw.params.apply(t)),
+            Drawn::Volumes(_) => None,
+        };
+        let mut extra = self.draw.non_default_flags();
+        if let Drawn::Volumes(mode) = self.draw.technique
+            && self.draw.stencil.is_none()
+            && let Some(name) = crate::render::stencil_name(mode)
+        {
+            extra += &format!(" --stencil {name}");
+        }
+        render_command(
+            &self.loaded.options,
+            &view,
+            technique.as_ref(),
+            &self.draw.params,
+            self.draw.shadow_map,
+            size,
+            &extra,
+        )
+    }
+}
+
+/// The panel's controls over [`DrawArgs`], made from its clap definitions: a checkbox per
+/// flag, a list per option with possible values (the technique's from [`crate::names`]), a
+/// text field per other option; each edit parses the whole set again, as the command line
+/// would, and shows its error instead of applying it.
+struct OptionPanel {
+    command: clap::Command,
+    fields: Vec<Field>,
+    error: Option<String>,
+}
+
+struct Field {
+    id: String,
+    long: String,
+    help: String,
+    kind: FieldKind,
+}
+
+enum FieldKind {
+    Flag(bool),
+    Choice(Vec<String>, String),
+    Text(String),
+}
+
+impl OptionPanel {
+    fn new(draw: &DrawArgs) -> Self {
+        let command = DrawArgs::augment_args(clap::Command::new("view").no_binary_name(true));
+        let matches = command
+            .clone()
+            .try_get_matches_from(draw_tokens(draw))
+            .expect("a parsed DrawArgs parses again");
+        let fields = command
+            .get_arguments()
+            .filter_map(|arg| {
+                let long = arg.get_long()?.to_string();
+                let id = arg.get_id().to_string();
+                let help = arg.get_help().map(|h| h.to_string()).unwrap_or_default();
+                let given = matches
+                    .get_raw(&id)
+                    .and_then(|mut v| v.next())
+                    .map(|v| v.to_string_lossy().into_owned());
+                let kind = if !arg.get_action().takes_values() {
+                    FieldKind::Flag(matches.get_flag(&id))
+                } else {
+                    let values: Vec<String> = if id == "technique" {
+                        crate::names::known(true)
+                            .split(", ")
+                            .map(str::to_string)
+                            .collect()
+                    } else {
+                        arg.get_possible_values()
+                            .iter()
+                            .map(|v| v.get_name().to_string())
+                            .collect()
+                    };
+                    let default = arg
+                        .get_default_values()
+                        .first()
+                        .map(|v| v.to_string_lossy().into_owned());
+                    let value = given.or(default).unwrap_or_default();
+                    if values.is_empty() {
+                        FieldKind::Text(value)
+                    } else {
+                        FieldKind::Choice(values, value)
+                    }
+                };
+                Some(Field {
+                    id,
+                    long,
+                    help,
+                    kind,
+                })
+            })
+            .collect();
+        Self {
+            command,
+            fields,
+            error: None,
+        }
+    }
+
+    /// The fields' values as a command line, those the technique does not read left out.
+    fn tokens(&self) -> Vec<String> {
+        let technique = self.fields.iter().find_map(|f| match &f.kind {
+            FieldKind::Choice(_, v) if f.id == "technique" => Drawn::parse(v).ok(),
+            _ => None,
+        });
+        let mut tokens = Vec::new();
+        for field in &self.fields {
+            if !shown(field, technique.as_ref(), &self.fields) {
+                continue;
+            }
+            match &field.kind {
+                FieldKind::Flag(true) => tokens.push(format!("--{}", field.long)),
+                FieldKind::Flag(false) => {}
+                FieldKind::Choice(_, v) | FieldKind::Text(v) => {
+                    if !v.trim().is_empty() {
+                        tokens.push(format!("--{}={}", field.long, v.trim()));
+                    }
+                }
+            }
+        }
+        tokens
+    }
+
+    /// Draws the controls; the new options where an edit parsed.
+    fn show(&mut self, ui: &mut egui::Ui) -> Option<DrawArgs> {
+        let technique = self.fields.iter().find_map(|f| match &f.kind {
+            FieldKind::Choice(_, v) if f.id == "technique" => Drawn::parse(v).ok(),
+            _ => None,
+        });
+        let mut changed = false;
+        let visible: Vec<bool> = self
+            .fields
+            .iter()
+            .map(|f| shown(f, technique.as_ref(), &self.fields))
+            .collect();
+        egui::Grid::new("options").num_columns(2).show(ui, |ui| {
+            for (field, visible) in self.fields.iter_mut().zip(visible) {
+                if !visible {
+                    continue;
+                }
+                ui.label(format!("--{}", field.long)).on_hover_text(&field.help);
+                match &mut field.kind {
+                    FieldKind::Flag(on) => {
+                        changed |= ui.checkbox(on, "").on_hover_text(&field.help).changed();
+                    }
+                    FieldKind::Choice(values, value) => {
+                        egui::ComboBox::from_id_salt(&field.id)
+                            .selected_text(value.as_str())
+                            .show_ui(ui, |ui| {
+                                for v in values.iter() {
+                                    changed |= ui.selectable_value(value, v.clone(), v).changed();
+                                }
+                            });
+                    }
+                    FieldKind::Text(text) => {
+                        let response = ui.add(
+                            egui::TextEdit::singleline(text)
+                                .desired_width(120.0)
+                                .hint_text("default"),
+                        );
+                        changed |= response.lost_focus() || (response.changed() && !response.has_focus());
+                        response.on_hover_text(&field.help);
+                    }
+                }
+                ui.end_row();
+            }
+        });
+        if let Some(error) = &self.error {
+            ui.colored_label(egui::Color32::from_rgb(220, 60, 60), error);
+        }
+        if !changed {
+            return None;
+        }
+        match self.parse() {
+            Ok(draw) => {
+                self.error = None;
+                Some(draw)
+            }
+            Err(e) => {
+                self.error = Some(e);
+                None
+            }
+        }
+    }
+
+    /// The fields parsed as the command line parses them, then checked as `render` checks.
+    fn parse(&self) -> Result<DrawArgs, String> {
+        let matches = self
+            .command
+            .clone()
+            .try_get_matches_from(self.tokens())
+            .map_err(|e| {
+                e.to_string()
+                    .lines()
+                    .next()
+                    .unwrap_or_default()
+                    .to_string()
+            })?;
+        let draw = DrawArgs::from_arg_matches(&matches).map_err(|e| e.to_string())?;
+        if let Drawn::Map(technique) = draw.technique {
+            let technique = draw.params.apply(technique);
+            draw.params
+                .check_used_by(&[technique])
+                .map_err(|e| e.message)?;
+        }
+        Ok(draw)
+    }
+}
+
+/// Whether `field` applies to `technique`: its parameters where it reads them, the map's
+/// options for map techniques, the counting for volumes.
+fn shown(field: &Field, technique: Option<&Drawn>, fields: &[Field]) -> bool {
+    let long = format!("--{}", field.long);
+    let params = crate::args::TechniqueParams::augment_args(clap::Command::new("params"));
+    let is_param = params.get_arguments().any(|a| a.get_id() == field.id.as_str());
+    match technique {
+        None => field.id == "technique",
+        Some(Drawn::Volumes(_)) => field.id == "technique" || field.id == "stencil",
+        Some(Drawn::Map(t)) => {
+            if field.id == "stencil" {
+                return false;
+            }
+            if !is_param {
+                return true;
+            }
+            // The parameters of the technique as the panel's other parameters make it (a
+            // cascade's fit decides which fit parameters show).
+            let tokens: Vec<String> = fields
+                .iter()
+                .filter(|f| params.get_arguments().any(|a| a.get_id() == f.id.as_str()))
+                .filter_map(|f| match &f.kind {
+                    FieldKind::Flag(true) => Some(format!("--{}", f.long)),
+                    FieldKind::Choice(_, v) | FieldKind::Text(v) if !v.trim().is_empty() => {
+                        Some(format!("--{}={}", f.long, v.trim()))
+                    }
+                    _ => None,
+                })
+                .collect();
+            let applied = params
+                .clone()
+                .no_binary_name(true)
+                .try_get_matches_from(tokens)
+                .ok()
+                .and_then(|m| crate::args::TechniqueParams::from_arg_matches(&m).ok())
+                .map_or(*t, |p| p.apply(*t));
+            options_read_by(&applied).contains(&long.as_str())
+        }
+    }
+}
+
+/// `draw` as the command-line tokens that give it.
+fn draw_tokens(draw: &DrawArgs) -> Vec<String> {
+    let mut line = format!(
+        "--technique {} --shadow-map {}",
+        draw.technique.name(),
+        draw.shadow_map
+    );
+    for (_, flag) in draw.params.flags() {
+        line += &format!(" {flag}");
+    }
+    line += &draw.non_default_flags();
+    line.split_whitespace().map(str::to_string).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parsed(line: &str) -> DrawArgs {
+        let command = DrawArgs::augment_args(clap::Command::new("t").no_binary_name(true));
+        let matches = command
+            .try_get_matches_from(line.split_whitespace())
+            .unwrap();
+        DrawArgs::from_arg_matches(&matches).unwrap()
+    }
+
+    #[test]
+    fn the_panel_gives_back_the_options_it_was_made_from() {
+        for line in [
+            "--technique lispsm --lispsm-n 3.5 --pcf 5x5 --bias-constant 0.02",
+            "--technique cascades --cascades 3 --cascade-fit tsm --tsm-focus 0.5 --tint",
+            "--technique volumes-z-pass",
+            "--technique focused --shadow-map 1024 --normal-offset 2",
+        ] {
+            let draw = parsed(line);
+            let panel = OptionPanel::new(&draw);
+            let again = panel.parse().unwrap();
+            assert_eq!(draw_tokens(&again), draw_tokens(&draw), "{line}");
+        }
+    }
+
+    #[test]
+    fn the_panel_shows_only_what_the_technique_reads() {
+        let panel = OptionPanel::new(&parsed("--technique lispsm"));
+        let technique = Drawn::parse("lispsm").ok();
+        let visible: Vec<&str> = panel
+            .fields
+            .iter()
+            .filter(|f| shown(f, technique.as_ref(), &panel.fields))
+            .map(|f| f.long.as_str())
+            .collect();
+        assert!(visible.contains(&"lispsm-n"), "{visible:?}");
+        assert!(visible.contains(&"pcf"));
+        assert!(!visible.contains(&"tsm-xi"));
+        assert!(!visible.contains(&"stencil"));
+    }
+
+    #[test]
+    fn a_bad_edit_is_refused_with_the_command_lines_error() {
+        let mut panel = OptionPanel::new(&parsed("--technique focused"));
+        for field in &mut panel.fields {
+            if let (FieldKind::Text(text), "shadow-map") = (&mut field.kind, field.long.as_str()) {
+                *text = "lots".into();
+            }
+        }
+        let error = panel.parse().unwrap_err();
+        assert!(error.contains("shadow-map"), "{error}");
+    }
+}
