@@ -3,7 +3,8 @@
 # the CLI's) on both Vulkan and GL.
 #
 # Where Mesa's software drivers are missing it first installs them: lavapipe for Vulkan and
-# llvmpipe for GL through EGL (this needs root and apt-get, as on CI); it fetches the real
+# llvmpipe for GL through EGL, and Xvfb for the viewer's window (this needs root and apt-get,
+# as on CI); it fetches the real
 # meshes the shadow-volume tests use (scripts/fetch-meshes.sh) and the suite's Debian models
 # (scripts/fetch-suite.sh --small).
 set -euo pipefail
@@ -16,6 +17,8 @@ ls /usr/share/vulkan/icd.d/*.json >/dev/null 2>&1 || ls /etc/vulkan/icd.d/*.json
     missing+=(mesa-vulkan-drivers libvulkan1)
 ls /usr/lib/*/libEGL_mesa.so.0 >/dev/null 2>&1 || missing+=(libegl1 libegl-mesa0)
 ls /usr/lib/*/dri/swrast_dri.so >/dev/null 2>&1 || missing+=(libgl1-mesa-dri)
+# The viewer's tests open a window under Xvfb.
+command -v xvfb-run >/dev/null 2>&1 || missing+=(xvfb xauth)
 if [ "${#missing[@]}" != 0 ]; then
     if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
         echo "test.sh: installing Mesa's software drivers: ${missing[*]}"

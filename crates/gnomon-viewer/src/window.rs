@@ -451,7 +451,7 @@ impl<M: Model> Running<M> {
             "{:.1} frames/s, {:.1} ms a frame, setup {:.1} us",
             self.fps.value, self.fps.frame_ms, self.report.setup_us
         );
-        let full = ctx.run_ui(raw, |ui| {
+        let mut full = ctx.run_ui(raw, |ui| {
             if !options.no_ui {
                 let panel = egui::Panel::left("gnomon panel")
                     .default_size(PANEL_WIDTH)
@@ -532,15 +532,49 @@ impl<M: Model> Running<M> {
             Err(e) => self.error = Some(e),
         }
 
-        // Onto the window: the view texel for texel, then the panel.
+        // egui's textures first: they change whether or not the window takes this frame.
+        let mut textures = std::mem::take(&mut full.textures_delta);
+        for (id, deltas) in &textures.set {
+            for delta in deltas {
+                self.egui_renderer
+                    .update_texture(&self.device, &self.queue, *id, delta);
+            }
+        }
+        textures.set.clear();
+        let jobs = ctx.tessellate(std::mem::take(&mut full.shapes), ppp);
+        let presented = self.present(encoder, offscreen_size(&self.offscreen), &jobs, ppp);
+        for id in &textures.free {
+            self.egui_renderer.free_texture(id);
+        }
+        textures.free.clear();
+        presented?;
+        if let Some(path) = self.pending_screenshot.take() {
+            self.write_screenshot(&path)?;
+            eprintln!("wrote {}", path.display());
+        }
+        self.frame += 1;
+        self.fps.tick(now.elapsed().as_secs_f64() * 1e3);
+        Ok(())
+    }
+
+    /// The frame onto the window: the view texel for texel, then the panel; skipped (the
+    /// passes still submitted) where the surface gives no texture this time.
+    fn present(
+        &mut self,
+        mut encoder: wgpu::CommandEncoder,
+        size: (u32, u32),
+        jobs: &[egui::ClippedPrimitive],
+        ppp: f32,
+    ) -> Result<(), ViewerError> {
         let surface_texture = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                self.surface.configure(&self.device, &self.config);
-                self.queue.submit([encoder.finish()]);
-                return Ok(());
-            }
-            _ => {
+            other => {
+                if matches!(
+                    other,
+                    wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost
+                ) {
+                    self.surface.configure(&self.device, &self.config);
+                }
                 self.queue.submit([encoder.finish()]);
                 return Ok(());
             }
@@ -548,21 +582,15 @@ impl<M: Model> Running<M> {
         let surface_view = surface_texture
             .texture
             .create_view(&wgpu::TextureViewDescriptor::default());
+        let offscreen = self.offscreen.as_ref().expect("made before");
         self.blit.encode(&mut encoder, &surface_view, offscreen, size);
-        let jobs = ctx.tessellate(full.shapes, ppp);
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [self.config.width, self.config.height],
             pixels_per_point: ppp,
         };
-        for (id, deltas) in &full.textures_delta.set {
-            for delta in deltas {
-                self.egui_renderer
-                    .update_texture(&self.device, &self.queue, *id, delta);
-            }
-        }
         let mut buffers =
             self.egui_renderer
-                .update_buffers(&self.device, &self.queue, &mut encoder, &jobs, &screen);
+                .update_buffers(&self.device, &self.queue, &mut encoder, jobs, &screen);
         {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("egui"),
@@ -578,21 +606,12 @@ impl<M: Model> Running<M> {
                 ..Default::default()
             });
             self.egui_renderer
-                .render(&mut pass.forget_lifetime(), &jobs, &screen);
+                .render(&mut pass.forget_lifetime(), jobs, &screen);
         }
         buffers.push(encoder.finish());
         self.queue.submit(buffers);
         self.window.pre_present_notify();
         self.queue.present(surface_texture);
-        for id in &full.textures_delta.free {
-            self.egui_renderer.free_texture(id);
-        }
-        if let Some(path) = self.pending_screenshot.take() {
-            self.write_screenshot(&path)?;
-            eprintln!("wrote {}", path.display());
-        }
-        self.frame += 1;
-        self.fps.tick(now.elapsed().as_secs_f64() * 1e3);
         Ok(())
     }
 
@@ -661,6 +680,13 @@ impl<M: Model> Running<M> {
             origin,
         });
     }
+}
+
+/// The offscreen view's size (none yet: nothing).
+fn offscreen_size(offscreen: &Option<Offscreen>) -> (u32, u32) {
+    offscreen
+        .as_ref()
+        .map_or((0, 0), |o| (o.texture.width(), o.texture.height()))
 }
 
 /// The blit of the offscreen view onto the surface.
