@@ -362,7 +362,14 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     // Bad technique parameters are refused before the GPU opens: the setup once from the
     // boxes alone (microseconds), then again with what the renderer's pixels see.
     for light in &lights {
-        timed_setup(&technique, &camera, light, &bounds, args.draw.shadow_map, None)?;
+        timed_setup(
+            &technique,
+            &camera,
+            light,
+            &bounds,
+            args.draw.shadow_map,
+            None,
+        )?;
     }
     let mut renderer = open_renderer(&scene, args.size, Some(args.draw.shadow_map))?;
     // Each light's setup with what the pixels see from it; the times add up.

@@ -53,6 +53,10 @@ pub struct ViewCommandArgs {
     /// "right"} (left: orbit, right: look, middle: the sun), {"frame": 9, "scroll": 2}.
     #[arg(long)]
     pub script: Option<PathBuf>,
+    /// Split screen: this technique (default parameters) right of the middle, the
+    /// --technique left (also in the panel, with a movable divider).
+    #[arg(long, value_parser = crate::names::drawn_arg)]
+    pub split: Option<Drawn>,
 }
 
 /// Runs `gnomon view`: everything checked before the window opens.
@@ -68,8 +72,7 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
             let text = std::fs::read_to_string(path).map_err(|e| {
                 CliError::usage(format!("cannot read --script {}: {e}", path.display()))
             })?;
-            Script::parse(&text)
-                .map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?
+            Script::parse(&text).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?
         }
         None => Script::default(),
     };
@@ -85,9 +88,7 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
             gnomon_render::MAX_VIEW_DISTANCE
         )));
     }
-    let light = args
-        .light
-        .main_light(&args.view, &loaded.views, "view")?;
+    let light = args.light.main_light(&args.view, &loaded.views, "view")?;
     let view_light = start_light(&args.light, &args.view, &loaded.views)?;
     if let Drawn::Map(technique) = args.draw.technique {
         let technique = args.draw.params.apply(technique);
@@ -112,7 +113,9 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
     let eye = args.view.eye.or(named.as_ref().map(|v| v.eye));
     let target = args.view.target.or(named.as_ref().map(|v| v.target));
     let (Some(eye), Some(target)) = (eye, target) else {
-        return Err(CliError::usage("give --eye and --target, or a named --view"));
+        return Err(CliError::usage(
+            "give --eye and --target, or a named --view",
+        ));
     };
     let rigs = Rigs {
         camera: CameraRig::new(eye, target, up),
@@ -133,6 +136,7 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
     let shadow_map = args.draw.shadow_map;
     let view_args = args.view.clone();
     let draw = args.draw.clone();
+    let split = args.split;
     let result = gnomon_viewer::run(options, move |gpu| {
         let max = gpu.max_texture_size();
         if shadow_map > max {
@@ -151,6 +155,18 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
             draw,
             panel,
             samples: None,
+            overlay: Overlay::Shaded,
+            measure: true,
+            measured: None,
+            light_view: None,
+            thumbnail: None,
+            enlarged: false,
+            bookmarks: Vec::new(),
+            split: split.map(|technique| Split {
+                technique,
+                divider: 0.5,
+            }),
+            split_target: None,
         };
         Ok((renderer, model))
     });
@@ -204,6 +220,89 @@ struct ViewModel {
     panel: OptionPanel,
     /// The view samples of a still frame, kept while camera and light stay.
     samples: Option<(String, ViewSamples)>,
+    /// What the 3D view shows.
+    overlay: Overlay,
+    /// Whether a frame at rest is measured once (GPU time per pass, the maps as the light
+    /// sees them, sampling error).
+    measure: bool,
+    /// The last measured frame.
+    measured: Option<Measured>,
+    /// The maps as the light sees them, waiting to become a panel texture.
+    light_view: Option<gnomon_render::LightView>,
+    thumbnail: Option<egui::TextureHandle>,
+    enlarged: bool,
+    /// Camera positions saved by the user, by name.
+    bookmarks: Vec<(String, Rigs, ViewLight)>,
+    /// A second technique right of a divider.
+    split: Option<Split>,
+    split_target: Option<(wgpu::Texture, wgpu::TextureView)>,
+}
+
+/// Split screen: `technique` (default parameters, the left's map, filter and bias) right of
+/// `divider` (a fraction of the view's width).
+#[derive(Debug, Clone, Copy)]
+struct Split {
+    technique: Drawn,
+    divider: f32,
+}
+
+/// What the 3D view shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Overlay {
+    /// The shaded, shadowed scene (what `render` draws).
+    Shaded,
+    /// The sampling error: pixels per texel along the worst direction (`render
+    /// --error-map`'s heat map).
+    ErrorMap,
+    /// Against the exact shadow volumes of the same frame: false shadow in red, missed
+    /// shadow in blue.
+    Wrong,
+}
+
+impl Overlay {
+    const ALL: [(Overlay, &'static str); 3] = [
+        (Overlay::Shaded, "shaded"),
+        (Overlay::ErrorMap, "error map (texels per pixel)"),
+        (Overlay::Wrong, "wrong against exact volumes"),
+    ];
+}
+
+/// A frame drawn headless once (a readback) for what the panel shows.
+struct Measured {
+    key: String,
+    timings: gnomon_render::Timings,
+    /// Undersampling p99 over the lit pixels facing the light.
+    undersampling_p99: Option<f64>,
+    /// False and missed shadow as shares of the pixels (wrong overlay only).
+    wrong: Option<(f64, f64)>,
+}
+
+/// False shadow (the map shadows, the volumes light) and missed shadow, as colours.
+const FALSE_SHADOW: [u8; 4] = [230, 40, 40, 255];
+const MISSED_SHADOW: [u8; 4] = [40, 90, 240, 255];
+
+/// The shaded `color` with the pixels where the map's `mask` and the exact volumes'
+/// `exact` disagree painted (255 lit, 0 shadowed, anything else no geometry), and the shares
+/// of false and missed shadow.
+fn wrong_image(color: &[u8], mask: &[u8], exact: &[u8]) -> (Vec<u8>, (f64, f64)) {
+    let mut out = color.to_vec();
+    let (mut false_shadow, mut missed) = (0usize, 0usize);
+    for (i, (m, e)) in mask.iter().zip(exact).enumerate() {
+        let paint = match (m, e) {
+            (0, 255) => {
+                false_shadow += 1;
+                FALSE_SHADOW
+            }
+            (255, 0) => {
+                missed += 1;
+                MISSED_SHADOW
+            }
+            _ => continue,
+        };
+        out[i * 4..i * 4 + 4].copy_from_slice(&paint);
+    }
+    let n = mask.len().max(1) as f64;
+    (out, (false_shadow as f64 / n, missed as f64 / n))
 }
 
 impl ViewModel {
@@ -240,8 +339,13 @@ impl ViewModel {
         view.camera_with_aspect(&self.loaded.views, aspect)
     }
 
+    /// Draws `draw`'s technique into `target`; the `primary` (left) one also measures and
+    /// shows the overlays.
+    #[allow(clippy::too_many_arguments)]
     fn draw_frame(
         &mut self,
+        draw: &DrawArgs,
+        primary: bool,
         renderer: &mut Renderer,
         encoder: &mut wgpu::CommandEncoder,
         target: &ViewTarget<'_>,
@@ -253,10 +357,10 @@ impl ViewModel {
         let camera = self.camera(rigs, aspect)?;
         let view = self.named_view(rigs, aspect)?;
         let light: Light = view.light.light()?;
-        let settings = self.draw.settings(info.size);
-        let technique = match self.draw.technique {
+        let settings = draw.settings(info.size);
+        let technique = match draw.technique {
             Drawn::Volumes(named) => {
-                let mode = self.draw.stencil_mode(named)?;
+                let mode = draw.stencil_mode(named)?;
                 let (timings, stats) = renderer.draw_volumes_lit_by(
                     &camera,
                     std::slice::from_ref(&light),
@@ -272,7 +376,11 @@ impl ViewModel {
                 return Ok(FrameReport {
                     setup_us: 0.0,
                     notes: vec![
-                        format!("{}: {} volume triangles", self.draw.technique.name(), stats.triangles),
+                        format!(
+                            "{}: {} volume triangles",
+                            draw.technique.name(),
+                            stats.triangles
+                        ),
                         format!(
                             "stencil {:.2} ms, shading {:.2} ms ({})",
                             timings.shadow_pass_ms,
@@ -282,7 +390,7 @@ impl ViewModel {
                     ],
                 });
             }
-            Drawn::Map(technique) => self.draw.params.apply(technique),
+            Drawn::Map(technique) => draw.params.apply(technique),
         };
         // What the pixels see, measured once the view rests (a readback) and kept while it
         // does; a moving view's setup casts its samples from the boxes.
@@ -301,15 +409,75 @@ impl ViewModel {
             &camera,
             &light,
             &self.bounds,
-            self.draw.shadow_map,
+            draw.shadow_map,
             samples,
         )?;
-        if self.draw.tint && setup.maps.len() < 2 {
+        if draw.tint && setup.maps.len() < 2 {
             return Err(crate::render::tint_needs_two_maps(&technique));
         }
         let setups = [setup];
         let lights = [light];
-        renderer.prepare(&camera, &ShadowedLight::pairs(&lights, &setups), &settings)?;
+        let pairs = ShadowedLight::pairs(&lights, &setups);
+        let mut notes = Vec::new();
+        // A headless frame (a readback: overlays every frame, the panel's measures once at
+        // rest), before this frame's own passes, which prepare the records again.
+        let measure = primary
+            && info.panel
+            && self.measure
+            && info.still
+            && self.measured.as_ref().is_none_or(|m| m.key != key);
+        if (primary && self.overlay != Overlay::Shaded) || measure {
+            let frame = renderer.render_lights(
+                &camera,
+                &pairs,
+                &gnomon_render::RenderSettings {
+                    light_view: measure,
+                    metrics: true,
+                    ..settings
+                },
+            )?;
+            let metrics = frame.metrics.as_ref().expect("asked for");
+            let p99 = crate::heatmap::percentiles(metrics, &metrics.undersampling)["p99"].as_f64();
+            let mut measured = Measured {
+                key: key.clone(),
+                timings: frame.timings,
+                undersampling_p99: p99,
+                wrong: None,
+            };
+            let image = match self.overlay {
+                Overlay::Shaded => None,
+                Overlay::ErrorMap => Some(crate::heatmap::draw(metrics, width, height)),
+                Overlay::Wrong => {
+                    let exact = renderer.render_volumes_lit_by(
+                        &camera,
+                        std::slice::from_ref(&lights[0]),
+                        &settings,
+                        gnomon_render::StencilMode::ZFail,
+                    )?;
+                    let (image, shares) = wrong_image(&frame.color, &frame.mask, &exact.frame.mask);
+                    measured.wrong = Some(shares);
+                    Some(image)
+                }
+            };
+            if measure {
+                self.light_view = frame.light_view;
+            }
+            if measure || self.measured.is_none() {
+                self.measured = Some(measured);
+            } else if let (Some(m), Some(shares)) = (&mut self.measured, measured.wrong) {
+                m.wrong = Some(shares);
+            }
+            if let Some(image) = image {
+                write_view(renderer, target, &image, info.size);
+                notes.push(format!(
+                    "{}: {} maps",
+                    technique.name(),
+                    setups[0].maps.len()
+                ));
+                return Ok(FrameReport { setup_us, notes });
+            }
+        }
+        renderer.prepare(&camera, &pairs, &settings)?;
         renderer.encode_shadow_maps(encoder);
         renderer.encode_scene(
             encoder,
@@ -329,7 +497,7 @@ impl ViewModel {
             .iter()
             .map(|n| n.to_string())
             .collect();
-        let mut notes = vec![
+        notes.extend([
             format!(
                 "{}: {} map{}, casters drawn {}",
                 technique.name(),
@@ -341,12 +509,218 @@ impl ViewModel {
                 Some(_) => "view samples: measured".to_string(),
                 None => "view samples: from the boxes (the view moves)".to_string(),
             },
-        ];
+        ]);
         if let Some(fallback) = setup.fallback() {
             notes.push(format!("fallback: {}", fallback.name()));
         }
         Ok(FrameReport { setup_us, notes })
     }
+}
+
+/// Writes an RGBA image of `size` into the view's texture (before the frame's passes run).
+fn write_view(renderer: &Renderer, target: &ViewTarget<'_>, rgba: &[u8], size: (u32, u32)) {
+    renderer.gpu().queue.write_texture(
+        target.texture.as_image_copy(),
+        rgba,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(size.0 * 4),
+            rows_per_image: Some(size.1),
+        },
+        target.texture.size(),
+    );
+}
+
+impl ViewModel {
+    /// The panel's view, light and measurement controls.
+    fn scene_panel(&mut self, ui: &mut egui::Ui, rigs: &mut Rigs) {
+        // Named views and bookmarks: the camera and light they give.
+        let mut chosen: Option<(Rigs, ViewLight, Option<String>)> = None;
+        ui.horizontal(|ui| {
+            egui::ComboBox::from_label("view")
+                .selected_text(self.view.view.clone().unwrap_or_else(|| "(options)".into()))
+                .show_ui(ui, |ui| {
+                    for v in &self.loaded.views {
+                        if ui.selectable_label(false, &v.name).clicked() {
+                            let sun = match v.light {
+                                ViewLight::Directional { direction } => {
+                                    Some(SunRig::new(direction, v.up))
+                                }
+                                _ => None,
+                            };
+                            let rigs = Rigs {
+                                camera: CameraRig::new(v.eye, v.target, v.up),
+                                sun,
+                            };
+                            chosen = Some((rigs, v.light, Some(v.name.clone())));
+                        }
+                    }
+                    for (name, rigs, light) in &self.bookmarks {
+                        if ui.selectable_label(false, name).clicked() {
+                            chosen = Some((*rigs, *light, self.view.view.clone()));
+                        }
+                    }
+                });
+            if ui.button("Bookmark").clicked() {
+                let name = format!("bookmark {}", self.bookmarks.len() + 1);
+                self.bookmarks.push((name, *rigs, self.light));
+            }
+        });
+        if let Some((new, light, name)) = chosen {
+            *rigs = new;
+            self.light = light;
+            if name != self.view.view {
+                // A named view's lens; the options' lens stays with a bookmark.
+                self.view = ViewArgs {
+                    view: name,
+                    eye: None,
+                    target: None,
+                    up: None,
+                    fov: None,
+                    near: None,
+                    far: None,
+                    aspect: None,
+                };
+            }
+        }
+        match (&mut self.light, &mut rigs.sun) {
+            (ViewLight::Directional { .. }, Some(sun)) => {
+                ui.label("Sun (middle drag, arrow keys)");
+                let (mut azimuth, mut elevation) = (sun.azimuth_degrees(), sun.elevation_degrees());
+                let a = ui.add(egui::Slider::new(&mut azimuth, -180.0..=180.0).text("azimuth"));
+                let e = ui.add(egui::Slider::new(&mut elevation, -89.9..=89.9).text("elevation"));
+                if a.changed() || e.changed() {
+                    sun.set(azimuth, elevation);
+                }
+            }
+            (
+                ViewLight::Spot {
+                    position,
+                    direction,
+                    ..
+                },
+                _,
+            ) => {
+                ui.label("Spot light: position, aim");
+                drag_vec3(ui, position, 0.5);
+                drag_vec3(ui, direction, 0.01);
+            }
+            (ViewLight::Point { position, .. }, _) => {
+                ui.label("Point light: position");
+                drag_vec3(ui, position, 0.5);
+            }
+            _ => {}
+        }
+        ui.separator();
+    }
+
+    /// The panel's split screen, overlay and measurement controls.
+    fn measure_panel(&mut self, ui: &mut egui::Ui) {
+        let mut split = self.split.is_some();
+        ui.checkbox(&mut split, "split screen: a second technique on the right");
+        match (split, &mut self.split) {
+            (false, s) => *s = None,
+            (true, None) => {
+                self.split = Some(Split {
+                    technique: Drawn::Volumes(gnomon_render::StencilMode::ZFail),
+                    divider: 0.5,
+                });
+            }
+            (true, Some(s)) => {
+                egui::ComboBox::from_label("right")
+                    .selected_text(s.technique.name())
+                    .show_ui(ui, |ui| {
+                        for name in crate::names::known(true).split(", ") {
+                            if let Ok(drawn) = Drawn::parse(name) {
+                                ui.selectable_value(&mut s.technique, drawn, name);
+                            }
+                        }
+                    });
+                ui.add(egui::Slider::new(&mut s.divider, 0.05..=0.95).text("divider"));
+            }
+        }
+        egui::ComboBox::from_label("show")
+            .selected_text(
+                Overlay::ALL
+                    .iter()
+                    .find(|(o, _)| *o == self.overlay)
+                    .map_or("", |(_, n)| n),
+            )
+            .show_ui(ui, |ui| {
+                for (overlay, name) in Overlay::ALL {
+                    ui.selectable_value(&mut self.overlay, overlay, name);
+                }
+            });
+        if self.overlay != Overlay::Shaded {
+            ui.label("(measured every frame: a readback each)");
+        }
+        ui.checkbox(
+            &mut self.measure,
+            "measure at rest (GPU times, maps, error)",
+        );
+        if let Some(m) = &self.measured {
+            ui.label(format!(
+                "GPU: shadow pass {:.2} ms, main pass {:.2} ms ({})",
+                m.timings.shadow_pass_ms,
+                m.timings.main_pass_ms,
+                m.timings.source.name()
+            ));
+            if let Some(p99) = m.undersampling_p99 {
+                ui.label(format!("undersampling p99: {p99:.2} pixels per texel"));
+            }
+            if let Some((f, missed)) = m.wrong {
+                ui.label(format!(
+                    "wrong: {:.3}% false shadow (red), {:.3}% missed (blue)",
+                    f * 100.0,
+                    missed * 100.0
+                ));
+            }
+        }
+        if let Some(view) = self.light_view.take() {
+            let image = egui::ColorImage::from_rgba_unmultiplied(
+                [view.width as usize, view.height as usize],
+                &view.rgba,
+            );
+            self.thumbnail = Some(ui.ctx().load_texture(
+                "light view",
+                image,
+                egui::TextureOptions::LINEAR,
+            ));
+        }
+        if let Some(texture) = &self.thumbnail {
+            ui.label("The maps as the light sees them (click to enlarge)");
+            let [w, h] = texture.size();
+            let height = 200.0f32;
+            let size = egui::vec2(height * w as f32 / h as f32, height);
+            let size = size * (ui.available_width() / size.x).min(1.0);
+            let response =
+                ui.add(egui::Image::new((texture.id(), size)).sense(egui::Sense::click()));
+            if response.clicked() {
+                self.enlarged = !self.enlarged;
+            }
+            if self.enlarged {
+                let mut open = true;
+                egui::Window::new("Shadow maps")
+                    .open(&mut open)
+                    .show(ui.ctx(), |ui| {
+                        let side = 640.0f32;
+                        let size = egui::vec2(side * w as f32 / h as f32, side);
+                        ui.image((texture.id(), size));
+                    });
+                self.enlarged = open;
+            }
+        }
+        ui.separator();
+    }
+}
+
+/// Three drag values for a vector.
+fn drag_vec3(ui: &mut egui::Ui, v: &mut DVec3, speed: f64) {
+    ui.horizontal(|ui| {
+        ui.add(egui::DragValue::new(&mut v.x).speed(speed));
+        ui.add(egui::DragValue::new(&mut v.y).speed(speed));
+        ui.add(egui::DragValue::new(&mut v.z).speed(speed));
+    });
 }
 
 impl Model for ViewModel {
@@ -362,24 +736,134 @@ impl Model for ViewModel {
         rigs: &Rigs,
         info: &FrameInfo,
     ) -> Result<FrameReport, String> {
-        self.draw_frame(renderer, encoder, target, rigs, info)
-            .map_err(|e| e.message)
+        let draw = self.draw.clone();
+        let mut report = self
+            .draw_frame(&draw, true, renderer, encoder, target, rigs, info)
+            .map_err(|e| e.message)?;
+        let Some(split) = self.split else {
+            return Ok(report);
+        };
+        // The right of the divider: the second technique, drawn after the first's passes are
+        // submitted (each prepares the frame's records), then copied over the first's.
+        let gpu = renderer.gpu().clone();
+        let first = std::mem::replace(
+            encoder,
+            gpu.device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("viewer split"),
+                }),
+        );
+        gpu.queue.submit([first.finish()]);
+        let size = target.texture.size();
+        if self
+            .split_target
+            .as_ref()
+            .is_none_or(|(t, _)| t.size() != size)
+        {
+            let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("viewer split view"),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: COLOR_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+            self.split_target = Some((texture, view));
+        }
+        let (texture, view) = self.split_target.take().expect("made above");
+        let second = DrawArgs {
+            technique: split.technique,
+            params: crate::args::TechniqueParams::default(),
+            tint: false,
+            ..self.draw.clone()
+        };
+        let drawn = self.draw_frame(
+            &second,
+            false,
+            renderer,
+            encoder,
+            &ViewTarget {
+                texture: &texture,
+                view: &view,
+            },
+            rigs,
+            info,
+        );
+        let x = ((split.divider * size.width as f32).round() as u32).min(size.width - 1);
+        if drawn.is_ok() {
+            encoder.copy_texture_to_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d { x, y: 0, z: 0 },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyTextureInfo {
+                    texture: target.texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d { x, y: 0, z: 0 },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::Extent3d {
+                    width: size.width - x,
+                    height: size.height,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+        self.split_target = Some((texture, view));
+        // The divider: two white columns left of the copy (after the left's passes, which
+        // were submitted; the copy does not reach them).
+        if x >= 2 {
+            let white = vec![255u8; 2 * 4 * size.height as usize];
+            gpu.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: target.texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x: x - 2,
+                        y: 0,
+                        z: 0,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &white,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(8),
+                    rows_per_image: Some(size.height),
+                },
+                wgpu::Extent3d {
+                    width: 2,
+                    height: size.height,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+        match drawn {
+            Ok(right) => {
+                report.setup_us += right.setup_us;
+                report
+                    .notes
+                    .extend(right.notes.into_iter().map(|n| format!("right: {n}")));
+            }
+            Err(e) => report.notes.push(format!("right: {}", e.message)),
+        }
+        Ok(report)
     }
 
     fn panel(&mut self, ui: &mut egui::Ui, rigs: &mut Rigs) {
-        if let Some(sun) = &mut rigs.sun {
-            ui.label("Sun (middle drag, arrow keys)");
-            let (mut azimuth, mut elevation) = (sun.azimuth_degrees(), sun.elevation_degrees());
-            let a = ui.add(egui::Slider::new(&mut azimuth, -180.0..=180.0).text("azimuth"));
-            let e = ui.add(egui::Slider::new(&mut elevation, -89.9..=89.9).text("elevation"));
-            if a.changed() || e.changed() {
-                sun.set(azimuth, elevation);
-            }
-            ui.separator();
-        }
+        self.scene_panel(ui, rigs);
         if let Some(draw) = self.panel.show(ui) {
             self.draw = draw;
         }
+        ui.separator();
+        self.measure_panel(ui);
     }
 
     fn command(&self, rigs: &Rigs, size: (u32, u32)) -> String {
@@ -532,7 +1016,8 @@ impl OptionPanel {
                 if !visible {
                     continue;
                 }
-                ui.label(format!("--{}", field.long)).on_hover_text(&field.help);
+                ui.label(format!("--{}", field.long))
+                    .on_hover_text(&field.help);
                 match &mut field.kind {
                     FieldKind::Flag(on) => {
                         changed |= ui.checkbox(on, "").on_hover_text(&field.help).changed();
@@ -552,7 +1037,8 @@ impl OptionPanel {
                                 .desired_width(120.0)
                                 .hint_text("default"),
                         );
-                        changed |= response.lost_focus() || (response.changed() && !response.has_focus());
+                        changed |=
+                            response.lost_focus() || (response.changed() && !response.has_focus());
                         response.on_hover_text(&field.help);
                     }
                 }
@@ -583,13 +1069,7 @@ impl OptionPanel {
             .command
             .clone()
             .try_get_matches_from(self.tokens())
-            .map_err(|e| {
-                e.to_string()
-                    .lines()
-                    .next()
-                    .unwrap_or_default()
-                    .to_string()
-            })?;
+            .map_err(|e| e.to_string().lines().next().unwrap_or_default().to_string())?;
         let draw = DrawArgs::from_arg_matches(&matches).map_err(|e| e.to_string())?;
         if let Drawn::Map(technique) = draw.technique {
             let technique = draw.params.apply(technique);
@@ -606,7 +1086,9 @@ impl OptionPanel {
 fn shown(field: &Field, technique: Option<&Drawn>, fields: &[Field]) -> bool {
     let long = format!("--{}", field.long);
     let params = crate::args::TechniqueParams::augment_args(clap::Command::new("params"));
-    let is_param = params.get_arguments().any(|a| a.get_id() == field.id.as_str());
+    let is_param = params
+        .get_arguments()
+        .any(|a| a.get_id() == field.id.as_str());
     match technique {
         None => field.id == "technique",
         Some(Drawn::Volumes(_)) => field.id == "technique" || field.id == "stencil",
@@ -697,6 +1179,19 @@ mod tests {
         assert!(visible.contains(&"pcf"));
         assert!(!visible.contains(&"tsm-xi"));
         assert!(!visible.contains(&"stencil"));
+    }
+
+    #[test]
+    fn wrong_pixels_are_painted_and_counted() {
+        let color = vec![10u8; 4 * 4];
+        // Lit by both, false shadow, missed shadow, no geometry.
+        let (image, (false_shadow, missed)) =
+            wrong_image(&color, &[255, 0, 255, 128], &[255, 255, 0, 128]);
+        assert_eq!(&image[0..4], &[10; 4]);
+        assert_eq!(&image[4..8], &FALSE_SHADOW);
+        assert_eq!(&image[8..12], &MISSED_SHADOW);
+        assert_eq!(&image[12..16], &[10; 4]);
+        assert_eq!((false_shadow, missed), (0.25, 0.25));
     }
 
     #[test]

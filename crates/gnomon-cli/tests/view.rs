@@ -167,11 +167,66 @@ fn a_scripted_run_moves_the_camera_and_the_sun_and_its_command_reproduces_the_fr
         words[at + 1],
         format!("{}x{}", image.width(), image.height())
     );
-    assert!(image.width() < 800 && image.height() == 360, "the panel takes the left");
+    assert!(
+        image.width() < 800 && image.height() == 360,
+        "the panel takes the left"
+    );
     let again = dir.join("again.png");
     render(&after, &again, &dir);
     let share = agreement(&shot, &again);
     assert!(share >= 0.99, "{after}: {share}");
+}
+
+/// The share of pixels in columns `columns` whose colours agree within rounding.
+fn agreement_in(a: &Path, b: &Path, columns: std::ops::Range<u32>) -> f64 {
+    let a = image::open(a).unwrap().to_rgb8();
+    let b = image::open(b).unwrap().to_rgb8();
+    let (mut same, mut all) = (0usize, 0usize);
+    for y in 0..a.height() {
+        for x in columns.clone() {
+            let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+            all += 1;
+            same += usize::from(p.0.iter().zip(q.0).all(|(s, t)| s.abs_diff(t) <= 2));
+        }
+    }
+    same as f64 / all as f64
+}
+
+#[test]
+fn split_screen_draws_each_technique_on_its_side() {
+    let dir = temp_dir("split");
+    let shot = dir.join("split.png");
+    view(
+        &[
+            "--view",
+            "overview",
+            "--technique",
+            "lispsm",
+            "--split",
+            "volumes",
+            "--size",
+            "320x180",
+            "--no-ui",
+            "--frames",
+            "3",
+            "--screenshot",
+            shot.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    for (technique, columns) in [("lispsm", 0..158), ("volumes", 160..320)] {
+        let reference = dir.join(format!("{technique}.png"));
+        render(
+            &format!("gnomon render --view overview --technique {technique} --size 320x180"),
+            &reference,
+            &dir,
+        );
+        let share = agreement_in(&shot, &reference, columns);
+        assert!(share >= 0.99, "{technique}: {share}");
+    }
+    // The divider is white.
+    let image = image::open(&shot).unwrap().to_rgb8();
+    assert!((0..180).all(|y| image.get_pixel(159, y).0 == [255, 255, 255]));
 }
 
 #[test]
@@ -191,11 +246,25 @@ fn bad_input_is_one_line_and_exit_code_2_before_any_window() {
             "--frames must be at least 1",
         ),
         (
-            vec!["--view", "overview", "--frames", "1", "--screenshot", "shot.txt"],
+            vec![
+                "--view",
+                "overview",
+                "--frames",
+                "1",
+                "--screenshot",
+                "shot.txt",
+            ],
             "shot.txt",
         ),
         (
-            vec!["--view", "overview", "--technique", "focused", "--lispsm-n", "3"],
+            vec![
+                "--view",
+                "overview",
+                "--technique",
+                "focused",
+                "--lispsm-n",
+                "3",
+            ],
             "--lispsm-n does nothing for focused",
         ),
     ] {

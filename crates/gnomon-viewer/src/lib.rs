@@ -64,6 +64,8 @@ pub struct FrameInfo {
     /// Whether this frame is written to a screenshot (it must be exactly what its render
     /// command draws).
     pub exact: bool,
+    /// Whether the panel shows (what only it shows need not be measured otherwise).
+    pub panel: bool,
 }
 
 /// Where a [`Model`] draws the frame's 3D view.

@@ -69,7 +69,9 @@ impl CameraRig {
 
     /// The unit direction the camera looks along.
     pub fn forward(&self) -> DVec3 {
-        (self.target - self.eye).try_normalize().unwrap_or(-DVec3::Z)
+        (self.target - self.eye)
+            .try_normalize()
+            .unwrap_or(-DVec3::Z)
     }
 
     /// The camera's unit right axis (forward x up; a fallback where they are parallel).
@@ -123,7 +125,11 @@ impl CameraRig {
     /// The forward direction turned by `yaw` and `pitch` degrees, the pitch clamped.
     fn turned(&self, yaw: f64, pitch: f64) -> DVec3 {
         let forward = self.forward();
-        let elevation = forward.dot(self.up_unit()).clamp(-1.0, 1.0).asin().to_degrees();
+        let elevation = forward
+            .dot(self.up_unit())
+            .clamp(-1.0, 1.0)
+            .asin()
+            .to_degrees();
         let limit = MAX_PITCH_DEGREES;
         let new_elevation = (elevation + pitch).clamp(-limit, limit);
         let pitch = new_elevation - elevation;
@@ -158,7 +164,11 @@ impl SunRig {
 
     /// The sun's elevation above the horizon in degrees (negative: below it).
     pub fn elevation_degrees(&self) -> f64 {
-        (-self.unit()).dot(self.up).clamp(-1.0, 1.0).asin().to_degrees()
+        (-self.unit())
+            .dot(self.up)
+            .clamp(-1.0, 1.0)
+            .asin()
+            .to_degrees()
     }
 
     /// The sun's azimuth in degrees about the world's up, from an axis perpendicular to up.
@@ -197,7 +207,11 @@ impl SunRig {
     /// Two unit axes perpendicular to up: the azimuth is measured from the first toward the
     /// second.
     fn horizontal_axes(&self) -> (DVec3, DVec3) {
-        let reference = if self.up.x.abs() < 0.9 { DVec3::X } else { DVec3::Z };
+        let reference = if self.up.x.abs() < 0.9 {
+            DVec3::X
+        } else {
+            DVec3::Z
+        };
         let x = (reference - self.up * reference.dot(self.up)).normalize();
         (x, self.up.cross(x))
     }
@@ -264,7 +278,9 @@ mod tests {
             rig.orbit(yaw, pitch);
             assert_eq!(rig.target, target);
             assert!((rig.eye.distance(target) - 10.0).abs() < 1e-9);
-            assert!(rig.forward().dot(DVec3::Y).abs() <= MAX_PITCH_DEGREES.to_radians().sin() + 1e-12);
+            assert!(
+                rig.forward().dot(DVec3::Y).abs() <= MAX_PITCH_DEGREES.to_radians().sin() + 1e-12
+            );
         }
         rig.zoom(1.0);
         assert!((rig.eye.distance(target) - 9.0).abs() < 1e-9);

@@ -150,7 +150,9 @@ impl Script {
                 .filter(|k| object.contains_key(*k))
                 .collect();
             if kinds.len() != 1 {
-                return Err(error("give exactly one of 'key', 'drag' and 'scroll'".into()));
+                return Err(error(
+                    "give exactly one of 'key', 'drag' and 'scroll'".into(),
+                ));
             }
             let known: &[&str] = match kinds[0] {
                 "key" => &["frame", "key", "down"],
@@ -167,7 +169,10 @@ impl Script {
                         .ok_or_else(|| error("'key' must be a string".into()))?;
                     let key = Key::named(name).ok_or_else(|| {
                         let names: Vec<&str> = Key::ALL.iter().map(|(_, n)| *n).collect();
-                        error(format!("unknown key '{name}' (known: {})", names.join(", ")))
+                        error(format!(
+                            "unknown key '{name}' (known: {})",
+                            names.join(", ")
+                        ))
                     })?;
                     let down = object
                         .get("down")
@@ -262,14 +267,29 @@ mod tests {
     #[test]
     fn a_bad_line_is_named() {
         for (text, needle) in [
-            ("{\"frame\": 1, \"key\": \"Z\", \"down\": true}", "unknown key 'Z'"),
+            (
+                "{\"frame\": 1, \"key\": \"Z\", \"down\": true}",
+                "unknown key 'Z'",
+            ),
             ("{\"frame\": -1, \"scroll\": 1}", "'frame'"),
             ("{\"frame\": 1}", "exactly one"),
-            ("{\"frame\": 1, \"scroll\": 1, \"key\": \"W\"}", "exactly one"),
-            ("{\"frame\": 1, \"drag\": [1], \"button\": \"left\"}", "[dx, dy]"),
-            ("{\"frame\": 1, \"drag\": [1, 2], \"button\": \"side\"}", "'button'"),
+            (
+                "{\"frame\": 1, \"scroll\": 1, \"key\": \"W\"}",
+                "exactly one",
+            ),
+            (
+                "{\"frame\": 1, \"drag\": [1], \"button\": \"left\"}",
+                "[dx, dy]",
+            ),
+            (
+                "{\"frame\": 1, \"drag\": [1, 2], \"button\": \"side\"}",
+                "'button'",
+            ),
             ("{\"frame\": 1, \"key\": \"W\"}", "'down'"),
-            ("{\"frame\": 1, \"scroll\": 1, \"speed\": 2}", "unknown field 'speed'"),
+            (
+                "{\"frame\": 1, \"scroll\": 1, \"speed\": 2}",
+                "unknown field 'speed'",
+            ),
             ("frame 1", "not JSON"),
         ] {
             let error = Script::parse(&format!("\n{text}")).unwrap_err();

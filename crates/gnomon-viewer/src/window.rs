@@ -44,8 +44,8 @@ where
     M: Model,
     F: FnOnce(Gpu) -> Result<(Renderer, M), String>,
 {
-    let event_loop = EventLoop::new()
-        .map_err(|e| ViewerError::Window(format!("cannot open a window: {e}")))?;
+    let event_loop =
+        EventLoop::new().map_err(|e| ViewerError::Window(format!("cannot open a window: {e}")))?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App {
         options,
@@ -92,6 +92,8 @@ struct Running<M> {
     dragging: Option<DragButton>,
     cursor: Option<(f64, f64)>,
     frame: u64,
+    /// When the first frame ended (the frames per second of a scripted run count from it).
+    second_frame_at: Option<Instant>,
     last_frame_at: Instant,
     fps: Fps,
     report: FrameReport,
@@ -245,10 +247,14 @@ fn start<M: Model>(
     options: &ViewerOptions,
     make: impl FnOnce(Gpu) -> Result<(Renderer, M), String>,
 ) -> Result<Running<M>, ViewerError> {
-    let window_error = |what: &str, e: &dyn std::fmt::Display| ViewerError::Window(format!("{what}: {e}"));
+    let window_error =
+        |what: &str, e: &dyn std::fmt::Display| ViewerError::Window(format!("{what}: {e}"));
     let attributes = Window::default_attributes()
         .with_title(options.title.clone())
-        .with_inner_size(winit::dpi::PhysicalSize::new(options.size.0, options.size.1));
+        .with_inner_size(winit::dpi::PhysicalSize::new(
+            options.size.0,
+            options.size.1,
+        ));
     let window = Arc::new(
         event_loop
             .create_window(attributes)
@@ -318,6 +324,7 @@ fn start<M: Model>(
         dragging: None,
         cursor: None,
         frame: 0,
+        second_frame_at: None,
         last_frame_at: Instant::now(),
         fps: Fps {
             window_start: Instant::now(),
@@ -370,14 +377,14 @@ impl<M: Model> Running<M> {
             Input::Drag { delta, button } => {
                 let (dx, dy) = (delta[0], delta[1]);
                 match button {
-                    DragButton::Right => self.rigs.camera.look(
-                        dx * TURN_DEGREES_PER_PIXEL,
-                        -dy * TURN_DEGREES_PER_PIXEL,
-                    ),
-                    DragButton::Left => self.rigs.camera.orbit(
-                        -dx * TURN_DEGREES_PER_PIXEL,
-                        dy * TURN_DEGREES_PER_PIXEL,
-                    ),
+                    DragButton::Right => self
+                        .rigs
+                        .camera
+                        .look(dx * TURN_DEGREES_PER_PIXEL, -dy * TURN_DEGREES_PER_PIXEL),
+                    DragButton::Left => self
+                        .rigs
+                        .camera
+                        .orbit(-dx * TURN_DEGREES_PER_PIXEL, dy * TURN_DEGREES_PER_PIXEL),
                     DragButton::Middle => {
                         if let Some(sun) = &mut self.rigs.sun {
                             sun.turn(dx * SUN_DEGREES_PER_PIXEL, -dy * SUN_DEGREES_PER_PIXEL);
@@ -509,6 +516,7 @@ impl<M: Model> Running<M> {
             frame: self.frame,
             still,
             exact,
+            panel: !options.no_ui,
         };
         let mut encoder = self
             .device
@@ -553,6 +561,9 @@ impl<M: Model> Running<M> {
             eprintln!("wrote {}", path.display());
         }
         self.frame += 1;
+        if self.frame == 1 {
+            self.second_frame_at = Some(Instant::now());
+        }
         self.fps.tick(now.elapsed().as_secs_f64() * 1e3);
         Ok(())
     }
@@ -567,7 +578,8 @@ impl<M: Model> Running<M> {
         ppp: f32,
     ) -> Result<(), ViewerError> {
         let surface_texture = match self.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            wgpu::CurrentSurfaceTexture::Success(t)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
             other => {
                 if matches!(
                     other,
@@ -583,14 +595,19 @@ impl<M: Model> Running<M> {
             .texture
             .create_view(&wgpu::TextureViewDescriptor::default());
         let offscreen = self.offscreen.as_ref().expect("made before");
-        self.blit.encode(&mut encoder, &surface_view, offscreen, size);
+        self.blit
+            .encode(&mut encoder, &surface_view, offscreen, size);
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [self.config.width, self.config.height],
             pixels_per_point: ppp,
         };
-        let mut buffers =
-            self.egui_renderer
-                .update_buffers(&self.device, &self.queue, &mut encoder, jobs, &screen);
+        let mut buffers = self.egui_renderer.update_buffers(
+            &self.device,
+            &self.queue,
+            &mut encoder,
+            jobs,
+            &screen,
+        );
         {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("egui"),
@@ -620,6 +637,20 @@ impl<M: Model> Running<M> {
         if options.frames.is_none() {
             return Ok(());
         }
+        // Frames per second after the first (which compiles the shaders).
+        if let Some(started) = self.second_frame_at
+            && self.frame > 1
+        {
+            let seconds = started.elapsed().as_secs_f64();
+            eprintln!(
+                "{} frames of {}x{} in {:.2} s after the first: {:.1} frames/s",
+                self.frame - 1,
+                self.view_size().0,
+                self.view_size().1,
+                seconds,
+                (self.frame - 1) as f64 / seconds
+            );
+        }
         if let Some(path) = &options.screenshot {
             self.write_screenshot(path)?;
             eprintln!("wrote {}", path.display());
@@ -636,9 +667,8 @@ impl<M: Model> Running<M> {
             .renderer
             .read_texture(&offscreen.texture, 4)
             .map_err(|e| ViewerError::Window(format!("cannot read the view back: {e}")))?;
-        image::save_buffer(path, &bytes, w, h, image::ColorType::Rgba8).map_err(|e| {
-            ViewerError::Window(format!("cannot write {}: {e}", path.display()))
-        })
+        image::save_buffer(path, &bytes, w, h, image::ColorType::Rgba8)
+            .map_err(|e| ViewerError::Window(format!("cannot write {}: {e}", path.display())))
     }
 
     /// The offscreen view of `size` at `left` in the window (remade when its size changes).
