@@ -510,9 +510,27 @@ impl ViewModel {
                 None => "view samples: from the boxes (the view moves)".to_string(),
             },
         ]);
-        if let Some(fallback) = setup.fallback() {
-            notes.push(format!("fallback: {}", fallback.name()));
+        let d = &setup.diagnostics;
+        let fallbacks: Vec<&str> = d.fallbacks.iter().map(|f| f.name()).collect();
+        if !fallbacks.is_empty() {
+            notes.push(format!("fallbacks: {}", fallbacks.join(", ")));
         }
+        notes.push(format!(
+            "gamma {:.1} deg, receivers {}, casters {} ({} culled), B {} vertices{}{}",
+            d.gamma_degrees,
+            d.visible_receivers,
+            d.relevant_casters,
+            d.culled_casters,
+            d.focus_body_vertices,
+            d.warp_strength
+                .map(|w| format!(", warp strength {w:.2}"))
+                .unwrap_or_default(),
+            if d.cube_faces_skipped > 0 {
+                format!(", {} cube faces skipped", d.cube_faces_skipped)
+            } else {
+                String::new()
+            }
+        ));
         Ok(FrameReport { setup_us, notes })
     }
 }

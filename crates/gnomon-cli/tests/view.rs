@@ -11,8 +11,12 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
+/// One Xvfb at a time: `xvfb-run -a` picks a free display, and parallel starts can race.
+static XVFB: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// `gnomon view ARGS` in a 1280x720 Xvfb screen.
 fn view(args: &[&str], dir: &Path) -> Output {
+    let _one = XVFB.lock().unwrap_or_else(|e| e.into_inner());
     let out = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1280x720x24"])
         .arg(env!("CARGO_BIN_EXE_gnomon"))
