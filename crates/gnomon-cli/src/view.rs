@@ -895,6 +895,9 @@ impl Model for ViewModel {
             Drawn::Volumes(_) => None,
         };
         let mut extra = self.draw.non_default_flags();
+        if let Some(aspect) = self.view.aspect {
+            extra += &format!(" --aspect {aspect}");
+        }
         if let Drawn::Volumes(mode) = self.draw.technique
             && self.draw.stencil.is_none()
             && let Some(name) = crate::render::stencil_name(mode)
