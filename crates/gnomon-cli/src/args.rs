@@ -390,6 +390,28 @@ pub fn render_command(
     size: (u32, u32),
     extra: &str,
 ) -> String {
+    render_command_of(
+        scene_options,
+        view,
+        (technique, "volumes"),
+        params,
+        shadow_map,
+        size,
+        extra,
+    )
+}
+
+/// [`render_command`] where `technique.1` names what draws without a map (`volumes`,
+/// `planar`) when `technique.0` is `None`.
+pub fn render_command_of(
+    scene_options: &str,
+    view: &NamedView,
+    (technique, exact_name): (Option<&Technique>, &'static str),
+    params: &TechniqueParams,
+    shadow_map: u32,
+    size: (u32, u32),
+    extra: &str,
+) -> String {
     let mut command = "gnomon render".to_string();
     if !scene_options.is_empty() {
         command += &format!(" {scene_options}");
@@ -402,7 +424,7 @@ pub fn render_command(
     }
     command += &format!(
         " --technique {}",
-        technique.map_or("volumes", gnomon::ShadowTechnique::name)
+        technique.map_or(exact_name, gnomon::ShadowTechnique::name)
     );
     if let Some(technique) = technique {
         command += &format!(" --shadow-map {shadow_map}");
@@ -1010,6 +1032,16 @@ fn parse_spot(s: &str) -> Result<[f64; 8], String> {
 
 fn parse_point(s: &str) -> Result<[f64; 4], String> {
     parse_numbers::<4>(s, "X,Y,Z,RANGE")
+}
+
+/// A plane A,B,C,D (A x + B y + C z + D = 0, the receiving side where it is positive), with
+/// a non-zero normal (A, B, C).
+pub fn parse_plane(s: &str) -> Result<[f64; 4], String> {
+    let p = parse_numbers::<4>(s, "A,B,C,D")?;
+    if DVec3::new(p[0], p[1], p[2]).length() < 1e-12 {
+        return Err(format!("the plane '{s}' has no normal (A, B, C are 0)"));
+    }
+    Ok(p)
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! One registry of what the commands draw, by name: the core's shadow-map techniques
-//! ([`gnomon::Technique`]), the exact shadow volumes with each way of counting them, and
-//! `compare`'s extra row. Every command (and the viewer) parses technique names here.
+//! ([`gnomon::Technique`]), the exact shadow volumes with each way of counting them, planar
+//! projected shadows, and `compare`'s extra row. Every command (and the viewer) parses technique names here.
 
 use gnomon::{ShadowTechnique, Technique};
 use gnomon_render::StencilMode;
@@ -11,6 +11,10 @@ pub const VOLUMES: [(&str, StencilMode); 3] = [
     ("volumes-z-pass", StencilMode::ZPass),
     ("volumes-per-caster", StencilMode::PerCaster),
 ];
+
+/// Planar projected shadows (the shadows lecture's "projection to a plane"): the casters
+/// flattened onto the ground's top face (or `--receiver-plane`); nothing else is shadowed.
+pub const PLANAR: &str = "planar";
 
 /// `compare`'s row of SPPSM with two maps of half the area each (the texels of one map).
 pub const SPPSM_SAME_TEXELS: &str = "sppsm-same-texels";
@@ -51,6 +55,8 @@ pub enum Drawn {
     Map(Technique),
     /// Stenciled shadow volumes, counted as the mode says.
     Volumes(StencilMode),
+    /// Planar projected shadows on one receiver plane ([`PLANAR`]).
+    Planar,
 }
 
 impl Drawn {
@@ -59,6 +65,9 @@ impl Drawn {
         let name = name.trim();
         if let Some((_, mode)) = VOLUMES.iter().find(|(n, _)| *n == name) {
             return Ok(Drawn::Volumes(*mode));
+        }
+        if name == PLANAR {
+            return Ok(Drawn::Planar);
         }
         name.parse::<Technique>()
             .map(Drawn::Map)
@@ -76,6 +85,7 @@ impl Drawn {
                     .expect("every mode has a name")
                     .0
             }
+            Drawn::Planar => PLANAR,
         }
     }
 }
@@ -85,8 +95,8 @@ impl Drawn {
 pub fn parse_map(name: &str) -> Result<Technique, String> {
     match Drawn::parse(name)? {
         Drawn::Map(t) => Ok(t),
-        Drawn::Volumes(_) => Err(format!(
-            "'{name}' draws exact shadow volumes; this needs a shadow-map technique (known: {})",
+        Drawn::Volumes(_) | Drawn::Planar => Err(format!(
+            "'{name}' draws no shadow map; this needs a shadow-map technique (known: {})",
             known(false)
         )),
     }
@@ -97,6 +107,7 @@ pub fn known(volumes: bool) -> String {
     let mut names: Vec<&str> = Technique::NAMES.to_vec();
     if volumes {
         names.extend(VOLUMES.iter().map(|(n, _)| *n));
+        names.push(PLANAR);
     }
     names.join(", ")
 }
@@ -120,6 +131,7 @@ mod tests {
         for name in Technique::NAMES
             .iter()
             .chain(VOLUMES.iter().map(|(n, _)| n))
+            .chain([&PLANAR])
         {
             assert_eq!(Drawn::parse(name).unwrap().name(), *name);
         }

@@ -122,6 +122,11 @@ pub struct DrawArgs {
     /// hemispheres.
     #[arg(long)]
     pub tint: bool,
+    /// Planar shadows: the receiver plane A,B,C,D (A x + B y + C z + D = 0, receiving where
+    /// positive), its part inside the scene's box (default: the top face of the scene's
+    /// ground).
+    #[arg(long, value_parser = crate::args::parse_plane, allow_hyphen_values = true)]
+    pub receiver_plane: Option<[f64; 4]>,
 }
 
 impl DrawArgs {
@@ -167,7 +172,28 @@ impl DrawArgs {
         if self.tint {
             flags += " --tint";
         }
+        if let Some(p) = self.receiver_plane {
+            flags += &format!(" --receiver-plane={},{},{},{}", p[0], p[1], p[2], p[3]);
+        }
         flags
+    }
+
+    /// Refuses the options that only `technique` does not read: `--receiver-plane` without
+    /// planar shadows, `--stencil` without the volumes.
+    pub fn check_read(&self) -> Result<(), CliError> {
+        if self.receiver_plane.is_some() && self.technique != Drawn::Planar {
+            return Err(CliError::usage(format!(
+                "--receiver-plane places planar shadows; technique {} does not read it",
+                self.technique.name()
+            )));
+        }
+        if self.stencil.is_some() && !matches!(self.technique, Drawn::Volumes(_)) {
+            return Err(CliError::usage(format!(
+                "--stencil counts shadow volumes; technique {} draws none",
+                self.technique.name()
+            )));
+        }
+        Ok(())
     }
 
     /// The counting of shadow volumes: `--stencil` for `volumes`, else the one the name
@@ -336,16 +362,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     // Every light of the view (a scene file's view may have several), the first the main one.
     let lights = args.light.lights(&args.view, &loaded.views)?;
+    args.draw.check_read()?;
     let technique = match args.draw.technique {
         Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &lights, mode),
+        Drawn::Planar => return run_planar(args, &scene, &camera, &lights),
         Drawn::Map(technique) => technique,
     };
-    if args.draw.stencil.is_some() {
-        return Err(CliError::usage(format!(
-            "--stencil counts shadow volumes; technique {} uses a shadow map",
-            gnomon::ShadowTechnique::name(&technique)
-        )));
-    }
     let technique = args.draw.params.apply(technique);
     args.draw.params.check_used_by(&[technique])?;
     // Before any work where the technique says (SPPSM may still fall back to one map; a
@@ -499,6 +521,85 @@ fn run_volumes(
         } else {
             "; depth Depth24PlusStencil8, the device lacks DEPTH32FLOAT_STENCIL8"
         },
+        t.shadow_pass_ms,
+        t.main_pass_ms,
+        t.source.name(),
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// The receiver of planar shadows: `plane` (A, B, C, D) inside the scene's box, else the top
+/// face of the scene's ground.
+pub fn planar_receiver(
+    scene: &RenderScene,
+    plane: Option<[f64; 4]>,
+) -> Result<gnomon::planar::PlanarReceiver, CliError> {
+    let bounds = scene.bounds()?;
+    let tolerance = 1e-9 * (1.0 + bounds.scene_box().max().abs().max_element());
+    let (plane, within) = match plane {
+        Some(p) => {
+            let normal = glam::DVec3::new(p[0], p[1], p[2]);
+            let length = normal.length();
+            (
+                gnomon::geometry::Plane {
+                    normal: normal / length,
+                    offset: p[3] / length,
+                },
+                bounds.scene_box(),
+            )
+        }
+        None => {
+            let ground = scene
+                .instances
+                .iter()
+                .find(|i| i.name == "ground")
+                .and_then(|i| scene.instance_bounds(i).ok())
+                .ok_or_else(|| {
+                    CliError::usage(
+                        "planar shadows fall on the scene's ground, and it has none: give --receiver-plane A,B,C,D",
+                    )
+                })?;
+            (
+                gnomon::geometry::Plane::through_point(ground.max(), glam::DVec3::Y),
+                ground,
+            )
+        }
+    };
+    gnomon::planar::PlanarReceiver::new(plane, &within, tolerance).ok_or_else(|| {
+        CliError::usage("--receiver-plane misses the scene's box: nothing can receive there")
+    })
+}
+
+/// `gnomon render --technique planar`.
+fn run_planar(
+    args: &RenderArgs,
+    scene: &RenderScene,
+    camera: &gnomon::Camera,
+    lights: &[gnomon::Light],
+) -> Result<(), CliError> {
+    if args.light_view.is_some() || args.error_map.is_some() || args.json {
+        return Err(CliError::usage(
+            "--light-view, --error-map and --json describe a shadow map; planar shadows have none",
+        ));
+    }
+    let receiver = planar_receiver(scene, args.draw.receiver_plane)?;
+    let mut renderer = open_renderer(scene, args.size, None)?;
+    let settings = RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        ..RenderSettings::default()
+    };
+    let drawn = renderer.render_planar_lit_by(camera, lights, &receiver, &settings)?;
+    write_frame(&drawn.frame, &args.out, args.mask.as_deref(), None)?;
+    let t = drawn.frame.timings;
+    eprintln!(
+        "planar on {}: {} flattened triangles of {} casters on a {}-sided receiver, \
+         flattening and stencil {:.2} ms, shading {:.2} ms ({}); wrote {}",
+        renderer.gpu().describe(),
+        drawn.stats.triangles,
+        drawn.stats.z_fail_casters / lights.len().max(1),
+        receiver.polygon.len(),
         t.shadow_pass_ms,
         t.main_pass_ms,
         t.source.name(),

@@ -17,9 +17,7 @@ use gnomon_viewer::{
 };
 
 use crate::CliError;
-use crate::args::{
-    LightArgs, LoadedScene, SceneArgs, ViewArgs, options_read_by, render_command, timed_setup,
-};
+use crate::args::{LightArgs, LoadedScene, SceneArgs, ViewArgs, options_read_by, timed_setup};
 use crate::names::Drawn;
 use crate::render::{DrawArgs, parse_size};
 
@@ -101,9 +99,12 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
             args.draw.shadow_map,
             None,
         )?;
+    } else if args.draw.technique == Drawn::Planar {
+        crate::render::planar_receiver(&loaded.scene, args.draw.receiver_plane)?;
     } else {
         args.draw.stencil_mode(gnomon_render::StencilMode::ZFail)?;
     }
+    args.draw.check_read()?;
     let named = args.view.named(&loaded.views)?.cloned();
     let up = args
         .view
@@ -167,6 +168,7 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
                 divider: 0.5,
             }),
             split_target: None,
+            receiver: None,
         };
         Ok((renderer, model))
     });
@@ -235,6 +237,8 @@ struct ViewModel {
     bookmarks: Vec<(String, Rigs, ViewLight)>,
     /// A second technique right of a divider.
     split: Option<Split>,
+    /// The planar shadows' receiver, for the `--receiver-plane` it was made from.
+    receiver: Option<(Option<[f64; 4]>, gnomon::planar::PlanarReceiver)>,
     split_target: Option<(wgpu::Texture, wgpu::TextureView)>,
 }
 
@@ -359,14 +363,30 @@ impl ViewModel {
         let light: Light = view.light.light()?;
         let settings = draw.settings(info.size);
         let technique = match draw.technique {
-            Drawn::Volumes(named) => {
-                let mode = draw.stencil_mode(named)?;
-                let (timings, stats) = renderer.draw_volumes_lit_by(
-                    &camera,
-                    std::slice::from_ref(&light),
-                    &settings,
-                    mode,
-                )?;
+            Drawn::Volumes(_) | Drawn::Planar => {
+                let lights = std::slice::from_ref(&light);
+                let (timings, stats) = match draw.technique {
+                    Drawn::Volumes(named) => {
+                        let mode = draw.stencil_mode(named)?;
+                        renderer.draw_volumes_lit_by(&camera, lights, &settings, mode)?
+                    }
+                    _ => {
+                        let receiver = match &self.receiver {
+                            Some((plane, receiver)) if *plane == draw.receiver_plane => {
+                                receiver.clone()
+                            }
+                            _ => {
+                                let receiver = crate::render::planar_receiver(
+                                    &self.loaded.scene,
+                                    draw.receiver_plane,
+                                )?;
+                                self.receiver = Some((draw.receiver_plane, receiver.clone()));
+                                receiver
+                            }
+                        };
+                        renderer.draw_planar_lit_by(&camera, lights, &receiver, &settings)?
+                    }
+                };
                 let color = renderer.frame_color().expect("drawn above");
                 encoder.copy_texture_to_texture(
                     color.as_image_copy(),
@@ -377,9 +397,14 @@ impl ViewModel {
                     setup_us: 0.0,
                     notes: vec![
                         format!(
-                            "{}: {} volume triangles",
+                            "{}: {} {} triangles",
                             draw.technique.name(),
-                            stats.triangles
+                            stats.triangles,
+                            if draw.technique == Drawn::Planar {
+                                "flattened"
+                            } else {
+                                "volume"
+                            }
                         ),
                         format!(
                             "stencil {:.2} ms, shading {:.2} ms ({})",
@@ -892,7 +917,11 @@ impl Model for ViewModel {
         };
         let technique = match self.draw.technique {
             Drawn::Map(t) => Some(self.draw.params.apply(t)),
-            Drawn::Volumes(_) => None,
+            Drawn::Volumes(_) | Drawn::Planar => None,
+        };
+        let exact_name = match self.draw.technique {
+            Drawn::Planar => crate::names::PLANAR,
+            _ => "volumes",
         };
         let mut extra = self.draw.non_default_flags();
         if let Some(aspect) = self.view.aspect {
@@ -904,10 +933,10 @@ impl Model for ViewModel {
         {
             extra += &format!(" --stencil {name}");
         }
-        render_command(
+        crate::args::render_command_of(
             &self.loaded.options,
             &view,
-            technique.as_ref(),
+            (technique.as_ref(), exact_name),
             &self.draw.params,
             self.draw.shadow_map,
             size,
@@ -1113,8 +1142,9 @@ fn shown(field: &Field, technique: Option<&Drawn>, fields: &[Field]) -> bool {
     match technique {
         None => field.id == "technique",
         Some(Drawn::Volumes(_)) => field.id == "technique" || field.id == "stencil",
+        Some(Drawn::Planar) => field.id == "technique" || field.id == "receiver_plane",
         Some(Drawn::Map(t)) => {
-            if field.id == "stencil" {
+            if field.id == "stencil" || field.id == "receiver_plane" {
                 return false;
             }
             if !is_param {

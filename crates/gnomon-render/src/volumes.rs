@@ -16,7 +16,9 @@
 
 use std::ops::Range;
 
+use glam::DVec3;
 use glam::DVec4;
+use gnomon::planar::PlanarReceiver;
 use gnomon::volumes::{
     MeshTopology, NearClipFallback, NearClipVolume, OpenMeshPolicy, VolumeParts, extrude_volume,
 };
@@ -68,6 +70,13 @@ pub struct VolumeFrame {
     pub frame: Frame,
     /// What was drawn.
     pub stats: VolumeStats,
+}
+
+/// What fills the stencil of a light: its shadow volumes, or planar shadows.
+#[derive(Clone, Copy)]
+enum Stenciled<'a> {
+    Volumes(StencilMode),
+    Planar(&'a PlanarReceiver),
 }
 
 /// The casters' meshes, ready for extrusion (their placements are the scene's instances).
@@ -187,6 +196,55 @@ impl VolumeCasters {
     }
 }
 
+impl VolumeCasters {
+    /// Planar shadows of every light on `receiver`, in view space: per light, the receiver
+    /// polygon's triangles, then every casting instance's triangles flattened onto its plane
+    /// (the ranges take the places of the z-fail and z-pass volumes).
+    pub fn flatten(
+        &mut self,
+        scene: &[SceneInstance],
+        camera: &Camera,
+        lights: &[Light],
+        receiver: &PlanarReceiver,
+        into: &mut ExtrudedVolumes,
+    ) {
+        into.vertices.clear();
+        into.ranges.clear();
+        into.stats = VolumeStats::default();
+        let view_from_world = camera.view_from_world();
+        let to_view = |p: DVec3| (view_from_world * p.extend(1.0)).as_vec4().to_array();
+        let mut flat = Vec::new();
+        for light in lights {
+            let start = into.vertices.len() as u32;
+            into.vertices
+                .extend(receiver.triangles().flatten().map(to_view));
+            let mid = into.vertices.len() as u32;
+            for instance in scene.iter().filter(|i| i.casts) {
+                let Some(topology) = &self.topologies[instance.mesh] else {
+                    continue;
+                };
+                into.stats.z_fail_casters += 1;
+                let (m, positions) = (instance.world_from_object, topology.positions());
+                for t in topology.triangles() {
+                    let corner = |k: usize| m.transform_point3(positions[t[k] as usize]);
+                    flat.clear();
+                    gnomon::planar::flatten_triangle(
+                        light,
+                        &receiver.plane,
+                        [corner(0), corner(1), corner(2)],
+                        &mut flat,
+                    );
+                    into.stats.triangles += flat.len();
+                    into.vertices
+                        .extend(flat.iter().flatten().map(|p| to_view(*p)));
+                }
+            }
+            into.ranges
+                .push((start..mid, mid..into.vertices.len() as u32));
+        }
+    }
+}
+
 /// The pipelines of the volume passes.
 pub(crate) struct VolumePipelines {
     /// Whether the depth is Depth32FloatStencil8 (else Depth24PlusStencil8).
@@ -202,6 +260,13 @@ pub(crate) struct VolumePipelines {
     /// shadows (skipped for the first light when every instance receives: the ambient pass
     /// wrote its mask).
     shadowed: wgpu::RenderPipeline,
+    /// Planar shadows: the receiver polygon's visible pixels marked 1 (pulled in front of the
+    /// face it lies on), the flattened casters raising a marked pixel to 2 once, the marks
+    /// that stayed 1 cleared: the stencil is then non-zero exactly where a caster's shadow
+    /// falls on the visible receiver.
+    planar_mark: wgpu::RenderPipeline,
+    planar_flat: wgpu::RenderPipeline,
+    planar_unmark: wgpu::RenderPipeline,
 }
 
 impl VolumePipelines {
@@ -322,9 +387,54 @@ impl VolumePipelines {
                 samples: 1,
             })
         };
+        let in_front = wgpu::DepthBiasState {
+            constant: 16,
+            slope_scale: 0.05,
+            clamp: 0.0,
+        };
+        let stencil_only = |compare, pass_op| wgpu::StencilFaceState {
+            compare,
+            fail_op: S::Keep,
+            depth_fail_op: S::Keep,
+            pass_op,
+        };
+        let fs_planar = pipelines.fragment_depth.then_some("fs_planar_frag_depth");
+        let planar = |label, depth_compare, fragment, face, bias| {
+            make(PipelineSpec {
+                label,
+                vertex: "vs_volume",
+                buffers: &volume_vertices,
+                fragment,
+                targets: &[],
+                constants: &[],
+                depth: depth_stencil(false, depth_compare, face, face, 0xff, 0xff, bias),
+                samples: 1,
+            })
+        };
         Self {
             float_depth,
             format,
+            planar_mark: planar(
+                "planar: receiver",
+                C::GreaterEqual,
+                fs_planar,
+                stencil_only(C::Always, S::Replace),
+                in_front,
+            ),
+            planar_flat: planar(
+                "planar: flattened casters",
+                C::Always,
+                None,
+                stencil_only(C::Equal, S::IncrementClamp),
+                no_bias,
+            ),
+            planar_unmark: planar(
+                "planar: unshadowed receiver",
+                C::Always,
+                None,
+                stencil_only(C::Equal, S::Zero),
+                no_bias,
+            ),
             z_fail: volumes(
                 "volumes: z-fail",
                 face(S::DecrementWrap, S::Keep),
@@ -415,6 +525,17 @@ impl Renderer {
         mode: StencilMode,
     ) -> Result<VolumeFrame, RenderError> {
         let (timings, stats) = self.draw_volumes_lit_by(camera, lights, settings, mode)?;
+        self.read_stenciled(timings, stats, lights.len(), settings)
+    }
+
+    /// Reads back a stenciled frame: its colour and each light's mask.
+    fn read_stenciled(
+        &mut self,
+        timings: crate::Timings,
+        stats: VolumeStats,
+        light_count: usize,
+        settings: &RenderSettings,
+    ) -> Result<VolumeFrame, RenderError> {
         let (width, height) = (settings.width, settings.height);
         let start = std::time::Instant::now();
         let headless = self.headless.as_ref().expect("made by the draw");
@@ -422,8 +543,8 @@ impl Renderer {
             .readback
             .read(&self.gpu, &self.resources, &headless.color.0, 4, 0)?;
         let targets = self.volume_targets.as_ref().expect("kept by the draw");
-        let mut light_masks = Vec::with_capacity(lights.len());
-        for (texture, _) in targets.masks.iter().take(lights.len()) {
+        let mut light_masks = Vec::with_capacity(light_count);
+        for (texture, _) in targets.masks.iter().take(light_count) {
             light_masks.push(
                 self.readback
                     .read(&self.gpu, &self.resources, texture, 1, 0)?,
@@ -463,6 +584,46 @@ impl Renderer {
         lights: &[Light],
         settings: &RenderSettings,
         mode: StencilMode,
+    ) -> Result<(crate::Timings, VolumeStats), RenderError> {
+        self.draw_stenciled(camera, lights, settings, Stenciled::Volumes(mode))
+    }
+
+    /// Renders one frame of `camera` lit by `lights` with planar projected shadows on
+    /// `receiver` (the shadows lecture's "projection to a plane", [`gnomon::planar`]): the
+    /// casters flattened onto its plane mark, through the stencil, the visible pixels of its
+    /// polygon they cover (once however many overlap); every other surface is lit (the
+    /// technique's limit). The passes are the volumes' with that stencil; the stats count
+    /// the flattened triangles and the casters.
+    pub fn render_planar_lit_by(
+        &mut self,
+        camera: &Camera,
+        lights: &[Light],
+        receiver: &PlanarReceiver,
+        settings: &RenderSettings,
+    ) -> Result<VolumeFrame, RenderError> {
+        let (timings, stats) =
+            self.draw_stenciled(camera, lights, settings, Stenciled::Planar(receiver))?;
+        self.read_stenciled(timings, stats, lights.len(), settings)
+    }
+
+    /// [`Renderer::render_planar_lit_by`] without reading the frame back (see
+    /// [`Renderer::draw_volumes_lit_by`]).
+    pub fn draw_planar_lit_by(
+        &mut self,
+        camera: &Camera,
+        lights: &[Light],
+        receiver: &PlanarReceiver,
+        settings: &RenderSettings,
+    ) -> Result<(crate::Timings, VolumeStats), RenderError> {
+        self.draw_stenciled(camera, lights, settings, Stenciled::Planar(receiver))
+    }
+
+    fn draw_stenciled(
+        &mut self,
+        camera: &Camera,
+        lights: &[Light],
+        settings: &RenderSettings,
+        stenciled: Stenciled<'_>,
     ) -> Result<(crate::Timings, VolumeStats), RenderError> {
         if lights.is_empty() {
             return Err(RenderError::Invalid(
@@ -515,14 +676,23 @@ impl Renderer {
             }
         };
         let mut clock = FrameClock::start(self);
-        // Extrusion on the CPU counts as the shadow part.
-        self.volume_casters.extrude(
-            &self.scene.instances,
-            camera,
-            lights,
-            mode,
-            &mut targets.extruded,
-        );
+        // Extrusion (or flattening) on the CPU counts as the shadow part.
+        match stenciled {
+            Stenciled::Volumes(mode) => self.volume_casters.extrude(
+                &self.scene.instances,
+                camera,
+                lights,
+                mode,
+                &mut targets.extruded,
+            ),
+            Stenciled::Planar(receiver) => self.volume_casters.flatten(
+                &self.scene.instances,
+                camera,
+                lights,
+                receiver,
+                &mut targets.extruded,
+            ),
+        }
         let bytes = (targets.extruded.vertices.len() * 16) as u64;
         if bytes > 0 && targets.vertices.as_ref().is_none_or(|b| b.size() < bytes) {
             let size = bytes.next_power_of_two().max(1 << 16);
@@ -541,7 +711,8 @@ impl Renderer {
             );
         }
         clock.cpu_part(Part::Shadow);
-        let result = self.encode_volumes(&mut clock, &targets, lights.len());
+        let planar = matches!(stenciled, Stenciled::Planar(_));
+        let result = self.encode_volumes(&mut clock, &targets, lights.len(), planar);
         let stats = targets.extruded.stats;
         self.volume_targets = Some(targets);
         result?;
@@ -555,6 +726,7 @@ impl Renderer {
         clock: &mut FrameClock,
         targets: &VolumeTargets,
         light_count: usize,
+        planar: bool,
     ) -> Result<(), RenderError> {
         let headless = self.headless.as_ref().expect("made by the caller");
         let color_view = &headless.color.1;
@@ -598,7 +770,22 @@ impl Renderer {
                     });
                 pass.set_bind_group(0, &self.frame_group, &[slot]);
                 pass.set_bind_group(1, &self.atlas.bind_group, &[]);
-                if let Some(buffer) = &targets.vertices {
+                if let (Some(buffer), true) = (&targets.vertices, planar) {
+                    // The receiver's visible pixels marked, raised once under the flattened
+                    // casters, the unshadowed marks cleared.
+                    pass.set_vertex_buffer(0, buffer.slice(..));
+                    pass.set_stencil_reference(1);
+                    for (pipeline, range) in [
+                        (&self.volumes.planar_mark, &z_fail),
+                        (&self.volumes.planar_flat, &z_pass),
+                        (&self.volumes.planar_unmark, &z_fail),
+                    ] {
+                        if !range.is_empty() {
+                            pass.set_pipeline(pipeline);
+                            pass.draw(range.clone(), 0..1);
+                        }
+                    }
+                } else if let Some(buffer) = &targets.vertices {
                     pass.set_vertex_buffer(0, buffer.slice(..));
                     for (pipeline, range) in [
                         (&self.volumes.z_fail, z_fail),

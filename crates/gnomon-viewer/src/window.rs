@@ -44,8 +44,11 @@ where
     M: Model,
     F: FnOnce(Gpu) -> Result<(Renderer, M), String>,
 {
-    let event_loop =
-        EventLoop::new().map_err(|e| ViewerError::Window(format!("cannot open a window: {e}")))?;
+    let event_loop = EventLoop::new().map_err(|e| {
+        ViewerError::Window(format!(
+            "cannot open a window ({e}); without a display, run it under xvfb-run"
+        ))
+    })?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App {
         options,

@@ -49,6 +49,7 @@ mod frame;
 pub mod geometry;
 mod light;
 mod light_space;
+pub mod planar;
 mod samples;
 mod setup;
 pub mod techniques;

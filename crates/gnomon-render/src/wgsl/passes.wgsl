@@ -433,6 +433,16 @@ fn fs_volume_frag_depth(in: VolumeVertex) -> @builtin(frag_depth) f32 {
     return max(d * (1.0 - 16.0 * 1.1920929e-7) - 0.05 * slope, 0.0);
 }
 
+// Planar shadows' receiver polygon from the fragment shader (GL), pulled in front of the
+// receiver's own face it lies on (the planar pipelines' depth bias elsewhere): 16 units of
+// the float's last place and 0.05 of the slope.
+@fragment
+fn fs_planar_frag_depth(in: VolumeVertex) -> @builtin(frag_depth) f32 {
+    let d = in.depth.x / in.depth.y;
+    let slope = max(abs(dpdx(d)), abs(dpdy(d)));
+    return min(d * (1.0 + 16.0 * 1.1920929e-7) + 0.05 * slope, 1.0);
+}
+
 struct FullscreenOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) uv: vec2<f32>,
