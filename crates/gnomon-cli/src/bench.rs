@@ -29,8 +29,8 @@ pub struct BenchArgs {
     /// What to time, comma-separated: shadow-map techniques and compare's rows (uniform,
     /// focused, lispsm, tsm, xpsm, psm, sppsm, cascades, cube, paraboloid, sppsm-same-texels,
     /// paraboloid-cube-texels, cascades-stable, cascades-lispsm, cascades-best; a row that
-    /// cannot draw a view's light is not timed there) and shadow volumes (volumes = z-fail, volumes-z-pass,
-    /// volumes-per-caster).
+    /// cannot draw a view's light is not timed there), shadow volumes (volumes = z-fail, volumes-z-pass,
+    /// volumes-per-caster) and planar shadows on the ground (planar).
     #[arg(
         long,
         value_delimiter = ',',
@@ -60,10 +60,12 @@ pub struct BenchArgs {
     pub json: bool,
 }
 
-/// One thing timed: a row of shadow maps, or the shadow volumes counted one way.
+/// One thing timed: a row of shadow maps, the shadow volumes counted one way, or planar
+/// shadows on the scene's ground.
 enum Entry {
     Map(Box<crate::rows::Row>),
     Volumes(gnomon_render::StencilMode),
+    Planar,
 }
 
 impl Entry {
@@ -71,6 +73,7 @@ impl Entry {
         match self {
             Entry::Map(row) => &row.label,
             Entry::Volumes(mode) => Drawn::Volumes(*mode).name(),
+            Entry::Planar => Drawn::Planar.name(),
         }
     }
 }
@@ -111,6 +114,12 @@ fn time_views(
         renderer.timing_source().name()
     );
     let device = (renderer.gpu().describe(), renderer.timing_source().name());
+    // Planar shadows fall on the scene's ground.
+    let receiver = entries
+        .iter()
+        .any(|e| matches!(e, Entry::Planar))
+        .then(|| crate::render::planar_receiver(&loaded.scene, None))
+        .transpose()?;
     // One frame: its time in ms (setup + shadow pass + main pass) and its timings. The view
     // samples are a fact of the view, drawn once per view (an engine takes them from its
     // last frame), and not timed.
@@ -132,6 +141,14 @@ fn time_views(
             Entry::Volumes(mode) => {
                 let f = renderer
                     .render_volumes_lit_by(camera, lights, &settings, *mode)?
+                    .frame;
+                let t = f.timings;
+                Ok((t.shadow_pass_ms + t.main_pass_ms, t))
+            }
+            Entry::Planar => {
+                let receiver = receiver.as_ref().expect("made for a planar entry");
+                let f = renderer
+                    .render_planar_lit_by(camera, lights, receiver, &settings)?
                     .frame;
                 let t = f.timings;
                 Ok((t.shadow_pass_ms + t.main_pass_ms, t))
@@ -200,6 +217,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         .map(
             |t| match crate::names::VOLUMES.iter().find(|(n, _)| *n == t.trim()) {
                 Some((_, mode)) => Ok(Entry::Volumes(*mode)),
+                None if t.trim() == crate::names::PLANAR => Ok(Entry::Planar),
                 None => crate::rows::row(t, &args.params, args.shadow_map)
                     .map(|r| Entry::Map(Box::new(r))),
             },

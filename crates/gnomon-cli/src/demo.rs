@@ -56,8 +56,10 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     };
     // Every technique, SPPSM with the texels of one map, and the cascade rows.
     let techniques = crate::rows::rows(&["all".to_string()], &args.params, args.shadow_map, true)?;
-    // Every map technique, then the shadow volumes.
-    let per_view = techniques.len() + 1;
+    // Planar shadows where the scene has a ground to fall on.
+    let planar = crate::render::planar_receiver(&loaded.scene, None).ok();
+    // Every map technique, planar shadows, then the shadow volumes.
+    let per_view = techniques.len() + 1 + usize::from(planar.is_some());
     let total = views.len() * per_view;
     let mut rows = String::new();
     let mut all = Vec::new();
@@ -131,6 +133,51 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 "setup": report::setup_json(setup),
             }));
         }
+        if let Some(receiver) = &planar {
+            // Planar projected shadows on the ground (nothing else receives: the limit).
+            let drawn = renderer.render_planar_lit_by(&camera, &lights, receiver, &settings)?;
+            let stem = format!("{}_planar", view.name);
+            write_frame(
+                &drawn.frame,
+                &args.out.join(format!("{stem}.png")),
+                None,
+                None,
+            )?;
+            let timings = drawn.frame.timings;
+            eprintln!(
+                "[{:>2}/{total}] {:<15} {:<8} {} flattened triangles  flattening and stencil {:>6.1} ms  shading {:>6.1} ms",
+                v * per_view + per_view - 1,
+                view.name,
+                crate::names::PLANAR,
+                drawn.stats.triangles,
+                timings.shadow_pass_ms,
+                timings.main_pass_ms,
+            );
+            cells.push_str(&format!(
+                "<td><img src=\"{stem}.png\" width=480><br>planar projected shadows (the ground \
+                 only) &middot; {} flattened triangles &middot; flattening and stencil {:.1} ms \
+                 &middot; shading {:.1} ms<br><code>{}</code></td>",
+                drawn.stats.triangles,
+                timings.shadow_pass_ms,
+                timings.main_pass_ms,
+                crate::args::render_command_of(
+                    &loaded.options,
+                    view,
+                    (None, crate::names::PLANAR),
+                    &args.params,
+                    args.shadow_map,
+                    (width, height),
+                    &format!(" --out {stem}.png"),
+                )
+            ));
+            all.push(json!({
+                "view": view.name,
+                "technique": crate::names::PLANAR,
+                "flattened_triangles": drawn.stats.triangles,
+                "flattening_and_stencil_ms": timings.shadow_pass_ms,
+                "shading_ms": timings.main_pass_ms,
+            }));
+        }
         // Exact shadows: stenciled shadow volumes, z-pass or z-fail chosen per caster.
         let drawn =
             renderer.render_volumes_lit_by(&camera, &lights, &settings, StencilMode::PerCaster)?;
@@ -192,6 +239,11 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let header: String = techniques
         .iter()
         .map(|t| format!("<th>{}</th>", t.label))
+        .chain(
+            planar
+                .as_ref()
+                .map(|_| "<th>planar (the ground)</th>".to_string()),
+        )
         .chain(["<th>volumes (exact)</th>".to_string()])
         .collect();
     let html = format!(
@@ -215,7 +267,11 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         "setups.json",
         &serde_json::to_string_pretty(&all).expect("JSON of plain values"),
     )?;
-    let maps = all.iter().filter(|e| e["skipped"].is_null()).count().max(1) as f64;
+    let maps = all
+        .iter()
+        .filter(|e| e["skipped"].is_null() && e["setup_us"].is_number())
+        .count()
+        .max(1) as f64;
     let views = views.len() as f64;
     eprintln!(
         "mean over {maps} shadow-map frames: setup {:.1} us, shadow pass {:.1} ms, main pass {:.1} ms; \

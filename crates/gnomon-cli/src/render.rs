@@ -89,9 +89,10 @@ pub struct RenderArgs {
 /// shared by `render` and `view` (one definition of each option).
 #[derive(Debug, Clone, Args)]
 pub struct DrawArgs {
-    /// The shadow technique: a shadow-map technique, or `volumes` (exact stenciled shadow
-    /// volumes; `volumes-z-pass`, `volumes-per-caster` name a way of counting them): the
-    /// names of [`crate::names`].
+    /// The shadow technique: a shadow-map technique, `volumes` (exact stenciled shadow
+    /// volumes; `volumes-z-pass`, `volumes-per-caster` name a way of counting them), or
+    /// `planar` (planar projected shadows on the ground, or --receiver-plane; nothing else is
+    /// shadowed): the names of [`crate::names`].
     #[arg(long, default_value = "focused", value_parser = crate::names::drawn_arg)]
     pub technique: Drawn,
     #[command(flatten)]

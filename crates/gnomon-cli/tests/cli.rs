@@ -357,11 +357,11 @@ fn demo_writes_every_view_and_technique() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("setups.json")).unwrap()).unwrap();
     let entries = json.as_array().unwrap();
     // Every view with every map technique, SPPSM with one map's texels, paraboloid maps with
-    // a cube's, the three cascade rows, and the exact shadow volumes (a row that cannot draw
-    // a view's light is an entry that says so).
+    // a cube's, the three cascade rows, planar shadows on the ground and the exact shadow
+    // volumes (a row that cannot draw a view's light is an entry that says so).
     assert_eq!(
         entries.len(),
-        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 2 + 3 + 1)
+        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 2 + 3 + 1 + 1)
     );
     let skipped = entries.iter().filter(|e| e["skipped"].is_string()).count();
     assert!(
@@ -389,6 +389,14 @@ fn demo_writes_every_view_and_technique() {
             .unwrap_or_else(|| panic!("{}: no volumes entry", view.name));
         assert!(volumes["volume_triangles"].as_u64().unwrap() > 100);
         assert!(dir.join(format!("{}_volumes.png", view.name)).exists());
+        assert!(dir.join(format!("{}_planar.png", view.name)).exists());
+        assert!(
+            entries
+                .iter()
+                .any(|e| e["view"] == view.name && e["technique"] == "planar"),
+            "{}: no planar entry",
+            view.name
+        );
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
@@ -604,6 +612,73 @@ fn render_with_shadow_volumes_writes_a_mask_like_the_maps() {
     let mut args = RENDER.to_vec();
     args.extend(["--technique", "volumes", "--light-view", "x.png"]);
     assert_eq!(gnomon(&args).status.code(), Some(2));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `render --technique planar`: the ground's shadows agree with the exact volumes' there, a
+/// receiver plane given by hand works, and its misuses are usage errors.
+#[test]
+fn render_planar_shadows_on_the_ground() {
+    let dir = temp_dir("planar");
+    let mask = |technique: &str, extra: &[&str]| {
+        let path = dir.join(format!("{technique}{}.png", extra.len()));
+        let mut args = RENDER.to_vec();
+        args.extend(["--technique", technique]);
+        args.extend(extra);
+        let out = dir.join("frame.png");
+        args.extend([
+            "--out",
+            out.to_str().unwrap(),
+            "--mask",
+            path.to_str().unwrap(),
+        ]);
+        gnomon_ok(&args);
+        image::open(&path).unwrap().into_luma8()
+    };
+    let planar = mask("planar", &[]);
+    let exact = mask("volumes", &[]);
+    // Planar shadows are the exact ones on the ground (the rest lit): the few differences lie
+    // along shadow edges, which are most of a shadow at this size (the renderer's tests check
+    // the interior against the oracle).
+    let shadowed = planar.pixels().filter(|p| p.0[0] == 0).count();
+    let false_shadow = planar
+        .pixels()
+        .zip(exact.pixels())
+        .filter(|(p, e)| p.0[0] == 0 && e.0[0] == 255)
+        .count();
+    assert!(shadowed > 20, "{shadowed} shadowed pixels");
+    assert!(false_shadow * 10 < shadowed, "{false_shadow} of {shadowed}");
+    // The ground's top face by hand (y = 0 upward) gives the same shadows.
+    assert_eq!(mask("planar", &["--receiver-plane", "0,1,0,0"]), planar);
+    for (extra, needle) in [
+        (
+            vec!["--technique", "focused", "--receiver-plane", "0,1,0,0"],
+            "--receiver-plane",
+        ),
+        (
+            vec!["--technique", "planar", "--receiver-plane", "0,0,0,1"],
+            "no normal",
+        ),
+        (
+            vec!["--technique", "planar", "--receiver-plane", "0,1,0,-900"],
+            "misses",
+        ),
+        (
+            vec!["--technique", "planar", "--json"],
+            "planar shadows have none",
+        ),
+        (
+            vec!["--technique", "planar", "--stencil", "z-pass"],
+            "--stencil",
+        ),
+    ] {
+        let mut args = RENDER.to_vec();
+        args.extend(extra.iter().copied());
+        let out = gnomon(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(needle), "{extra:?}: {stderr}");
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -836,25 +911,28 @@ fn bench_times_techniques_side_by_side() {
         "--shadow-map",
         "256",
         "--techniques",
-        "focused,volumes-per-caster",
+        "focused,volumes-per-caster,planar",
         "--json",
     ]);
     let json: Value = serde_json::from_slice(&out.stdout).unwrap();
     let results = json["results"].as_array().unwrap();
-    assert_eq!(results.len(), 2 * gnomon_scene::DEMO_VIEWS.len());
+    assert_eq!(results.len(), 3 * gnomon_scene::DEMO_VIEWS.len());
     for r in results {
         assert!(r["frame_ms"].as_f64().unwrap() > 0.0, "{r}");
         let ratio = r["vs_baseline"].as_f64().unwrap();
         if r["technique"] == "focused" {
             assert_eq!(ratio, 1.0);
         } else {
-            assert_eq!(r["technique"], "volumes-per-caster");
+            assert!(
+                r["technique"] == "volumes-per-caster" || r["technique"] == "planar",
+                "{r}"
+            );
             assert!(ratio > 0.0 && ratio.is_finite());
         }
     }
     assert_eq!(json["baseline"], "focused");
     let summary = json["summary"].as_array().unwrap();
-    assert_eq!(summary.len(), 2);
+    assert_eq!(summary.len(), 3);
     assert_eq!(summary[0]["mean_vs_baseline"], 1.0);
     let s = &summary[1];
     let (lo, mean, hi) = (
