@@ -31,8 +31,9 @@ pub struct CompareArgs {
     pub suite: SuiteArgs,
     #[command(flatten)]
     pub views: ViewListArgs,
-    /// The shadow-map techniques: `all` or names, comma-separated (the exact shadow volumes
-    /// are always drawn: they are the reference).
+    /// The shadow-map techniques: `all` or names, comma-separated, and `planar` (planar
+    /// shadows on the ground); the exact shadow volumes are always drawn: they are the
+    /// reference.
     #[arg(long, value_delimiter = ',', default_value = "all")]
     pub techniques: Vec<String>,
     #[command(flatten)]
@@ -46,6 +47,13 @@ pub struct CompareArgs {
     /// Where to write the report (index.md, report.json, one grid image per view).
     #[arg(long, default_value = "gnomon-compare")]
     pub out: PathBuf,
+}
+
+/// What `compare` draws against the exact volumes: the map techniques' rows, and planar
+/// shadows where asked.
+struct Rows<'a> {
+    techniques: &'a [crate::rows::Row],
+    planar: bool,
 }
 
 /// Share of N.L > 0.1 pixels a map gets wrong against the exact mask.
@@ -66,17 +74,16 @@ impl MaskErrors {
 const FALSE_SHADOW: [u8; 3] = [230, 30, 30];
 const MISSED_SHADOW: [u8; 3] = [30, 110, 245];
 
-/// Compares a map's mask with the exact one on the pixels with N.L > 0.1, and draws the
-/// frame in grey with false shadow in red and missed shadow in blue.
-fn mask_errors(map: &Frame, exact: &Frame) -> (MaskErrors, Vec<u8>) {
-    let metrics = map.metrics.as_ref().expect("metrics asked for");
+/// Compares a map's mask with the exact one on the pixels with N.L > 0.1 (`n_dot_l`, the
+/// view's), and draws the frame in grey with false shadow in red and missed shadow in blue.
+fn mask_errors(map: &Frame, n_dot_l: &[f32], exact: &Frame) -> (MaskErrors, Vec<u8>) {
     let mut errors = MaskErrors::default();
     let mut image = Vec::with_capacity(map.color.len());
     for (i, rgba) in map.color.chunks_exact(4).enumerate() {
         let grey = (0.3 * rgba[0] as f64 + 0.59 * rgba[1] as f64 + 0.11 * rgba[2] as f64) as u8;
         let mut rgb = [grey / 2 + 64; 3];
         let (m, e) = (map.mask[i], exact.mask[i]);
-        if m != MASK_EMPTY && e != MASK_EMPTY && metrics.n_dot_l[i] > 0.1 {
+        if m != MASK_EMPTY && e != MASK_EMPTY && n_dot_l[i] > 0.1 {
             errors.compared += 1;
             if m == MASK_UNLIT && e == MASK_LIT {
                 errors.false_shadow += 1;
@@ -101,6 +108,16 @@ pub(crate) struct SummaryRow {
     frame_ms: Vec<f64>,
 }
 
+/// `x` with two decimals, or `-` where it is not a number (a row without maps has no
+/// sampling error).
+fn two_places(x: f64) -> String {
+    if x.is_nan() {
+        "-".into()
+    } else {
+        format!("{x:.2}")
+    }
+}
+
 fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
@@ -108,10 +125,25 @@ fn mean(v: &[f64]) -> f64 {
 /// Runs `gnomon compare`.
 pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     let started = Instant::now();
-    let techniques = crate::rows::rows(&args.techniques, &args.params, args.shadow_map, true)?;
-    if techniques.is_empty() {
+    // Planar shadows are a row of their own (no maps); the rest are map techniques.
+    let planar = args
+        .techniques
+        .iter()
+        .any(|t| t.trim() == crate::names::PLANAR);
+    let names: Vec<String> = args
+        .techniques
+        .iter()
+        .filter(|t| t.trim() != crate::names::PLANAR)
+        .cloned()
+        .collect();
+    let techniques = crate::rows::rows(&names, &args.params, args.shadow_map, true)?;
+    if techniques.is_empty() && !planar {
         return Err(CliError::usage("nothing to compare"));
     }
+    let rows = Rows {
+        techniques: &techniques,
+        planar,
+    };
     // A view's grid holds three frames per technique and the volumes: larger frames make
     // grids too large to hold and write.
     if args.size.0 > MAX_COMPARE_SIZE || args.size.1 > MAX_COMPARE_SIZE {
@@ -122,7 +154,7 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     }
     let Some(folder) = &args.suite.suite else {
         let loaded = args.scene.load()?;
-        compare_scene(args, &techniques, &loaded, &args.out, started)?;
+        compare_scene(args, &rows, &loaded, &args.out, started)?;
         crate::say!("wrote {}", args.out.join("index.md").display());
         return Ok(());
     };
@@ -149,18 +181,18 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     for (stem, loaded) in &scenes {
         eprintln!("compare: scene {stem} ({} views)", loaded.views.len());
         let out = args.out.join(stem);
-        let rows = compare_scene(args, &techniques, loaded, &out, started)?;
+        let rows = compare_scene(args, &rows, loaded, &out, started)?;
         let mut json_rows = Vec::new();
         for r in &rows {
             let _ = writeln!(
                 markdown,
-                "| [{stem}]({}/index.md) | {} | {} | {:.3}% | {:.3}% | {:.2} | {:.1} | {:.1} |",
+                "| [{stem}]({}/index.md) | {} | {} | {:.3}% | {:.3}% | {} | {:.1} | {:.1} |",
                 stem.replace(' ', "%20"),
                 r.wrong.len(),
                 r.label,
                 mean(&r.wrong),
                 r.wrong.iter().copied().fold(0.0, f64::max),
-                mean(&r.p99),
+                two_places(mean(&r.p99)),
                 mean(&r.setup_us),
                 mean(&r.frame_ms)
             );
@@ -194,11 +226,17 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
 /// returns its summary rows.
 fn compare_scene(
     args: &CompareArgs,
-    techniques: &[crate::rows::Row],
+    compared: &Rows<'_>,
     loaded: &crate::args::LoadedScene,
     out: &std::path::Path,
     started: Instant,
 ) -> Result<Vec<SummaryRow>, CliError> {
+    let techniques = compared.techniques;
+    // Planar shadows fall on the scene's ground (a scene without one says so in its rows).
+    let receiver = compared
+        .planar
+        .then(|| crate::render::planar_receiver(&loaded.scene, None));
+    let planar_rows = usize::from(compared.planar);
     let views = args.views.select(&loaded.views)?;
     let scene = &loaded.scene;
     let bounds = scene.bounds()?;
@@ -213,7 +251,8 @@ fn compare_scene(
         metrics: true,
         ..RenderSettings::default()
     };
-    let progress = indicatif::ProgressBar::new((views.len() * (techniques.len() + 1)) as u64);
+    let progress =
+        indicatif::ProgressBar::new((views.len() * (techniques.len() + planar_rows + 1)) as u64);
     progress.set_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
             .expect("a valid template"),
@@ -242,7 +281,7 @@ fn compare_scene(
         renderer.timing_source().name()
     );
     // One untimed frame first: the first draw compiles the pipelines.
-    if let Some(view) = views.first() {
+    if let (Some(view), false) = (views.first(), techniques.is_empty()) {
         let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
         let samples = vec![renderer.view_samples(&camera, &light)?];
         let (setups, _) = light_setups(&techniques[0], &camera, &[light], &bounds, &samples)?;
@@ -252,8 +291,10 @@ fn compare_scene(
     let mut report = Vec::new();
     let mut summary: Vec<SummaryRow> = techniques
         .iter()
-        .map(|t| SummaryRow {
-            label: t.label.clone(),
+        .map(|t| t.label.clone())
+        .chain(compared.planar.then(|| crate::names::PLANAR.to_string()))
+        .map(|label| SummaryRow {
+            label,
             wrong: Vec::new(),
             p99: Vec::new(),
             setup_us: Vec::new(),
@@ -276,7 +317,7 @@ fn compare_scene(
         progress.inc(1);
         // The grid: cells of the frame's size (the error map's legend lies over its bottom).
         let grid_width = 3 * width;
-        let grid_height = height * (techniques.len() as u32 + 1);
+        let grid_height = height * ((techniques.len() + planar_rows) as u32 + 1);
         let mut grid = vec![255u8; (grid_width * grid_height * 4) as usize];
         let mut paste = |image: &[u8], column: u32, row: u32| {
             let line = (width * 4) as usize;
@@ -287,6 +328,8 @@ fn compare_scene(
             }
         };
         let mut rows = Vec::new();
+        // N.L of the view's pixels (for the rows without maps): a map row's metrics.
+        let mut view_n_dot_l: Option<Vec<f32>> = None;
         for (k, entry) in techniques.iter().enumerate() {
             progress.set_message(format!("{}: {}", view.name, entry.label));
             if let Some(why) = entry.refuses(&lights) {
@@ -300,7 +343,10 @@ fn compare_scene(
             let shadowed = ShadowedLight::pairs(&lights, &setups);
             let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
             let metrics = frame.metrics.as_ref().expect("metrics asked for");
-            let (errors, error_image) = mask_errors(&frame, &exact.frame);
+            let (errors, error_image) = mask_errors(&frame, &metrics.n_dot_l, &exact.frame);
+            if view_n_dot_l.is_none() {
+                view_n_dot_l = Some(metrics.n_dot_l.clone());
+            }
             let t = frame.timings;
             let frame_ms = setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms;
             let undersampling = heatmap::percentiles(metrics, &metrics.undersampling);
@@ -340,7 +386,65 @@ fn compare_scene(
             }));
             progress.inc(1);
         }
-        let row = techniques.len() as u32;
+        if let Some(receiver) = &receiver {
+            let k = techniques.len();
+            progress.set_message(format!("{}: planar", view.name));
+            match receiver {
+                Ok(receiver) => {
+                    let n_dot_l = match view_n_dot_l.take() {
+                        Some(n) => n,
+                        None => {
+                            // No map row drew this view: the focused map's frame gives N.L.
+                            let focused =
+                                crate::rows::row("focused", &args.params, args.shadow_map)?;
+                            let (setups, _) =
+                                light_setups(&focused, &camera, &lights, &bounds, &samples)?;
+                            let shadowed = ShadowedLight::pairs(&lights, &setups);
+                            let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
+                            frame.metrics.expect("metrics asked for").n_dot_l
+                        }
+                    };
+                    let frame = renderer
+                        .render_planar_lit_by(&camera, &lights, receiver, &settings)?
+                        .frame;
+                    let (errors, error_image) = mask_errors(&frame, &n_dot_l, &exact.frame);
+                    let t = frame.timings;
+                    let frame_ms = t.shadow_pass_ms + t.main_pass_ms;
+                    paste(&frame.color, 0, k as u32);
+                    paste(&error_image, 1, k as u32);
+                    summary[k].wrong.push(errors.wrong_percent());
+                    summary[k].p99.push(f64::NAN);
+                    summary[k].setup_us.push(0.0);
+                    summary[k].frame_ms.push(frame_ms);
+                    let command = crate::args::render_command_of(
+                        &loaded.options,
+                        view,
+                        (None, crate::names::PLANAR),
+                        &args.params,
+                        args.shadow_map,
+                        (width, height),
+                        " --out frame.png --mask mask.png",
+                    );
+                    rows.push(json!({
+                        "technique": crate::names::PLANAR,
+                        "command": command,
+                        "maps": 0,
+                        "wrong_percent": errors.wrong_percent(),
+                        "false_shadow_percent": 100.0 * errors.false_shadow as f64 / errors.compared.max(1) as f64,
+                        "missed_shadow_percent": 100.0 * errors.missed_shadow as f64 / errors.compared.max(1) as f64,
+                        "compared_pixels": errors.compared,
+                        "setup_us": 0.0,
+                        "frame_ms": frame_ms,
+                    }));
+                }
+                Err(e) => rows.push(json!({
+                    "technique": crate::names::PLANAR,
+                    "skipped": e.message,
+                })),
+            }
+            progress.inc(1);
+        }
+        let row = (techniques.len() + planar_rows) as u32;
         paste(&exact.frame.color, 0, row);
         let exact_mask: Vec<u8> = exact
             .frame
@@ -446,10 +550,10 @@ fn compare_scene(
         let worst = row.wrong.iter().copied().fold(0.0, f64::max);
         let _ = writeln!(
             markdown,
-            "| {} | {:.3}% | {worst:.3}% | {:.2} |",
+            "| {} | {:.3}% | {worst:.3}% | {} |",
             row.label,
             mean(&row.wrong),
-            mean(&row.p99)
+            two_places(mean(&row.p99))
         );
     }
     let write = |name: &str, text: &str| write_text(&out.join(name), text);

@@ -1162,6 +1162,37 @@ fn run_compare(
 /// a grid per view, a Markdown table and JSON: wrong pixels against the volumes (a 2048 map
 /// is wrong on fewer pixels than a 256 one), undersampling percentiles, times.
 #[test]
+fn compare_has_a_planar_row() {
+    let dir = temp_dir("compare-planar");
+    for techniques in ["planar", "focused,planar"] {
+        let json = run_compare(&dir, "overview,low_sun", techniques, "512", "160x90");
+        for view in 0..2 {
+            let rows = json["views"][view]["techniques"].as_array().unwrap();
+            let planar = rows.iter().find(|r| r["technique"] == "planar").unwrap();
+            assert_eq!(planar["maps"], 0);
+            assert!(
+                planar["compared_pixels"].as_u64().unwrap() > 1000,
+                "{planar}"
+            );
+            // The demo's ground carries most of its shadows.
+            assert!(planar["wrong_percent"].as_f64().unwrap() < 5.0, "{planar}");
+            assert!(
+                planar["command"]
+                    .as_str()
+                    .unwrap()
+                    .contains("--technique planar")
+            );
+        }
+        let rows = techniques.split(',').count() as u32;
+        let grid = image::open(dir.join("overview.png")).unwrap();
+        assert_eq!(grid.height(), (rows + 1) * 90);
+    }
+    let markdown = std::fs::read_to_string(dir.join("index.md")).unwrap();
+    assert!(markdown.contains("| planar |"), "{markdown}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
 fn compare_writes_grids_tables_and_json() {
     let dir = temp_dir("compare");
     let run = |shadow_map: &str| {
