@@ -368,6 +368,23 @@ impl ViewModel {
                 let (timings, stats) = match draw.technique {
                     Drawn::Volumes(named) => {
                         let mode = draw.stencil_mode(named)?;
+                        let scene_box = self.bounds.scene_box();
+                        if let Some(clusters) = draw.area_clusters(lights, &scene_box)? {
+                            // Soft shadows: the cluster's frames averaged on the CPU.
+                            let soft = renderer
+                                .render_soft_volumes(&camera, &clusters, &settings, mode)?;
+                            write_view(renderer, target, &soft.frame.color, info.size);
+                            return Ok(FrameReport {
+                                setup_us: 0.0,
+                                notes: vec![format!(
+                                    "soft volumes: {} samples, {} volume triangles, {:.1} ms",
+                                    clusters[0].len(),
+                                    soft.triangles,
+                                    soft.frame.timings.shadow_pass_ms
+                                        + soft.frame.timings.main_pass_ms
+                                )],
+                            });
+                        }
                         renderer.draw_volumes_lit_by(&camera, lights, &settings, mode)?
                     }
                     _ => {
@@ -1141,10 +1158,14 @@ fn shown(field: &Field, technique: Option<&Drawn>, fields: &[Field]) -> bool {
         .any(|a| a.get_id() == field.id.as_str());
     match technique {
         None => field.id == "technique",
-        Some(Drawn::Volumes(_)) => field.id == "technique" || field.id == "stencil",
+        Some(Drawn::Volumes(_)) => {
+            ["technique", "stencil", "area_light", "area_samples"].contains(&field.id.as_str())
+        }
         Some(Drawn::Planar) => field.id == "technique" || field.id == "receiver_plane",
         Some(Drawn::Map(t)) => {
-            if field.id == "stencil" || field.id == "receiver_plane" {
+            if ["stencil", "receiver_plane", "area_light", "area_samples"]
+                .contains(&field.id.as_str())
+            {
                 return false;
             }
             if !is_param {

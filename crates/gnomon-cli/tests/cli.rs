@@ -682,6 +682,67 @@ fn render_planar_shadows_on_the_ground() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `render --technique volumes --area-light R`: soft shadows whose factor lies between the
+/// hard shadows' lit and unlit, with a penumbra; misuses are usage errors.
+#[test]
+fn render_soft_shadows_of_an_area_light() {
+    let dir = temp_dir("soft");
+    let render = |extra: &[&str], name: &str| {
+        let mask = dir.join(format!("{name}.png"));
+        let mut args = RENDER.to_vec();
+        args.extend(["--technique", "volumes"]);
+        args.extend(extra);
+        let out = dir.join("frame.png");
+        args.extend([
+            "--out",
+            out.to_str().unwrap(),
+            "--mask",
+            mask.to_str().unwrap(),
+        ]);
+        gnomon_ok(&args);
+        image::open(&mask).unwrap().into_luma8()
+    };
+    let hard = render(&[], "hard");
+    let soft = render(&["--area-light", "4", "--area-samples", "16"], "soft");
+    // The hard mask has no penumbra; the soft one does, in steps of 1/16.
+    let penumbra = soft.pixels().filter(|p| p.0[0] > 0 && p.0[0] < 255).count();
+    assert!(hard.pixels().all(|p| [0, 128, 255].contains(&p.0[0])));
+    assert!(penumbra > 20, "{penumbra} penumbra pixels");
+    for (extra, needle) in [
+        (
+            vec!["--technique", "focused", "--area-light", "2"],
+            "--area-light",
+        ),
+        (
+            vec!["--technique", "volumes", "--area-light", "60"],
+            "area light radius",
+        ),
+        (
+            vec![
+                "--technique",
+                "volumes",
+                "--area-light",
+                "1",
+                "--area-samples",
+                "0",
+            ],
+            "area light samples",
+        ),
+        (
+            vec!["--technique", "volumes", "--area-samples", "8"],
+            "--area-light",
+        ),
+    ] {
+        let mut args = RENDER.to_vec();
+        args.extend(extra.iter().copied());
+        let out = gnomon(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(needle), "{extra:?}: {stderr}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// `--mesh` renders a mesh file on a ground slab: a cube from an OFF file casts a shadow,
 /// and the per-caster stencil gives the same mask as z-fail; missing or broken files are
 /// usage errors naming the file.

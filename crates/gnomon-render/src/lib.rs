@@ -34,6 +34,7 @@ mod renderer;
 mod resources;
 mod samples;
 mod scene;
+mod soft;
 mod timing;
 mod volumes;
 
@@ -45,6 +46,7 @@ pub use pipelines::COLOR_FORMAT;
 pub use records::{MAX_LIGHTS, MAX_MAPS, ShadowedLight};
 pub use renderer::{DepthBias, Filter, RenderSettings, Renderer, SceneTarget};
 pub use scene::{Instance, RenderScene};
+pub use soft::SoftFrame;
 pub use timing::TimingSource;
 pub use volumes::{StencilMode, VolumeFrame, VolumeStats};
 

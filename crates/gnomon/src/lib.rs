@@ -39,6 +39,7 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
+pub mod area_light;
 mod body;
 mod bounds;
 mod bvh;
