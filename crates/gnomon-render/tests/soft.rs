@@ -67,7 +67,7 @@ fn the_cluster_agrees_with_the_oracle_of_the_same_light_points() {
         let soft = renderer
             .render_soft_volumes(
                 &camera,
-                &[cluster.clone()],
+                std::slice::from_ref(&cluster),
                 &settings(size),
                 StencilMode::ZFail,
             )
