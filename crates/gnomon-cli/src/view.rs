@@ -820,19 +820,11 @@ impl Model for ViewModel {
             .as_ref()
             .is_none_or(|(t, _)| t.size() != size)
         {
-            let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("viewer split view"),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: COLOR_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::COPY_SRC
-                    | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            });
-            let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+            let (texture, view) = gnomon_viewer::view_texture(
+                &gpu.device,
+                (size.width, size.height),
+                "viewer split view",
+            );
             self.split_target = Some((texture, view));
         }
         let (texture, view) = self.split_target.take().expect("made above");

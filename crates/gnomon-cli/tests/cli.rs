@@ -615,28 +615,49 @@ fn render_with_shadow_volumes_writes_a_mask_like_the_maps() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `RENDER` with `--technique technique` and `extra`, its `--mask` read back (written as
+/// `name`.png in `dir`).
+fn render_mask(
+    dir: &std::path::Path,
+    technique: &str,
+    extra: &[&str],
+    name: &str,
+) -> image::GrayImage {
+    let mask = dir.join(format!("{name}.png"));
+    let out = dir.join("frame.png");
+    let mut args = RENDER.to_vec();
+    args.extend(["--technique", technique]);
+    args.extend(extra);
+    args.extend([
+        "--out",
+        out.to_str().unwrap(),
+        "--mask",
+        mask.to_str().unwrap(),
+    ]);
+    gnomon_ok(&args);
+    image::open(&mask).unwrap().into_luma8()
+}
+
+/// Each of `cases` (options after `RENDER`, a part of the error) exits with code 2 and says
+/// so on stderr.
+fn assert_render_refuses(cases: &[(Vec<&str>, &str)]) {
+    for (extra, needle) in cases {
+        let mut args = RENDER.to_vec();
+        args.extend(extra.iter().copied());
+        let out = gnomon(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(needle), "{extra:?}: {stderr}");
+    }
+}
+
 /// `render --technique planar`: the ground's shadows agree with the exact volumes' there, a
 /// receiver plane given by hand works, and its misuses are usage errors.
 #[test]
 fn render_planar_shadows_on_the_ground() {
     let dir = temp_dir("planar");
-    let mask = |technique: &str, extra: &[&str]| {
-        let path = dir.join(format!("{technique}{}.png", extra.len()));
-        let mut args = RENDER.to_vec();
-        args.extend(["--technique", technique]);
-        args.extend(extra);
-        let out = dir.join("frame.png");
-        args.extend([
-            "--out",
-            out.to_str().unwrap(),
-            "--mask",
-            path.to_str().unwrap(),
-        ]);
-        gnomon_ok(&args);
-        image::open(&path).unwrap().into_luma8()
-    };
-    let planar = mask("planar", &[]);
-    let exact = mask("volumes", &[]);
+    let planar = render_mask(&dir, "planar", &[], "planar");
+    let exact = render_mask(&dir, "volumes", &[], "volumes");
     // Planar shadows are the exact ones on the ground (the rest lit): the few differences lie
     // along shadow edges, which are most of a shadow at this size (the renderer's tests check
     // the interior against the oracle).
@@ -649,8 +670,11 @@ fn render_planar_shadows_on_the_ground() {
     assert!(shadowed > 20, "{shadowed} shadowed pixels");
     assert!(false_shadow * 10 < shadowed, "{false_shadow} of {shadowed}");
     // The ground's top face by hand (y = 0 upward) gives the same shadows.
-    assert_eq!(mask("planar", &["--receiver-plane", "0,1,0,0"]), planar);
-    for (extra, needle) in [
+    assert_eq!(
+        render_mask(&dir, "planar", &["--receiver-plane", "0,1,0,0"], "by-hand"),
+        planar
+    );
+    assert_render_refuses(&[
         (
             vec!["--technique", "focused", "--receiver-plane", "0,1,0,0"],
             "--receiver-plane",
@@ -671,14 +695,7 @@ fn render_planar_shadows_on_the_ground() {
             vec!["--technique", "planar", "--stencil", "z-pass"],
             "--stencil",
         ),
-    ] {
-        let mut args = RENDER.to_vec();
-        args.extend(extra.iter().copied());
-        let out = gnomon(&args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
-        assert!(stderr.contains(needle), "{extra:?}: {stderr}");
-    }
+    ]);
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -687,28 +704,18 @@ fn render_planar_shadows_on_the_ground() {
 #[test]
 fn render_soft_shadows_of_an_area_light() {
     let dir = temp_dir("soft");
-    let render = |extra: &[&str], name: &str| {
-        let mask = dir.join(format!("{name}.png"));
-        let mut args = RENDER.to_vec();
-        args.extend(["--technique", "volumes"]);
-        args.extend(extra);
-        let out = dir.join("frame.png");
-        args.extend([
-            "--out",
-            out.to_str().unwrap(),
-            "--mask",
-            mask.to_str().unwrap(),
-        ]);
-        gnomon_ok(&args);
-        image::open(&mask).unwrap().into_luma8()
-    };
-    let hard = render(&[], "hard");
-    let soft = render(&["--area-light", "4", "--area-samples", "16"], "soft");
+    let hard = render_mask(&dir, "volumes", &[], "hard");
+    let soft = render_mask(
+        &dir,
+        "volumes",
+        &["--area-light", "4", "--area-samples", "16"],
+        "soft",
+    );
     // The hard mask has no penumbra; the soft one does, in steps of 1/16.
     let penumbra = soft.pixels().filter(|p| p.0[0] > 0 && p.0[0] < 255).count();
     assert!(hard.pixels().all(|p| [0, 128, 255].contains(&p.0[0])));
     assert!(penumbra > 20, "{penumbra} penumbra pixels");
-    for (extra, needle) in [
+    assert_render_refuses(&[
         (
             vec!["--technique", "focused", "--area-light", "2"],
             "--area-light",
@@ -732,14 +739,7 @@ fn render_soft_shadows_of_an_area_light() {
             vec!["--technique", "volumes", "--area-samples", "8"],
             "--area-light",
         ),
-    ] {
-        let mut args = RENDER.to_vec();
-        args.extend(extra.iter().copied());
-        let out = gnomon(&args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
-        assert!(stderr.contains(needle), "{extra:?}: {stderr}");
-    }
+    ]);
     std::fs::remove_dir_all(dir).unwrap();
 }
 

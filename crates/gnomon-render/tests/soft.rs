@@ -23,6 +23,19 @@ fn settings(size: u32) -> RenderSettings {
     }
 }
 
+/// A spot light above and beside the tower.
+fn spot() -> Light {
+    Light::Spot(
+        SpotLight::new(
+            DVec3::new(8.0, 14.0, 6.0),
+            DVec3::new(-0.6, -1.0, -0.5),
+            50.0,
+            80.0,
+        )
+        .unwrap(),
+    )
+}
+
 fn camera() -> gnomon::Camera {
     square_camera(
         DVec3::new(14.0, 18.0, 20.0),
@@ -44,18 +57,7 @@ fn the_cluster_agrees_with_the_oracle_of_the_same_light_points() {
             Light::Directional(DirectionalLight::new(DVec3::new(-0.6, -1.0, -0.4)).unwrap()),
             10.0,
         ),
-        (
-            Light::Spot(
-                SpotLight::new(
-                    DVec3::new(8.0, 14.0, 6.0),
-                    DVec3::new(-0.6, -1.0, -0.5),
-                    50.0,
-                    80.0,
-                )
-                .unwrap(),
-            ),
-            2.0,
-        ),
+        (spot(), 2.0),
         (
             Light::Point(PointLight::new(DVec3::new(6.0, 12.0, 5.0), 80.0).unwrap()),
             1.5,
@@ -102,15 +104,7 @@ fn more_samples_change_the_penumbra_by_about_one_percent() {
     let mut renderer = renderer(&scene);
     let camera = camera();
     let size = 96;
-    let spot = Light::Spot(
-        SpotLight::new(
-            DVec3::new(8.0, 14.0, 6.0),
-            DVec3::new(-0.6, -1.0, -0.5),
-            50.0,
-            80.0,
-        )
-        .unwrap(),
-    );
+    let spot = spot();
     let mut factor = |n: usize| {
         let cluster = area_light_samples(&spot, 2.0, n, DVec3::ZERO).unwrap();
         renderer

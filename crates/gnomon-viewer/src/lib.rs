@@ -77,6 +77,34 @@ pub struct ViewTarget<'a> {
     pub view: &'a wgpu::TextureView,
 }
 
+/// A texture a [`Model`] can draw a 3D view into: [`gnomon_render::COLOR_FORMAT`], `size`,
+/// render attachment, sampled by the blit, copy source and destination; and a view of it.
+pub fn view_texture(
+    device: &wgpu::Device,
+    size: (u32, u32),
+    label: &str,
+) -> (wgpu::Texture, wgpu::TextureView) {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: gnomon_render::COLOR_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+    (texture, view)
+}
+
 /// What a frame cost, for the panel.
 #[derive(Debug, Clone, Default)]
 pub struct FrameReport {
