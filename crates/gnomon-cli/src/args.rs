@@ -393,7 +393,10 @@ pub fn render_command(
     render_command_of(
         scene_options,
         view,
-        (technique, "volumes"),
+        (
+            technique,
+            technique.map_or("volumes", gnomon::ShadowTechnique::name),
+        ),
         params,
         shadow_map,
         size,
@@ -401,12 +404,13 @@ pub fn render_command(
     )
 }
 
-/// [`render_command`] where `technique.1` names what draws without a map (`volumes`,
-/// `planar`) when `technique.0` is `None`.
+/// [`render_command`] of what `technique.1` names (`--technique`): `technique.0` the map
+/// technique whose map size and parameters it reads (`None` for what draws no map: the
+/// volumes, planar shadows).
 pub fn render_command_of(
     scene_options: &str,
     view: &NamedView,
-    (technique, exact_name): (Option<&Technique>, &'static str),
+    (technique, name): (Option<&Technique>, &str),
     params: &TechniqueParams,
     shadow_map: u32,
     size: (u32, u32),
@@ -422,10 +426,7 @@ pub fn render_command_of(
     } else {
         command += &view_options(view);
     }
-    command += &format!(
-        " --technique {}",
-        technique.map_or(exact_name, gnomon::ShadowTechnique::name)
-    );
+    command += &format!(" --technique {name}");
     if let Some(technique) = technique {
         command += &format!(" --shadow-map {shadow_map}");
         let read = options_read_by(technique);

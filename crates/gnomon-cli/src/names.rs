@@ -16,6 +16,10 @@ pub const VOLUMES: [(&str, StencilMode); 3] = [
 /// flattened onto the ground's top face (or `--receiver-plane`); nothing else is shadowed.
 pub const PLANAR: &str = "planar";
 
+/// Projective texture shadows (the lecture's light maps) on the focused map's projection:
+/// casters' coverage projected onto whatever lies behind or in front of them, casters lit.
+pub const PROJECTIVE: &str = "projective";
+
 /// `compare`'s row of SPPSM with two maps of half the area each (the texels of one map).
 pub const SPPSM_SAME_TEXELS: &str = "sppsm-same-texels";
 
@@ -57,6 +61,8 @@ pub enum Drawn {
     Volumes(StencilMode),
     /// Planar projected shadows on one receiver plane ([`PLANAR`]).
     Planar,
+    /// Projective texture shadows on the focused map ([`PROJECTIVE`]).
+    Projective,
 }
 
 impl Drawn {
@@ -69,9 +75,21 @@ impl Drawn {
         if name == PLANAR {
             return Ok(Drawn::Planar);
         }
+        if name == PROJECTIVE {
+            return Ok(Drawn::Projective);
+        }
         name.parse::<Technique>()
             .map(Drawn::Map)
             .map_err(|_| format!("unknown technique '{name}' (known: {})", known(true)))
+    }
+
+    /// The map technique it sets up, if any (projective shadows: the focused map's).
+    pub fn map_technique(&self) -> Option<Technique> {
+        match self {
+            Drawn::Map(t) => Some(*t),
+            Drawn::Projective => Some(Technique::Focused(Default::default())),
+            Drawn::Volumes(_) | Drawn::Planar => None,
+        }
     }
 
     /// Its name.
@@ -86,6 +104,7 @@ impl Drawn {
                     .0
             }
             Drawn::Planar => PLANAR,
+            Drawn::Projective => PROJECTIVE,
         }
     }
 }
@@ -95,7 +114,7 @@ impl Drawn {
 pub fn parse_map(name: &str) -> Result<Technique, String> {
     match Drawn::parse(name)? {
         Drawn::Map(t) => Ok(t),
-        Drawn::Volumes(_) | Drawn::Planar => Err(format!(
+        Drawn::Volumes(_) | Drawn::Planar | Drawn::Projective => Err(format!(
             "'{name}' draws no shadow map; this needs a shadow-map technique (known: {})",
             known(false)
         )),
@@ -108,6 +127,7 @@ pub fn known(volumes: bool) -> String {
     if volumes {
         names.extend(VOLUMES.iter().map(|(n, _)| *n));
         names.push(PLANAR);
+        names.push(PROJECTIVE);
     }
     names.join(", ")
 }
@@ -131,7 +151,7 @@ mod tests {
         for name in Technique::NAMES
             .iter()
             .chain(VOLUMES.iter().map(|(n, _)| n))
-            .chain([&PLANAR])
+            .chain([&PLANAR, &PROJECTIVE])
         {
             assert_eq!(Drawn::parse(name).unwrap().name(), *name);
         }

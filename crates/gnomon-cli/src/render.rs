@@ -155,6 +155,7 @@ impl DrawArgs {
                 ..DepthBias::default()
             },
             tint: self.tint,
+            projective: self.technique == Drawn::Projective,
             ..RenderSettings::default()
         }
     }
@@ -399,7 +400,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     crate::output::check_outputs(&outputs)?;
     let loaded = args.scene.load()?;
-    let scene = loaded.scene;
+    let scene = drawn_scene(args.draw.technique, loaded.scene);
     let bounds = scene.bounds()?;
     // The lens's aspect follows the image unless given.
     let camera = args
@@ -418,7 +419,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let technique = match args.draw.technique {
         Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &lights, mode),
         Drawn::Planar => return run_planar(args, &scene, &camera, &lights),
-        Drawn::Map(technique) => technique,
+        drawn => drawn.map_technique().expect("a map technique"),
     };
     let technique = args.draw.params.apply(technique);
     args.draw.params.check_used_by(&[technique])?;
@@ -516,7 +517,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let drawn: Vec<String> = frame.casters_drawn.iter().map(|n| n.to_string()).collect();
     eprintln!(
         "{} on {}: setup {:.1} us, casters drawn {} of {casters}, shadow pass {:.2} ms, main pass {:.2} ms ({}){}; wrote {}",
-        technique.name(),
+        args.draw.technique.name(),
         renderer.gpu().describe(),
         setup_us,
         drawn.join(" + "),
@@ -600,6 +601,18 @@ fn run_volumes(
         args.out.display()
     );
     Ok(())
+}
+
+/// The scene as `drawn` draws it: projective shadows keep the ground as a receiver only (a
+/// casting ground would cover the whole light map, and casters are lit), everything else as
+/// it is.
+pub fn drawn_scene(drawn: Drawn, mut scene: RenderScene) -> RenderScene {
+    if drawn == Drawn::Projective {
+        for instance in scene.instances.iter_mut().filter(|i| i.name == "ground") {
+            instance.casts = false;
+        }
+    }
+    scene
 }
 
 /// The receiver of planar shadows: `plane` (A, B, C, D) inside the scene's box, else the top

@@ -74,7 +74,9 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
         }
         None => Script::default(),
     };
-    let loaded = args.scene.load()?;
+    let mut loaded = args.scene.load()?;
+    // Projective shadows keep the ground a receiver (for the whole run).
+    loaded.scene = crate::render::drawn_scene(args.draw.technique, loaded.scene);
     let bounds = loaded.scene.bounds()?;
     let camera = args
         .view
@@ -88,7 +90,7 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
     }
     let light = args.light.main_light(&args.view, &loaded.views, "view")?;
     let view_light = start_light(&args.light, &args.view, &loaded.views)?;
-    if let Drawn::Map(technique) = args.draw.technique {
+    if let Some(technique) = args.draw.technique.map_technique() {
         let technique = args.draw.params.apply(technique);
         args.draw.params.check_used_by(&[technique])?;
         timed_setup(
@@ -432,7 +434,9 @@ impl ViewModel {
                     ],
                 });
             }
-            Drawn::Map(technique) => draw.params.apply(technique),
+            drawn => draw
+                .params
+                .apply(drawn.map_technique().expect("a map technique")),
         };
         // What the pixels see, measured once the view rests (a readback) and kept while it
         // does; a moving view's setup casts its samples from the boxes.
@@ -924,14 +928,11 @@ impl Model for ViewModel {
             Ok(view) => view,
             Err(e) => return format!("# no command: {}", e.message),
         };
-        let technique = match self.draw.technique {
-            Drawn::Map(t) => Some(self.draw.params.apply(t)),
-            Drawn::Volumes(_) | Drawn::Planar => None,
-        };
-        let exact_name = match self.draw.technique {
-            Drawn::Planar => crate::names::PLANAR,
-            _ => "volumes",
-        };
+        let technique = self
+            .draw
+            .technique
+            .map_technique()
+            .map(|t| self.draw.params.apply(t));
         let mut extra = self.draw.non_default_flags();
         if let Some(aspect) = self.view.aspect {
             extra += &format!(" --aspect {aspect}");
@@ -945,7 +946,7 @@ impl Model for ViewModel {
         crate::args::render_command_of(
             &self.loaded.options,
             &view,
-            (technique.as_ref(), exact_name),
+            (technique.as_ref(), self.draw.technique.name()),
             &self.draw.params,
             self.draw.shadow_map,
             size,
@@ -1130,7 +1131,7 @@ impl OptionPanel {
             .try_get_matches_from(self.tokens())
             .map_err(|e| e.to_string().lines().next().unwrap_or_default().to_string())?;
         let draw = DrawArgs::from_arg_matches(&matches).map_err(|e| e.to_string())?;
-        if let Drawn::Map(technique) = draw.technique {
+        if let Some(technique) = draw.technique.map_technique() {
             let technique = draw.params.apply(technique);
             draw.params
                 .check_used_by(&[technique])
@@ -1154,7 +1155,8 @@ fn shown(field: &Field, technique: Option<&Drawn>, fields: &[Field]) -> bool {
             ["technique", "stencil", "area_light", "area_samples"].contains(&field.id.as_str())
         }
         Some(Drawn::Planar) => field.id == "technique" || field.id == "receiver_plane",
-        Some(Drawn::Map(t)) => {
+        Some(drawn @ (Drawn::Map(_) | Drawn::Projective)) => {
+            let t = &drawn.map_technique().expect("a map technique");
             if ["stencil", "receiver_plane", "area_light", "area_samples"]
                 .contains(&field.id.as_str())
             {

@@ -699,6 +699,30 @@ fn render_planar_shadows_on_the_ground() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `render --technique projective`: the casters' coverage on the focused map, the ground a
+/// receiver only, casters lit: its shadows on the ground agree with the exact ones' there.
+#[test]
+fn render_projective_shadows() {
+    let dir = temp_dir("projective");
+    let projective = render_mask(&dir, "projective", &[], "projective");
+    let planar = render_mask(&dir, "planar", &[], "planar");
+    // Both shadow the ground alone, each exactly up to its resolution: they agree but at
+    // the shadows' edges.
+    let shadowed = projective.pixels().filter(|p| p.0[0] == 0).count();
+    let differing = projective
+        .pixels()
+        .zip(planar.pixels())
+        .filter(|(p, q)| p != q)
+        .count();
+    assert!(shadowed > 20, "{shadowed}");
+    assert!(differing * 4 < shadowed, "{differing} of {shadowed}");
+    assert_render_refuses(&[(
+        vec!["--technique", "projective", "--lispsm-n", "3"],
+        "--lispsm-n does nothing",
+    )]);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// `render --technique volumes --area-light R`: soft shadows whose factor lies between the
 /// hard shadows' lit and unlit, with a penumbra; misuses are usage errors.
 #[test]

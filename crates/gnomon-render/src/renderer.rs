@@ -81,7 +81,17 @@ pub struct RenderSettings {
     /// Two-map setups: tint each pixel by the map it reads (red: the second, perspective
     /// map; blue: the first, focused map), as in the SPPSM paper's figures.
     pub tint: bool,
+    /// Projective texture shadows (the shadows lecture's light maps): each map read as a
+    /// texture of where casters are, whatever their depth (a receiver in front of a caster
+    /// gets its shadow too), and the casters drawn fully lit (they shadow neither themselves
+    /// nor each other).
+    pub projective: bool,
 }
+
+/// The constant depth bias of a projective map's depth pass, in depth units: every caster
+/// (at depth 1/2 there) lands at depth 0, so a covered texel shadows any point (read at 1/2)
+/// and an empty one (1) none.
+pub(crate) const PROJECTIVE_DEPTH_BIAS: f64 = -4.0;
 
 impl Default for RenderSettings {
     fn default() -> Self {
@@ -94,6 +104,7 @@ impl Default for RenderSettings {
             light_view: false,
             metrics: false,
             tint: false,
+            projective: false,
         }
     }
 }
@@ -482,6 +493,14 @@ impl Renderer {
                     },
                     &settings.bias,
                 );
+                if settings.projective {
+                    // Every point at depth 1/2 and every caster written at 0 (the bias): a
+                    // covered texel shadows whatever reads it, nearer than the casters or not,
+                    // and an empty one (1) nothing.
+                    shadows.maps[layer].depth_from_camera = [0.0, 0.0, 0.0, 0.5];
+                    shadows.maps[layer].bias[0] = PROJECTIVE_DEPTH_BIAS as f32;
+                    shadows.maps[layer].bias[1] = 0.0;
+                }
                 let prepared = &mut self.maps[layer];
                 prepared.layer = layer as u32;
                 prepared.resolution = map.resolution;
@@ -524,7 +543,8 @@ impl Renderer {
         let queue = &self.gpu.queue;
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         queue.write_buffer(&self.shadows_buffer, 0, bytemuck::bytes_of(&*self.shadows));
-        self.scene.write_transforms(queue, view_from_world);
+        self.scene
+            .write_transforms(queue, view_from_world, settings.projective);
         self.prepared_camera = Some(*camera);
         self.main_spec = crate::pipelines::MainSpec {
             lights: lights.len() as u32,

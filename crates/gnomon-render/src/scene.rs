@@ -473,11 +473,20 @@ impl GpuScene {
     }
 
     /// Writes every instance's view-from-object transform for the camera's view.
-    pub fn write_transforms(&mut self, queue: &wgpu::Queue, view_from_world: DMat4) {
-        let placements = self
-            .instances
-            .iter()
-            .map(|i| (i.world_from_object, i.shader_color()));
+    pub fn write_transforms(
+        &mut self,
+        queue: &wgpu::Queue,
+        view_from_world: DMat4,
+        casters_lit: bool,
+    ) {
+        let placements = self.instances.iter().map(|i| {
+            let mut color = i.shader_color();
+            // Casters fully lit (projective shadows): they receive none.
+            if casters_lit && i.casts {
+                color[3] = 0.0;
+            }
+            (i.world_from_object, color)
+        });
         self.instances_on_gpu
             .write(queue, view_from_world, placements);
     }
