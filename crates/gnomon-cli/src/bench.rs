@@ -95,7 +95,6 @@ fn time_views(
     started: Instant,
 ) -> Result<SceneTimes, CliError> {
     let mut results = Vec::new();
-    let bounds = loaded.scene.bounds()?;
     let mut renderer = open_renderer(&loaded.scene, args.size, Some(args.shadow_map))?;
     renderer.use_wall_clock(args.wall_clock);
     let settings = RenderSettings {
@@ -114,6 +113,14 @@ fn time_views(
         renderer.timing_source().name()
     );
     let device = (renderer.gpu().describe(), renderer.timing_source().name());
+    let rows: Vec<crate::rows::Row> = entries
+        .iter()
+        .filter_map(|e| match e {
+            Entry::Map(row) => Some((**row).clone()),
+            _ => None,
+        })
+        .collect();
+    let row_scene = crate::rows::RowScene::new(&loaded.scene, &rows)?;
     // Planar shadows fall on the scene's ground.
     let receiver = entries
         .iter()
@@ -132,13 +139,15 @@ fn time_views(
         match entry {
             Entry::Map(row) if row.refuses(lights).is_some() => Ok((f64::NAN, Timings::default())),
             Entry::Map(row) => {
-                let (setups, setup_us) = light_setups(row, camera, lights, &bounds, samples)?;
+                let row_bounds = row_scene.prepare(renderer, row)?;
+                let (setups, setup_us) = light_setups(row, camera, lights, row_bounds, samples)?;
                 let shadowed = ShadowedLight::pairs(lights, &setups);
-                let f = renderer.render_lights(camera, &shadowed, &settings)?;
+                let f = renderer.render_lights(camera, &shadowed, &row.settings(&settings))?;
                 let t = f.timings;
                 Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
             }
             Entry::Volumes(mode) => {
+                row_scene.restore(renderer)?;
                 let f = renderer
                     .render_volumes_lit_by(camera, lights, &settings, *mode)?
                     .frame;
@@ -146,6 +155,7 @@ fn time_views(
                 Ok((t.shadow_pass_ms + t.main_pass_ms, t))
             }
             Entry::Planar => {
+                row_scene.restore(renderer)?;
                 let receiver = receiver.as_ref().expect("made for a planar entry");
                 let f = renderer
                     .render_planar_lit_by(camera, lights, receiver, &settings)?

@@ -31,9 +31,9 @@ pub struct CompareArgs {
     pub suite: SuiteArgs,
     #[command(flatten)]
     pub views: ViewListArgs,
-    /// The shadow-map techniques: `all` or names, comma-separated, and `planar` (planar
-    /// shadows on the ground); the exact shadow volumes are always drawn: they are the
-    /// reference.
+    /// The shadow-map techniques: `all` (every map technique) or names, comma-separated, and
+    /// `projective` and `planar` (planar shadows on the ground); the exact shadow volumes are
+    /// always drawn: they are the reference.
     #[arg(long, value_delimiter = ',', default_value = "all")]
     pub techniques: Vec<String>,
     #[command(flatten)]
@@ -240,6 +240,7 @@ fn compare_scene(
     let views = args.views.select(&loaded.views)?;
     let scene = &loaded.scene;
     let bounds = scene.bounds()?;
+    let row_scene = crate::rows::RowScene::new(scene, techniques)?;
     std::fs::create_dir_all(out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", out.display())))?;
     let mut renderer = open_renderer(scene, args.size, Some(args.shadow_map))?;
@@ -338,10 +339,11 @@ fn compare_scene(
                 progress.inc(1);
                 continue;
             }
-            let (setups, setup_us) = light_setups(entry, &camera, &lights, &bounds, &samples)?;
+            let row_bounds = row_scene.prepare(&mut renderer, entry)?;
+            let (setups, setup_us) = light_setups(entry, &camera, &lights, row_bounds, &samples)?;
             let setup = &setups[0];
             let shadowed = ShadowedLight::pairs(&lights, &setups);
-            let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
+            let frame = renderer.render_lights(&camera, &shadowed, &entry.settings(&settings))?;
             let metrics = frame.metrics.as_ref().expect("metrics asked for");
             let (errors, error_image) = mask_errors(&frame, &metrics.n_dot_l, &exact.frame);
             if view_n_dot_l.is_none() {
@@ -360,10 +362,10 @@ fn compare_scene(
             summary[k].setup_us.push(setup_us);
             summary[k].frame_ms.push(frame_ms);
             // sppsm-same-texels is sppsm at its own map size.
-            let command = render_command(
+            let command = crate::args::render_command_of(
                 &loaded.options,
                 view,
-                Some(&entry.technique),
+                (Some(&entry.technique), entry.technique_name()),
                 &entry.params,
                 entry.resolution,
                 (width, height),
@@ -386,6 +388,7 @@ fn compare_scene(
             }));
             progress.inc(1);
         }
+        row_scene.restore(&mut renderer)?;
         if let Some(receiver) = &receiver {
             let k = techniques.len();
             progress.set_message(format!("{}: planar", view.name));

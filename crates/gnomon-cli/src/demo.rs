@@ -41,7 +41,6 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let loaded = args.scene.load()?;
     let views = args.views.select(&loaded.views)?;
     let scene = &loaded.scene;
-    let bounds = scene.bounds()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
     let width = args.width;
@@ -55,7 +54,13 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         ..RenderSettings::default()
     };
     // Every technique, SPPSM with the texels of one map, and the cascade rows.
-    let techniques = crate::rows::rows(&["all".to_string()], &args.params, args.shadow_map, true)?;
+    let techniques = crate::rows::rows(
+        &["all".to_string(), crate::names::PROJECTIVE.to_string()],
+        &args.params,
+        args.shadow_map,
+        true,
+    )?;
+    let row_scene = crate::rows::RowScene::new(&loaded.scene, &techniques)?;
     // Planar shadows where the scene has a ground to fall on.
     let planar = crate::render::planar_receiver(&loaded.scene, None).ok();
     // Every map technique, planar shadows, then the shadow volumes.
@@ -81,10 +86,11 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 all.push(json!({ "view": view.name, "technique": row.label, "skipped": why }));
                 continue;
             }
-            let (setups, setup_us) = light_setups(row, &camera, &lights, &bounds, &samples)?;
+            let row_bounds = row_scene.prepare(&mut renderer, row)?;
+            let (setups, setup_us) = light_setups(row, &camera, &lights, row_bounds, &samples)?;
             let setup = &setups[0];
             let shadowed = ShadowedLight::pairs(&lights, &setups);
-            let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
+            let frame = renderer.render_lights(&camera, &shadowed, &row.settings(&settings))?;
             let stem = format!("{}_{}", view.name, row.label);
             let light_view = args.out.join(format!("{stem}_light.png"));
             write_frame(
@@ -107,10 +113,10 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 timings.shadow_pass_ms,
                 timings.main_pass_ms,
             );
-            let command = render_command(
+            let command = crate::args::render_command_of(
                 &loaded.options,
                 view,
-                Some(&row.technique),
+                (Some(&row.technique), row.technique_name()),
                 &row.params,
                 row.resolution,
                 (width, height),
@@ -133,6 +139,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 "setup": report::setup_json(setup),
             }));
         }
+        row_scene.restore(&mut renderer)?;
         if let Some(receiver) = &planar {
             // Planar projected shadows on the ground (nothing else receives: the limit).
             let drawn = renderer.render_planar_lit_by(&camera, &lights, receiver, &settings)?;

@@ -20,9 +20,28 @@ pub struct Row {
     pub resolution: u32,
     /// The options that give it.
     pub params: TechniqueParams,
+    /// Projective texture shadows on its (focused) maps ([`crate::names::PROJECTIVE`]).
+    pub projective: bool,
 }
 
 impl Row {
+    /// Its `--technique` name on the command line.
+    pub fn technique_name(&self) -> &'static str {
+        if self.projective {
+            crate::names::PROJECTIVE
+        } else {
+            self.technique.name()
+        }
+    }
+
+    /// The renderer's settings of this row: `base`, projective where the row is.
+    pub fn settings(&self, base: &gnomon_render::RenderSettings) -> gnomon_render::RenderSettings {
+        gnomon_render::RenderSettings {
+            projective: self.projective,
+            ..*base
+        }
+    }
+
     /// Why the row cannot draw `lights` (`cube` and `paraboloid` take point lights only;
     /// SPPSM and the cascades take no point light), or `None` when it can.
     pub fn refuses(&self, lights: &[gnomon::Light]) -> Option<&'static str> {
@@ -59,6 +78,7 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
             technique: params.apply(Technique::Sppsm(Default::default())),
             resolution: ((shadow_map as f64) / std::f64::consts::SQRT_2).round() as u32,
             params: *params,
+            projective: false,
         });
     }
     if name == PARABOLOID_CUBE_TEXELS {
@@ -67,6 +87,7 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
             technique: params.apply(Technique::Paraboloid(Default::default())),
             resolution: ((shadow_map as f64) * 3f64.sqrt()).round() as u32,
             params: *params,
+            projective: false,
         });
     }
     if let Some((label, options)) = CASCADE_ROWS.iter().find(|(n, _)| *n == name) {
@@ -76,6 +97,16 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
             technique: params.apply(Technique::Cascades(Default::default())),
             resolution: shadow_map,
             params,
+            projective: false,
+        });
+    }
+    if name == crate::names::PROJECTIVE {
+        return Ok(Row {
+            label: name.into(),
+            technique: params.apply(Technique::Focused(Default::default())),
+            resolution: shadow_map,
+            params: *params,
+            projective: true,
         });
     }
     let technique = crate::names::parse_map(name).map_err(|e| {
@@ -89,10 +120,12 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
         technique: params.apply(technique),
         resolution: shadow_map,
         params: *params,
+        projective: false,
     })
 }
 
-/// Rows by name (`all`: every technique), each named once; `params` must be read by one of
+/// Rows by name (`all`: every map technique; `projective`: projective shadows on focused
+/// maps), each named once; `params` must be read by one of
 /// the techniques (the fixed rows keep their own). With `expand`, SPPSM is followed by
 /// `sppsm-same-texels`, paraboloid by `paraboloid-cube-texels` and cascades by the cascade rows (`compare`'s tables).
 pub fn rows(
@@ -101,8 +134,18 @@ pub fn rows(
     shadow_map: u32,
     expand: bool,
 ) -> Result<Vec<Row>, CliError> {
+    // `all`: every map technique, then the other names given.
     let names: Vec<String> = if names.iter().any(|t| t.trim() == "all") {
-        Technique::NAMES.iter().map(|n| n.to_string()).collect()
+        Technique::NAMES
+            .iter()
+            .map(|n| n.to_string())
+            .chain(
+                names
+                    .iter()
+                    .filter(|t| t.trim() != "all" && !Technique::NAMES.contains(&t.trim()))
+                    .cloned(),
+            )
+            .collect()
     } else {
         names.to_vec()
     };
@@ -146,4 +189,63 @@ pub fn rows(
         }
     }
     Ok(expanded)
+}
+
+/// A scene's bounds for its rows: as drawn, and with the ground a receiver only (what
+/// projective rows draw: a casting ground would cover the whole light map), with the ground's
+/// instances, so that a renderer shared by the rows draws each as it should.
+pub struct RowScene {
+    bounds: gnomon::SceneBounds,
+    receiving_ground: Option<gnomon::SceneBounds>,
+    grounds: Vec<usize>,
+}
+
+impl RowScene {
+    /// The bounds of `scene` for `rows`.
+    pub fn new(scene: &gnomon_render::RenderScene, rows: &[Row]) -> Result<Self, CliError> {
+        let grounds = scene
+            .instances
+            .iter()
+            .enumerate()
+            .filter(|(_, i)| i.name == "ground" && i.casts)
+            .map(|(k, _)| k)
+            .collect();
+        let receiving_ground = if rows.iter().any(|r| r.projective) {
+            Some(
+                crate::render::drawn_scene(crate::names::Drawn::Projective, scene.clone())
+                    .bounds()?,
+            )
+        } else {
+            None
+        };
+        Ok(Self {
+            bounds: scene.bounds()?,
+            receiving_ground,
+            grounds,
+        })
+    }
+
+    /// The bounds `row` sets up with, after making `renderer`'s ground cast as it draws.
+    pub fn prepare(
+        &self,
+        renderer: &mut gnomon_render::Renderer,
+        row: &Row,
+    ) -> Result<&gnomon::SceneBounds, CliError> {
+        for &k in &self.grounds {
+            renderer.set_instance_casts(k, !row.projective)?;
+        }
+        Ok(match (&self.receiving_ground, row.projective) {
+            (Some(b), true) => b,
+            _ => &self.bounds,
+        })
+    }
+
+    /// Makes `renderer`'s ground cast again (before what is not a row: the volumes, planar
+    /// shadows).
+    pub fn restore(&self, renderer: &mut gnomon_render::Renderer) -> Result<(), CliError> {
+        for &k in &self.grounds {
+            renderer.set_instance_casts(k, true)?;
+        }
+        Ok(())
+    }
 }

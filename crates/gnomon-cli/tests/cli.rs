@@ -357,11 +357,12 @@ fn demo_writes_every_view_and_technique() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("setups.json")).unwrap()).unwrap();
     let entries = json.as_array().unwrap();
     // Every view with every map technique, SPPSM with one map's texels, paraboloid maps with
-    // a cube's, the three cascade rows, planar shadows on the ground and the exact shadow
-    // volumes (a row that cannot draw a view's light is an entry that says so).
+    // a cube's, projective shadows, the three cascade rows, planar shadows on the ground and
+    // the exact shadow volumes (a row that cannot draw a view's light is an entry that says
+    // so).
     assert_eq!(
         entries.len(),
-        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 2 + 3 + 1 + 1)
+        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 1 + 2 + 3 + 1 + 1)
     );
     let skipped = entries.iter().filter(|e| e["skipped"].is_string()).count();
     assert!(
@@ -369,6 +370,7 @@ fn demo_writes_every_view_and_technique() {
         "the lamp views leave out SPPSM and the cascades"
     );
     for row in [
+        "projective",
         "sppsm-same-texels",
         "paraboloid-cube-texels",
         "cascades-stable",
@@ -996,12 +998,12 @@ fn bench_times_techniques_side_by_side() {
         "--shadow-map",
         "256",
         "--techniques",
-        "focused,volumes-per-caster,planar",
+        "focused,volumes-per-caster,planar,projective",
         "--json",
     ]);
     let json: Value = serde_json::from_slice(&out.stdout).unwrap();
     let results = json["results"].as_array().unwrap();
-    assert_eq!(results.len(), 3 * gnomon_scene::DEMO_VIEWS.len());
+    assert_eq!(results.len(), 4 * gnomon_scene::DEMO_VIEWS.len());
     for r in results {
         assert!(r["frame_ms"].as_f64().unwrap() > 0.0, "{r}");
         let ratio = r["vs_baseline"].as_f64().unwrap();
@@ -1009,7 +1011,8 @@ fn bench_times_techniques_side_by_side() {
             assert_eq!(ratio, 1.0);
         } else {
             assert!(
-                r["technique"] == "volumes-per-caster" || r["technique"] == "planar",
+                ["volumes-per-caster", "planar", "projective"]
+                    .contains(&r["technique"].as_str().unwrap()),
                 "{r}"
             );
             assert!(ratio > 0.0 && ratio.is_finite());
@@ -1017,7 +1020,7 @@ fn bench_times_techniques_side_by_side() {
     }
     assert_eq!(json["baseline"], "focused");
     let summary = json["summary"].as_array().unwrap();
-    assert_eq!(summary.len(), 3);
+    assert_eq!(summary.len(), 4);
     assert_eq!(summary[0]["mean_vs_baseline"], 1.0);
     let s = &summary[1];
     let (lo, mean, hi) = (
@@ -1247,9 +1250,9 @@ fn run_compare(
 /// a grid per view, a Markdown table and JSON: wrong pixels against the volumes (a 2048 map
 /// is wrong on fewer pixels than a 256 one), undersampling percentiles, times.
 #[test]
-fn compare_has_a_planar_row() {
+fn compare_has_planar_and_projective_rows() {
     let dir = temp_dir("compare-planar");
-    for techniques in ["planar", "focused,planar"] {
+    for techniques in ["planar", "focused,planar", "projective,planar"] {
         let json = run_compare(&dir, "overview,low_sun", techniques, "512", "160x90");
         for view in 0..2 {
             let rows = json["views"][view]["techniques"].as_array().unwrap();
@@ -1267,6 +1270,18 @@ fn compare_has_a_planar_row() {
                     .unwrap()
                     .contains("--technique planar")
             );
+            if let Some(projective) = rows.iter().find(|r| r["technique"] == "projective") {
+                // The ground receives the casters' light map; the casters stay lit.
+                assert!(
+                    projective["wrong_percent"].as_f64().unwrap() < 5.0,
+                    "{projective}"
+                );
+                let command = projective["command"].as_str().unwrap();
+                assert!(
+                    command.contains("--technique projective --shadow-map 512"),
+                    "{command}"
+                );
+            }
         }
         let rows = techniques.split(',').count() as u32;
         let grid = image::open(dir.join("overview.png")).unwrap();

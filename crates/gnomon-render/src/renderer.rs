@@ -339,6 +339,17 @@ impl Renderer {
         self.volumes.float_depth
     }
 
+    /// Whether instance `index` of the scene casts shadows from the next frame on (its maps
+    /// pick their casters among those that do).
+    pub fn set_instance_casts(&mut self, index: usize, casts: bool) -> Result<(), RenderError> {
+        let count = self.scene.instances.len();
+        if index >= count {
+            return Err(RenderError::Invalid(format!("instance {index} of {count}")));
+        }
+        self.scene.set_casts(index, casts);
+        Ok(())
+    }
+
     /// Moves instance `index` of the scene (world from object); the next frame draws it there.
     pub fn set_instance_transform(
         &mut self,

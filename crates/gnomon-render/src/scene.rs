@@ -467,6 +467,15 @@ impl GpuScene {
         self.casters.moved = true;
     }
 
+    /// Whether instance `index` casts (its maps' casters are picked again).
+    pub fn set_casts(&mut self, index: usize, casts: bool) {
+        let instance = &mut self.instances[index];
+        if instance.casts != casts {
+            instance.casts = casts;
+            self.casters.moved = true;
+        }
+    }
+
     /// Whether every instance receives shadows.
     pub fn all_receive(&self) -> bool {
         self.instances.iter().all(|i| i.receives)
