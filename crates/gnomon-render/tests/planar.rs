@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{cuboid, oracle, placed, renderer, square_camera};
+use common::{cuboid, interior_at_height, oracle, placed, renderer, square_camera};
 use glam::DVec3;
 use gnomon::geometry::Plane;
 use gnomon::planar::PlanarReceiver;
@@ -45,23 +45,6 @@ fn settings() -> RenderSettings {
     }
 }
 
-/// Whether pixel `i`'s 3x3 neighbourhood in the oracle has one value and sees surfaces at
-/// height `y` (the interior of a region of one surface, away from shadow edges).
-fn interior_at(o: &common::OracleMask, i: usize, y: f64) -> bool {
-    let (w, h) = (o.width as usize, o.height as usize);
-    let (px, py) = (i % w, i / w);
-    if px == 0 || py == 0 || px + 1 >= w || py + 1 >= h {
-        return false;
-    }
-    let value = o.mask[i];
-    (0..3).all(|dy| {
-        (0..3).all(|dx| {
-            let j = (py + dy - 1) * w + px + dx - 1;
-            o.mask[j] == value && o.points[j].is_some_and(|p| (p.y - y).abs() < 1e-6)
-        })
-    })
-}
-
 #[test]
 fn planar_shadows_agree_with_the_oracle_on_the_ground() {
     let scene = scene();
@@ -96,7 +79,7 @@ fn planar_shadows_agree_with_the_oracle_on_the_ground() {
         for i in 0..exact.mask.len() {
             if exact.mask[i] == MASK_EMPTY
                 || exact.n_dot_l[i] <= 0.1
-                || !interior_at(&exact, i, 0.0)
+                || !interior_at_height(&exact, i, 0.0)
             {
                 continue;
             }
@@ -157,7 +140,7 @@ fn overlapping_shadows_darken_the_ground_once() {
     let in_high = |p: DVec3| (-1.0..=4.0).contains(&p.x) && (-2.0 + 4.0..=2.0 + 4.8).contains(&p.z);
     let (mut overlap, mut colours) = (0usize, Vec::new());
     for i in 0..frame.mask.len() {
-        if frame.mask[i] != MASK_UNLIT || !interior_at(&exact, i, 0.0) {
+        if frame.mask[i] != MASK_UNLIT || !interior_at_height(&exact, i, 0.0) {
             continue;
         }
         let p = exact.points[i].unwrap();
@@ -195,7 +178,7 @@ fn a_receiver_off_the_plane_gets_no_shadow() {
     let exact = oracle(&scene, &camera, &sun, SIZE, SIZE);
     let (mut shadowed, mut lit) = (0, 0);
     for i in 0..exact.mask.len() {
-        if exact.mask[i] == MASK_UNLIT && interior_at(&exact, i, 3.0) {
+        if exact.mask[i] == MASK_UNLIT && interior_at_height(&exact, i, 3.0) {
             shadowed += 1;
             lit += usize::from(frame.mask[i] == MASK_LIT);
         }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{cuboid, oracle, placed, renderer, square_camera};
+use common::{cuboid, interior_at_height, oracle, placed, renderer, square_camera};
 use glam::DVec3;
 use gnomon::{DirectionalLight, Focused, Light, MapSettings, compute_setup};
 use gnomon_render::{MASK_LIT, MASK_UNLIT, RenderScene, RenderSettings};
@@ -41,42 +41,35 @@ fn settings() -> RenderSettings {
     }
 }
 
-/// Whether pixel `i` sees a surface at height `y` with its 3x3 neighbourhood, all of one
-/// oracle value.
-fn interior_at(o: &common::OracleMask, i: usize, y: f64) -> bool {
-    let w = o.width as usize;
-    let (px, py) = (i % w, i / w);
-    if px == 0 || py == 0 || px + 1 >= w || py + 1 >= o.height as usize {
-        return false;
-    }
-    (0..3).all(|dy| {
-        (0..3).all(|dx| {
-            let j = (py + dy - 1) * w + px + dx - 1;
-            o.mask[j] == o.mask[i] && o.points[j].is_some_and(|p| (p.y - y).abs() < 1e-6)
-        })
-    })
+/// The projective frame of `scene` (focused 2048 maps) and the oracle's mask.
+fn frame_and_oracle(
+    scene: &RenderScene,
+    camera: &gnomon::Camera,
+    sun: &Light,
+) -> (gnomon_render::Frame, common::OracleMask) {
+    let mut renderer = renderer(scene);
+    let bounds = scene.bounds().unwrap();
+    let setup = compute_setup(
+        &Focused,
+        camera,
+        sun,
+        &bounds,
+        MapSettings::with_resolution(2048),
+    )
+    .unwrap();
+    let frame = renderer.render(camera, sun, &setup, &settings()).unwrap();
+    (frame, oracle(scene, camera, sun, SIZE, SIZE))
 }
 
 #[test]
 fn projective_shadows_agree_with_the_oracle_on_a_receiver_behind_the_casters() {
     let scene = scene(false);
-    let mut renderer = renderer(&scene);
     let camera = square_camera(DVec3::new(6.0, 26.0, 28.0), DVec3::ZERO, 1.0, 200.0);
     let sun = Light::Directional(DirectionalLight::new(DVec3::new(0.5, -1.0, 0.3)).unwrap());
-    let bounds = scene.bounds().unwrap();
-    let setup = compute_setup(
-        &Focused,
-        &camera,
-        &sun,
-        &bounds,
-        MapSettings::with_resolution(2048),
-    )
-    .unwrap();
-    let frame = renderer.render(&camera, &sun, &setup, &settings()).unwrap();
-    let exact = oracle(&scene, &camera, &sun, SIZE, SIZE);
+    let (frame, exact) = frame_and_oracle(&scene, &camera, &sun);
     let (mut compared, mut agreeing, mut shadowed) = (0, 0, 0);
     for i in 0..exact.mask.len() {
-        if exact.n_dot_l[i] > 0.1 && interior_at(&exact, i, 0.0) {
+        if exact.n_dot_l[i] > 0.1 && interior_at_height(&exact, i, 0.0) {
             compared += 1;
             agreeing += usize::from(frame.mask[i] == exact.mask[i]);
             shadowed += usize::from(exact.mask[i] == MASK_UNLIT);
@@ -87,7 +80,7 @@ fn projective_shadows_agree_with_the_oracle_on_a_receiver_behind_the_casters() {
     assert!(share >= 0.99, "{share} of {compared} ground pixels agree");
     // The casters are lit: no pixel of the block's sunlit top is shadowed.
     let top = (0..exact.mask.len())
-        .filter(|&i| exact.mask[i] == MASK_LIT && interior_at(&exact, i, 4.0))
+        .filter(|&i| exact.mask[i] == MASK_LIT && interior_at_height(&exact, i, 4.0))
         .collect::<Vec<_>>();
     assert!(top.len() > 50);
     assert!(top.iter().all(|&i| frame.mask[i] == MASK_LIT));
@@ -96,7 +89,6 @@ fn projective_shadows_agree_with_the_oracle_on_a_receiver_behind_the_casters() {
 #[test]
 fn a_receiver_between_the_light_and_a_caster_gets_its_shadow() {
     let scene = scene(true);
-    let mut renderer = renderer(&scene);
     let camera = square_camera(
         DVec3::new(-4.0, 26.0, 22.0),
         DVec3::new(-4.0, 6.0, 2.0),
@@ -104,21 +96,11 @@ fn a_receiver_between_the_light_and_a_caster_gets_its_shadow() {
         200.0,
     );
     let sun = Light::Directional(DirectionalLight::new(DVec3::new(0.0, -1.0, 0.05)).unwrap());
-    let bounds = scene.bounds().unwrap();
-    let setup = compute_setup(
-        &Focused,
-        &camera,
-        &sun,
-        &bounds,
-        MapSettings::with_resolution(2048),
-    )
-    .unwrap();
-    let frame = renderer.render(&camera, &sun, &setup, &settings()).unwrap();
-    let exact = oracle(&scene, &camera, &sun, SIZE, SIZE);
+    let (frame, exact) = frame_and_oracle(&scene, &camera, &sun);
     // The plate's top (y = 10.1) lies above the floating box: lit in fact, shadowed by the
     // light map, which has no depth.
     let plate: Vec<usize> = (0..exact.mask.len())
-        .filter(|&i| interior_at(&exact, i, 10.1))
+        .filter(|&i| interior_at_height(&exact, i, 10.1))
         .collect();
     assert!(plate.len() > 100, "{} plate pixels", plate.len());
     assert!(plate.iter().all(|&i| exact.mask[i] == MASK_LIT));

@@ -267,3 +267,21 @@ pub fn box_on_ground(ground_half: f64, name: &str, half: DVec3, base: DVec3) -> 
         ],
     }
 }
+
+/// Whether pixel `i`'s 3x3 neighbourhood in the oracle has one value and sees surfaces at
+/// height `y` (the interior of a region of one surface, away from shadow and geometry
+/// edges).
+pub fn interior_at_height(o: &OracleMask, i: usize, y: f64) -> bool {
+    let (w, h) = (o.width as usize, o.height as usize);
+    let (px, py) = (i % w, i / w);
+    if px == 0 || py == 0 || px + 1 >= w || py + 1 >= h {
+        return false;
+    }
+    let value = o.mask[i];
+    (0..3).all(|dy| {
+        (0..3).all(|dx| {
+            let j = (py + dy - 1) * w + px + dx - 1;
+            o.mask[j] == value && o.points[j].is_some_and(|p| (p.y - y).abs() < 1e-6)
+        })
+    })
+}
