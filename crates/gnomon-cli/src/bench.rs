@@ -113,14 +113,10 @@ fn time_views(
         renderer.timing_source().name()
     );
     let device = (renderer.gpu().describe(), renderer.timing_source().name());
-    let rows: Vec<crate::rows::Row> = entries
+    let projective = entries
         .iter()
-        .filter_map(|e| match e {
-            Entry::Map(row) => Some((**row).clone()),
-            _ => None,
-        })
-        .collect();
-    let row_scene = crate::rows::RowScene::new(&loaded.scene, &rows)?;
+        .any(|e| matches!(e, Entry::Map(row) if row.projective));
+    let row_scene = crate::rows::RowScene::new(&loaded.scene, projective)?;
     // Planar shadows fall on the scene's ground.
     let receiver = entries
         .iter()
@@ -139,7 +135,7 @@ fn time_views(
         match entry {
             Entry::Map(row) if row.refuses(lights).is_some() => Ok((f64::NAN, Timings::default())),
             Entry::Map(row) => {
-                let row_bounds = row_scene.prepare(renderer, row)?;
+                let row_bounds = row_scene.prepare(renderer, row.projective)?;
                 let (setups, setup_us) = light_setups(row, camera, lights, row_bounds, samples)?;
                 let shadowed = ShadowedLight::pairs(lights, &setups);
                 let f = renderer.render_lights(camera, &shadowed, &row.settings(&settings))?;

@@ -239,8 +239,8 @@ fn compare_scene(
     let planar_rows = usize::from(compared.planar);
     let views = args.views.select(&loaded.views)?;
     let scene = &loaded.scene;
-    let bounds = scene.bounds()?;
-    let row_scene = crate::rows::RowScene::new(scene, techniques)?;
+    let row_scene = crate::rows::RowScene::new(scene, techniques.iter().any(|r| r.projective))?;
+    let bounds = row_scene.bounds();
     std::fs::create_dir_all(out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", out.display())))?;
     let mut renderer = open_renderer(scene, args.size, Some(args.shadow_map))?;
@@ -285,7 +285,7 @@ fn compare_scene(
     if let (Some(view), false) = (views.first(), techniques.is_empty()) {
         let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
         let samples = vec![renderer.view_samples(&camera, &light)?];
-        let (setups, _) = light_setups(&techniques[0], &camera, &[light], &bounds, &samples)?;
+        let (setups, _) = light_setups(&techniques[0], &camera, &[light], bounds, &samples)?;
         renderer.render(&camera, &light, &setups[0], &settings)?;
         renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
     }
@@ -339,7 +339,7 @@ fn compare_scene(
                 progress.inc(1);
                 continue;
             }
-            let row_bounds = row_scene.prepare(&mut renderer, entry)?;
+            let row_bounds = row_scene.prepare(&mut renderer, entry.projective)?;
             let (setups, setup_us) = light_setups(entry, &camera, &lights, row_bounds, &samples)?;
             let setup = &setups[0];
             let shadowed = ShadowedLight::pairs(&lights, &setups);
@@ -401,7 +401,7 @@ fn compare_scene(
                             let focused =
                                 crate::rows::row("focused", &args.params, args.shadow_map)?;
                             let (setups, _) =
-                                light_setups(&focused, &camera, &lights, &bounds, &samples)?;
+                                light_setups(&focused, &camera, &lights, bounds, &samples)?;
                             let shadowed = ShadowedLight::pairs(&lights, &setups);
                             let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
                             frame.metrics.expect("metrics asked for").n_dot_l

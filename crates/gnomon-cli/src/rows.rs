@@ -191,9 +191,10 @@ pub fn rows(
     Ok(expanded)
 }
 
-/// A scene's bounds for its rows: as drawn, and with the ground a receiver only (what
-/// projective rows draw: a casting ground would cover the whole light map), with the ground's
-/// instances, so that a renderer shared by the rows draws each as it should.
+/// A scene's bounds as each thing drawn needs them: as drawn, and with the ground a receiver
+/// only (what projective shadows draw: a casting ground would cover the whole light map),
+/// with the ground's instances, so that a renderer shared by several techniques draws each
+/// as it should.
 pub struct RowScene {
     bounds: gnomon::SceneBounds,
     receiving_ground: Option<gnomon::SceneBounds>,
@@ -201,8 +202,9 @@ pub struct RowScene {
 }
 
 impl RowScene {
-    /// The bounds of `scene` for `rows`.
-    pub fn new(scene: &gnomon_render::RenderScene, rows: &[Row]) -> Result<Self, CliError> {
+    /// The bounds of `scene`, and where `projective` is drawn too, with its ground a
+    /// receiver only.
+    pub fn new(scene: &gnomon_render::RenderScene, projective: bool) -> Result<Self, CliError> {
         let grounds = scene
             .instances
             .iter()
@@ -210,7 +212,7 @@ impl RowScene {
             .filter(|(_, i)| i.name == "ground" && i.casts)
             .map(|(k, _)| k)
             .collect();
-        let receiving_ground = if rows.iter().any(|r| r.projective) {
+        let receiving_ground = if projective {
             Some(
                 crate::render::drawn_scene(crate::names::Drawn::Projective, scene.clone())
                     .bounds()?,
@@ -225,27 +227,30 @@ impl RowScene {
         })
     }
 
-    /// The bounds `row` sets up with, after making `renderer`'s ground cast as it draws.
+    /// The scene's bounds as drawn.
+    pub fn bounds(&self) -> &gnomon::SceneBounds {
+        &self.bounds
+    }
+
+    /// The bounds a technique sets up with, after making `renderer`'s ground cast as it
+    /// draws: a receiver only where `projective`.
     pub fn prepare(
         &self,
         renderer: &mut gnomon_render::Renderer,
-        row: &Row,
+        projective: bool,
     ) -> Result<&gnomon::SceneBounds, CliError> {
         for &k in &self.grounds {
-            renderer.set_instance_casts(k, !row.projective)?;
+            renderer.set_instance_casts(k, !projective)?;
         }
-        Ok(match (&self.receiving_ground, row.projective) {
+        Ok(match (&self.receiving_ground, projective) {
             (Some(b), true) => b,
             _ => &self.bounds,
         })
     }
 
-    /// Makes `renderer`'s ground cast again (before what is not a row: the volumes, planar
+    /// Makes `renderer`'s ground cast again (before what reads no map: the volumes, planar
     /// shadows).
     pub fn restore(&self, renderer: &mut gnomon_render::Renderer) -> Result<(), CliError> {
-        for &k in &self.grounds {
-            renderer.set_instance_casts(k, true)?;
-        }
-        Ok(())
+        self.prepare(renderer, false).map(|_| ())
     }
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use clap::{Args, FromArgMatches};
 use glam::DVec3;
-use gnomon::{Light, SceneBounds, ShadowTechnique, ViewSamples};
+use gnomon::{Light, ShadowTechnique, ViewSamples};
 use gnomon_render::{COLOR_FORMAT, Renderer, SKY, SceneTarget, ShadowedLight};
 use gnomon_scene::{NamedView, ViewLight};
 use gnomon_viewer::rig::{CameraRig, SunRig};
@@ -74,10 +74,11 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
         }
         None => Script::default(),
     };
-    let mut loaded = args.scene.load()?;
-    // Projective shadows keep the ground a receiver (for the whole run).
-    loaded.scene = crate::render::drawn_scene(args.draw.technique, loaded.scene);
-    let bounds = loaded.scene.bounds()?;
+    let loaded = args.scene.load()?;
+    // The bounds as drawn, and with the ground a receiver only for projective shadows, which
+    // the panel can pick at any time.
+    let scene = crate::rows::RowScene::new(&loaded.scene, true)?;
+    let bounds = scene.bounds();
     let camera = args
         .view
         .camera_with_aspect(&loaded.views, args.size.0 as f64 / args.size.1 as f64)?;
@@ -97,7 +98,7 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
             &technique,
             &camera,
             &light,
-            &bounds,
+            bounds,
             args.draw.shadow_map,
             None,
         )?;
@@ -151,7 +152,7 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
         let renderer = Renderer::new(gpu, &loaded.scene).map_err(|e| e.to_string())?;
         let model = ViewModel {
             loaded,
-            bounds,
+            scene,
             view: view_args,
             light: view_light,
             start: rigs,
@@ -214,7 +215,8 @@ fn start_light(
 /// What `gnomon view` draws.
 struct ViewModel {
     loaded: LoadedScene,
-    bounds: SceneBounds,
+    /// The scene's bounds as each technique draws it (projective: the ground a receiver).
+    scene: crate::rows::RowScene,
     /// The lens options (the rigs give eye, target and up).
     view: ViewArgs,
     /// The light as it started (a sun's direction comes from the rig).
@@ -312,9 +314,9 @@ fn wrong_image(color: &[u8], mask: &[u8], exact: &[u8]) -> (Vec<u8>, (f64, f64))
 }
 
 impl ViewModel {
-    /// The frame's named view: the rigs' camera and light with the lens of the options.
-    fn named_view(&self, rigs: &Rigs, aspect: f64) -> Result<NamedView, CliError> {
-        let camera = self.camera(rigs, aspect)?;
+    /// The frame's named view: the rigs' camera and light with `camera`'s lens (the rigs'
+    /// camera, [`ViewModel::camera`]).
+    fn named_view(&self, rigs: &Rigs, camera: &gnomon::Camera) -> NamedView {
         let lens = camera.lens();
         let light = match (self.light, rigs.sun) {
             (ViewLight::Directional { .. }, Some(sun)) => ViewLight::Directional {
@@ -322,7 +324,7 @@ impl ViewModel {
             },
             (light, _) => light,
         };
-        Ok(NamedView {
+        NamedView {
             name: "viewer".into(),
             description: String::new(),
             eye: rigs.camera.eye,
@@ -333,7 +335,7 @@ impl ViewModel {
             far: lens.far,
             light,
             more_lights: Vec::new(),
-        })
+        }
     }
 
     /// The camera of `rigs`: `render`'s camera from the same options.
@@ -361,16 +363,17 @@ impl ViewModel {
         let (width, height) = info.size;
         let aspect = width as f64 / height as f64;
         let camera = self.camera(rigs, aspect)?;
-        let view = self.named_view(rigs, aspect)?;
+        let view = self.named_view(rigs, &camera);
         let light: Light = view.light.light()?;
         let settings = draw.settings(info.size);
         let technique = match draw.technique {
             Drawn::Volumes(_) | Drawn::Planar => {
+                self.scene.restore(renderer)?;
                 let lights = std::slice::from_ref(&light);
                 let (timings, stats) = match draw.technique {
                     Drawn::Volumes(named) => {
                         let mode = draw.stencil_mode(named)?;
-                        let scene_box = self.bounds.scene_box();
+                        let scene_box = self.scene.bounds().scene_box();
                         if let Some(clusters) = draw.area_clusters(lights, &scene_box)? {
                             // Soft shadows: the cluster's frames averaged on the CPU.
                             let soft = renderer
@@ -390,20 +393,20 @@ impl ViewModel {
                         renderer.draw_volumes_lit_by(&camera, lights, &settings, mode)?
                     }
                     _ => {
-                        let receiver = match &self.receiver {
-                            Some((plane, receiver)) if *plane == draw.receiver_plane => {
-                                receiver.clone()
-                            }
-                            _ => {
-                                let receiver = crate::render::planar_receiver(
-                                    &self.loaded.scene,
-                                    draw.receiver_plane,
-                                )?;
-                                self.receiver = Some((draw.receiver_plane, receiver.clone()));
-                                receiver
-                            }
-                        };
-                        renderer.draw_planar_lit_by(&camera, lights, &receiver, &settings)?
+                        // Made again only when the receiver plane changes.
+                        if self
+                            .receiver
+                            .as_ref()
+                            .is_none_or(|(plane, _)| *plane != draw.receiver_plane)
+                        {
+                            let receiver = crate::render::planar_receiver(
+                                &self.loaded.scene,
+                                draw.receiver_plane,
+                            )?;
+                            self.receiver = Some((draw.receiver_plane, receiver));
+                        }
+                        let (_, receiver) = self.receiver.as_ref().expect("made above");
+                        renderer.draw_planar_lit_by(&camera, lights, receiver, &settings)?
                     }
                 };
                 let color = renderer.frame_color().expect("drawn above");
@@ -450,11 +453,14 @@ impl ViewModel {
             .as_ref()
             .filter(|(k, _)| *k == key)
             .map(|(_, s)| s);
+        let bounds = self
+            .scene
+            .prepare(renderer, draw.technique == Drawn::Projective)?;
         let (setup, setup_us) = timed_setup(
             &technique,
             &camera,
             &light,
-            &self.bounds,
+            bounds,
             draw.shadow_map,
             samples,
         )?;
@@ -494,6 +500,8 @@ impl ViewModel {
                 Overlay::Shaded => None,
                 Overlay::ErrorMap => Some(crate::heatmap::draw(metrics, width, height)),
                 Overlay::Wrong => {
+                    // The exact shadows of the scene as it is (its ground casting).
+                    self.scene.restore(renderer)?;
                     let exact = renderer.render_volumes_lit_by(
                         &camera,
                         std::slice::from_ref(&lights[0]),
@@ -924,8 +932,8 @@ impl Model for ViewModel {
 
     fn command(&self, rigs: &Rigs, size: (u32, u32)) -> String {
         let aspect = size.0 as f64 / size.1 as f64;
-        let view = match self.named_view(rigs, aspect) {
-            Ok(view) => view,
+        let view = match self.camera(rigs, aspect) {
+            Ok(camera) => self.named_view(rigs, &camera),
             Err(e) => return format!("# no command: {}", e.message),
         };
         let technique = self
@@ -961,6 +969,9 @@ impl Model for ViewModel {
 /// would, and shows its error instead of applying it.
 struct OptionPanel {
     command: clap::Command,
+    /// The technique parameters' own definitions, to parse the panel's parameter fields
+    /// alone.
+    params_command: clap::Command,
     fields: Vec<Field>,
     error: Option<String>,
 }
@@ -970,6 +981,8 @@ struct Field {
     long: String,
     help: String,
     kind: FieldKind,
+    /// A technique parameter (`TechniqueParams`).
+    is_param: bool,
 }
 
 enum FieldKind {
@@ -981,6 +994,9 @@ enum FieldKind {
 impl OptionPanel {
     fn new(draw: &DrawArgs) -> Self {
         let command = DrawArgs::augment_args(clap::Command::new("view").no_binary_name(true));
+        let params_command = crate::args::TechniqueParams::augment_args(
+            clap::Command::new("params").no_binary_name(true),
+        );
         let matches = command
             .clone()
             .try_get_matches_from(draw_tokens(draw))
@@ -1020,57 +1036,80 @@ impl OptionPanel {
                         FieldKind::Choice(values, value)
                     }
                 };
+                let is_param = params_command
+                    .get_arguments()
+                    .any(|a| a.get_id() == id.as_str());
                 Some(Field {
                     id,
                     long,
                     help,
                     kind,
+                    is_param,
                 })
             })
             .collect();
         Self {
             command,
+            params_command,
             fields,
             error: None,
         }
     }
 
-    /// The fields' values as a command line, those the technique does not read left out.
-    fn tokens(&self) -> Vec<String> {
+    /// `field` as a command-line token (`None`: an unset flag or an empty value).
+    fn token(field: &Field) -> Option<String> {
+        match &field.kind {
+            FieldKind::Flag(true) => Some(format!("--{}", field.long)),
+            FieldKind::Flag(false) => None,
+            FieldKind::Choice(_, v) | FieldKind::Text(v) => {
+                (!v.trim().is_empty()).then(|| format!("--{}={}", field.long, v.trim()))
+            }
+        }
+    }
+
+    /// Whether each field applies to the technique the panel names: its parameters where it
+    /// reads them (as the panel's other parameters make it: a cascade's fit decides which fit
+    /// parameters show), the map's options for map techniques, the counting for volumes.
+    fn visible(&self) -> Vec<bool> {
         let technique = self.fields.iter().find_map(|f| match &f.kind {
             FieldKind::Choice(_, v) if f.id == "technique" => Drawn::parse(v).ok(),
             _ => None,
         });
-        let mut tokens = Vec::new();
-        for field in &self.fields {
-            if !shown(field, technique.as_ref(), &self.fields) {
-                continue;
-            }
-            match &field.kind {
-                FieldKind::Flag(true) => tokens.push(format!("--{}", field.long)),
-                FieldKind::Flag(false) => {}
-                FieldKind::Choice(_, v) | FieldKind::Text(v) => {
-                    if !v.trim().is_empty() {
-                        tokens.push(format!("--{}={}", field.long, v.trim()));
-                    }
-                }
-            }
-        }
-        tokens
+        let read = technique.and_then(|d| d.map_technique()).map(|t| {
+            let tokens = self
+                .fields
+                .iter()
+                .filter(|f| f.is_param)
+                .filter_map(Self::token);
+            let applied = self
+                .params_command
+                .clone()
+                .try_get_matches_from(tokens)
+                .ok()
+                .and_then(|m| crate::args::TechniqueParams::from_arg_matches(&m).ok())
+                .map_or(t, |p| p.apply(t));
+            options_read_by(&applied)
+        });
+        self.fields
+            .iter()
+            .map(|f| shown(f, technique.as_ref(), read.as_deref()))
+            .collect()
+    }
+
+    /// The fields' values as a command line, those the technique does not read left out.
+    fn tokens(&self) -> Vec<String> {
+        self.fields
+            .iter()
+            .zip(self.visible())
+            .filter(|(_, visible)| *visible)
+            .filter_map(|(f, _)| Self::token(f))
+            .collect()
     }
 
     /// Draws the controls; the new options where an edit parsed.
     fn show(&mut self, ui: &mut egui::Ui) -> Option<DrawArgs> {
-        let technique = self.fields.iter().find_map(|f| match &f.kind {
-            FieldKind::Choice(_, v) if f.id == "technique" => Drawn::parse(v).ok(),
-            _ => None,
-        });
         let mut changed = false;
-        let visible: Vec<bool> = self
-            .fields
-            .iter()
-            .map(|f| shown(f, technique.as_ref(), &self.fields))
-            .collect();
+        let visible = self.visible();
         egui::Grid::new("options").num_columns(2).show(ui, |ui| {
             for (field, visible) in self.fields.iter_mut().zip(visible) {
                 if !visible {
@@ -1141,51 +1180,25 @@ impl OptionPanel {
     }
 }
 
-/// Whether `field` applies to `technique`: its parameters where it reads them, the map's
-/// options for map techniques, the counting for volumes.
-fn shown(field: &Field, technique: Option<&Drawn>, fields: &[Field]) -> bool {
-    let long = format!("--{}", field.long);
-    let params = crate::args::TechniqueParams::augment_args(clap::Command::new("params"));
-    let is_param = params
-        .get_arguments()
-        .any(|a| a.get_id() == field.id.as_str());
+/// Whether `field` applies to `technique`: a parameter where it is among `read` (the options
+/// the map technique reads), the map's options for map techniques, the counting and the area
+/// light for volumes, the receiver plane for planar shadows.
+fn shown(field: &Field, technique: Option<&Drawn>, read: Option<&[&str]>) -> bool {
+    let id = field.id.as_str();
     match technique {
-        None => field.id == "technique",
+        None => id == "technique",
         Some(Drawn::Volumes(_)) => {
-            ["technique", "stencil", "area_light", "area_samples"].contains(&field.id.as_str())
+            ["technique", "stencil", "area_light", "area_samples"].contains(&id)
         }
-        Some(Drawn::Planar) => field.id == "technique" || field.id == "receiver_plane",
-        Some(drawn @ (Drawn::Map(_) | Drawn::Projective)) => {
-            let t = &drawn.map_technique().expect("a map technique");
-            if ["stencil", "receiver_plane", "area_light", "area_samples"]
-                .contains(&field.id.as_str())
-            {
-                return false;
+        Some(Drawn::Planar) => id == "technique" || id == "receiver_plane",
+        Some(Drawn::Map(_) | Drawn::Projective) => {
+            if ["stencil", "receiver_plane", "area_light", "area_samples"].contains(&id) {
+                false
+            } else if field.is_param {
+                read.is_some_and(|r| r.contains(&format!("--{}", field.long).as_str()))
+            } else {
+                true
             }
-            if !is_param {
-                return true;
-            }
-            // The parameters of the technique as the panel's other parameters make it (a
-            // cascade's fit decides which fit parameters show).
-            let tokens: Vec<String> = fields
-                .iter()
-                .filter(|f| params.get_arguments().any(|a| a.get_id() == f.id.as_str()))
-                .filter_map(|f| match &f.kind {
-                    FieldKind::Flag(true) => Some(format!("--{}", f.long)),
-                    FieldKind::Choice(_, v) | FieldKind::Text(v) if !v.trim().is_empty() => {
-                        Some(format!("--{}={}", f.long, v.trim()))
-                    }
-                    _ => None,
-                })
-                .collect();
-            let applied = params
-                .clone()
-                .no_binary_name(true)
-                .try_get_matches_from(tokens)
-                .ok()
-                .and_then(|m| crate::args::TechniqueParams::from_arg_matches(&m).ok())
-                .map_or(*t, |p| p.apply(*t));
-            options_read_by(&applied).contains(&long.as_str())
         }
     }
 }
@@ -1234,12 +1247,12 @@ mod tests {
     #[test]
     fn the_panel_shows_only_what_the_technique_reads() {
         let panel = OptionPanel::new(&parsed("--technique lispsm"));
-        let technique = Drawn::parse("lispsm").ok();
         let visible: Vec<&str> = panel
             .fields
             .iter()
-            .filter(|f| shown(f, technique.as_ref(), &panel.fields))
-            .map(|f| f.long.as_str())
+            .zip(panel.visible())
+            .filter(|(_, v)| *v)
+            .map(|(f, _)| f.long.as_str())
             .collect();
         assert!(visible.contains(&"lispsm-n"), "{visible:?}");
         assert!(visible.contains(&"pcf"));

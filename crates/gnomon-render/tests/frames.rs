@@ -36,11 +36,7 @@ fn setup(
 }
 
 fn settings() -> RenderSettings {
-    RenderSettings {
-        width: SIZE,
-        height: SIZE,
-        ..RenderSettings::default()
-    }
+    common::square_settings(SIZE)
 }
 
 #[test]

@@ -38,11 +38,7 @@ fn ground_receiver() -> PlanarReceiver {
 }
 
 fn settings() -> RenderSettings {
-    RenderSettings {
-        width: SIZE,
-        height: SIZE,
-        ..RenderSettings::default()
-    }
+    common::square_settings(SIZE)
 }
 
 #[test]

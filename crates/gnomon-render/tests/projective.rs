@@ -34,10 +34,8 @@ fn scene(plate: bool) -> RenderScene {
 
 fn settings() -> RenderSettings {
     RenderSettings {
-        width: SIZE,
-        height: SIZE,
         projective: true,
-        ..RenderSettings::default()
+        ..common::square_settings(SIZE)
     }
 }
 

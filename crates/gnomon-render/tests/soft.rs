@@ -8,19 +8,11 @@ use common::{box_on_ground, oracle, renderer, square_camera};
 use glam::DVec3;
 use gnomon::area_light::area_light_samples;
 use gnomon::{DirectionalLight, Light, PointLight, SpotLight};
-use gnomon_render::{MASK_LIT, RenderScene, RenderSettings, StencilMode};
+use gnomon_render::{MASK_LIT, RenderScene, StencilMode};
 
 fn scene() -> RenderScene {
     // A tall box on a slab: its shadow's penumbra widens away from its base.
     box_on_ground(20.0, "tower", DVec3::new(1.5, 4.0, 1.5), DVec3::ZERO)
-}
-
-fn settings(size: u32) -> RenderSettings {
-    RenderSettings {
-        width: size,
-        height: size,
-        ..RenderSettings::default()
-    }
 }
 
 /// A spot light above and beside the tower.
@@ -70,7 +62,7 @@ fn the_cluster_agrees_with_the_oracle_of_the_same_light_points() {
             .render_soft_volumes(
                 &camera,
                 std::slice::from_ref(&cluster),
-                &settings(size),
+                &common::square_settings(size),
                 StencilMode::ZFail,
             )
             .unwrap();
@@ -108,7 +100,12 @@ fn more_samples_change_the_penumbra_by_about_one_percent() {
     let mut factor = |n: usize| {
         let cluster = area_light_samples(&spot, 2.0, n, DVec3::ZERO).unwrap();
         renderer
-            .render_soft_volumes(&camera, &[cluster], &settings(size), StencilMode::ZFail)
+            .render_soft_volumes(
+                &camera,
+                &[cluster],
+                &common::square_settings(size),
+                StencilMode::ZFail,
+            )
             .unwrap()
             .factor
     };

@@ -18,6 +18,15 @@ pub fn renderer(scene: &RenderScene) -> Renderer {
     Renderer::new(gpu, scene).expect("renderer")
 }
 
+/// The default settings of a `size` x `size` frame.
+pub fn square_settings(size: u32) -> RenderSettings {
+    RenderSettings {
+        width: size,
+        height: size,
+        ..RenderSettings::default()
+    }
+}
+
 /// A square camera with a 60 degree field of view, up +Y.
 pub fn square_camera(eye: DVec3, target: DVec3, near: f64, far: f64) -> Camera {
     square_camera_up(eye, target, DVec3::Y, near, far)
