@@ -1,12 +1,17 @@
 //! The shadow maps: layers of one Depth32Float array texture, each map in its layer's top-left
-//! corner (maps may differ in size; the layers have the largest map's size). The texture and
-//! its bind group (the lookup module's group) are kept and grown only when a frame needs more
-//! layers or larger ones.
+//! corner (maps may differ in size; the layers have the largest map's size), and beside them
+//! an R32Uint array of the same layers for object-ID maps (the ID of the caster nearest the
+//! light per texel; one texel a layer until a frame reads IDs). The textures and their bind
+//! group (the lookup module's group) are kept and grown only when a frame needs more layers,
+//! larger ones or IDs.
 
 use crate::resources::Resources;
 
 /// The shadow maps' depth format.
 pub(crate) const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The object-ID maps' format: 0 where no caster was drawn, else the caster's ID.
+pub(crate) const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 /// The fewest layers the array has.
 const MIN_LAYERS: u32 = 2;
@@ -18,6 +23,10 @@ pub(crate) struct ShadowAtlas {
     pub layers: u32,
     /// One view per layer, for the depth passes.
     pub layer_views: Vec<wgpu::TextureView>,
+    /// The object-ID array (kept with its views), with one view per layer where it holds
+    /// maps of the layers' size (empty while no frame has read IDs).
+    _ids: wgpu::Texture,
+    pub id_layer_views: Vec<wgpu::TextureView>,
     /// The lookup module's bind group: records, the array twice, two samplers.
     pub bind_group: wgpu::BindGroup,
 }
@@ -31,11 +40,14 @@ pub(crate) struct AtlasBindings<'a> {
 }
 
 impl ShadowAtlas {
+    /// Maps of side `size` in `layers` layers, with object-ID layers of that size too where
+    /// `ids`.
     pub fn new(
         resources: &Resources,
         bindings: &AtlasBindings<'_>,
         size: u32,
         layers: u32,
+        ids: bool,
     ) -> Self {
         // At least two layers: wgpu's GL backend makes a one-layer texture a plain 2D texture,
         // which an array view then reads as zeros. Nor a multiple of six: it makes a square
@@ -45,28 +57,31 @@ impl ShadowAtlas {
         if layers.is_multiple_of(6) {
             layers += 1;
         }
-        let texture = resources.texture(
-            "shadow maps",
-            size,
-            size,
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let texture = resources.texture("shadow maps", size, size, layers, 1, MAP_FORMAT, usage);
+        let id_size = if ids { size } else { 1 };
+        let id_texture = resources.texture(
+            "object-ID maps",
+            id_size,
+            id_size,
             layers,
             1,
-            MAP_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            ID_FORMAT,
+            usage,
         );
-        let layer_views = (0..layers)
-            .map(|layer| {
-                texture.create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: layer,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
+        let layer_views = per_layer(&texture, layers);
+        let id_layer_views = if ids {
+            per_layer(&id_texture, layers)
+        } else {
+            Vec::new()
+        };
         let array = texture.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        });
+        let id_array = id_texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
         let bind_group = resources
@@ -95,6 +110,10 @@ impl ShadowAtlas {
                         binding: 4,
                         resource: wgpu::BindingResource::Sampler(bindings.nearest),
                     },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: wgpu::BindingResource::TextureView(&id_array),
+                    },
                 ],
             });
         Self {
@@ -102,14 +121,36 @@ impl ShadowAtlas {
             layer_size: size,
             layers,
             layer_views,
+            _ids: id_texture,
+            id_layer_views,
             bind_group,
         }
     }
 
-    /// Whether maps of side `size` in `layers` layers fit.
-    pub fn holds(&self, size: u32, layers: u32) -> bool {
-        size <= self.layer_size && layers <= self.layers
+    /// Whether maps of side `size` in `layers` layers fit, with their object-ID layers where
+    /// `ids`.
+    pub fn holds(&self, size: u32, layers: u32, ids: bool) -> bool {
+        size <= self.layer_size && layers <= self.layers && (!ids || self.has_ids())
     }
+
+    /// Whether the object-ID layers hold maps (a frame has read IDs).
+    pub fn has_ids(&self) -> bool {
+        !self.id_layer_views.is_empty()
+    }
+}
+
+/// One 2D view per layer of an array texture (a pass's target).
+fn per_layer(texture: &wgpu::Texture, layers: u32) -> Vec<wgpu::TextureView> {
+    (0..layers)
+        .map(|layer| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect()
 }
 
 /// The lookup group's layout (`wgsl/lookup.wgsl`).
@@ -154,6 +195,7 @@ pub(crate) fn lookup_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
                 fragment,
                 wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
             ),
+            entry(5, fragment, texture(wgpu::TextureSampleType::Uint)),
         ],
     })
 }

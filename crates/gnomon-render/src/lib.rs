@@ -44,7 +44,7 @@ pub use gpu::{Gpu, OPTIONAL_FEATURES};
 pub use headless::{Frame, LightView, PixelMetrics, SKY, Timings};
 pub use pipelines::COLOR_FORMAT;
 pub use records::{MAX_LIGHTS, MAX_MAPS, ShadowedLight};
-pub use renderer::{DepthBias, Filter, RenderSettings, Renderer, SceneTarget};
+pub use renderer::{DepthBias, Filter, MapRead, RenderSettings, Renderer, SceneTarget};
 pub use scene::{Instance, RenderScene};
 pub use soft::SoftFrame;
 pub use timing::TimingSource;

@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use crate::atlas::{MAP_FORMAT, lookup_layout};
+use crate::atlas::{ID_FORMAT, MAP_FORMAT, lookup_layout};
 use crate::scene::{INSTANCE_STRIDE, Vertex};
 
 /// The camera's depth in the main pass: reversed Z, 32-bit float.
@@ -36,8 +36,8 @@ pub(crate) struct Pipelines {
     /// The depth passes' group 1: the records alone (the maps are their targets).
     pub records_layout: wgpu::BindGroupLayout,
     depth_layout: wgpu::PipelineLayout,
-    /// Depth passes by the caster vertex stride.
-    depth: HashMap<u64, wgpu::RenderPipeline>,
+    /// Depth passes by the caster vertex stride and whether they write object IDs.
+    depth: HashMap<(u64, bool), wgpu::RenderPipeline>,
     /// The measured main pass, by metrics and specialisation.
     measured: HashMap<(bool, MainSpec), wgpu::RenderPipeline>,
     /// The main pass into a caller's target, by format, sample count and specialisation.
@@ -54,18 +54,21 @@ pub(crate) struct Pipelines {
 /// 1.4x the main pass on lavapipe), and whether a light picks its map per pixel (cascades, a
 /// point light's cube faces: the per-pixel choice of map makes every read of a map's record a
 /// gather on a CPU rasteriser: 1.45x the main pass on lavapipe when compiled into frames that
-/// have none).
+/// have none), and how the maps are read (`MAP_READ`: by depth or by object ID).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub(crate) struct MainSpec {
     pub lights: u32,
     pub per_pixel: bool,
+    /// `GNOMON_READ_*` of lookup.wgsl.
+    pub read: u32,
 }
 
 impl MainSpec {
-    fn constants(&self) -> [(&'static str, f64); 2] {
+    fn constants(&self) -> [(&'static str, f64); 3] {
         [
             ("LIGHT_COUNT", self.lights as f64),
             ("PER_PIXEL", if self.per_pixel { 1.0 } else { 0.0 }),
+            ("MAP_READ", self.read as f64),
         ]
     }
 }
@@ -181,20 +184,27 @@ impl Pipelines {
             color: HashMap::new(),
             samples: None,
         };
-        pipelines.depth(device, std::mem::size_of::<Vertex>() as u64);
+        pipelines.depth(device, std::mem::size_of::<Vertex>() as u64, false);
         pipelines
     }
 
-    /// The depth pass for casters whose positions (three f32) repeat every `stride` bytes.
-    pub fn depth(&mut self, device: &wgpu::Device, stride: u64) -> &wgpu::RenderPipeline {
+    /// The depth pass for casters whose positions (three f32) repeat every `stride` bytes;
+    /// with `ids`, it also writes each caster's object ID into an [`ID_FORMAT`] target.
+    pub fn depth(
+        &mut self,
+        device: &wgpu::Device,
+        stride: u64,
+        ids: bool,
+    ) -> &wgpu::RenderPipeline {
         let (shader, layout) = (&self.shader, &self.depth_layout);
-        self.depth.entry(stride).or_insert_with(|| {
+        self.depth.entry((stride, ids)).or_insert_with(|| {
             let position = [wgpu::VertexAttribute {
                 format: wgpu::VertexFormat::Float32x3,
                 offset: 0,
                 shader_location: 0,
             }];
             let transform = &INSTANCE_ATTRIBUTES[..4];
+            let id_target = [Some(ID_FORMAT.into())];
             build(
                 device,
                 shader,
@@ -214,8 +224,8 @@ impl Pipelines {
                             attributes: transform,
                         },
                     ],
-                    fragment: Some("fs_depth"),
-                    targets: &[],
+                    fragment: Some(if ids { "fs_depth_id" } else { "fs_depth" }),
+                    targets: if ids { &id_target } else { &[] },
                     constants: &[],
                     depth: Some(wgpu::DepthStencilState {
                         format: MAP_FORMAT,
@@ -230,9 +240,9 @@ impl Pipelines {
         })
     }
 
-    /// The depth pass already made for `stride`.
-    pub fn depth_for(&self, stride: u64) -> Option<&wgpu::RenderPipeline> {
-        self.depth.get(&stride)
+    /// The depth pass already made for `stride` and `ids`.
+    pub fn depth_for(&self, stride: u64, ids: bool) -> Option<&wgpu::RenderPipeline> {
+        self.depth.get(&(stride, ids))
     }
 
     /// The measured main pass already made.
@@ -264,11 +274,10 @@ impl Pipelines {
                     buffers: &scene_buffers(),
                     fragment: Some(fragment),
                     targets: &targets,
-                    constants: &[
-                        ("METRICS", if metrics { 1.0 } else { 0.0 }),
-                        spec.constants()[0],
-                        spec.constants()[1],
-                    ],
+                    constants: &[("METRICS", if metrics { 1.0 } else { 0.0 })]
+                        .into_iter()
+                        .chain(spec.constants())
+                        .collect::<Vec<_>>(),
                     depth: Some(camera_depth()),
                     samples: 1,
                 },

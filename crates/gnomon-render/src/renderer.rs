@@ -81,11 +81,51 @@ pub struct RenderSettings {
     /// Two-map setups: tint each pixel by the map it reads (red: the second, perspective
     /// map; blue: the first, focused map), as in the SPPSM paper's figures.
     pub tint: bool,
+    /// How the main pass reads the shadow maps: by depth (every shadow-map technique), or as
+    /// another of the shadows lecture's light-space maps.
+    pub read: MapRead,
+}
+
+/// How the main pass reads a frame's shadow maps (the same matrices, another test).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum MapRead {
+    /// The depth comparison of a shadow map (Williams): shadowed where a caster is nearer
+    /// the light than the point.
+    #[default]
+    Depth,
     /// Projective texture shadows (the shadows lecture's light maps): each map read as a
     /// texture of where casters are, whatever their depth (a receiver in front of a caster
     /// gets its shadow too), and the casters drawn fully lit (they shadow neither themselves
     /// nor each other).
-    pub projective: bool,
+    Coverage,
+    /// Object-ID shadow maps (the lecture's "Object ID Shadows"): beside each map's depth,
+    /// the ID of the object nearest the light per texel (every instance is an object); a
+    /// point is shadowed where it finds another object's ID, with no bias, and an object
+    /// never shadows itself (a concave one should be split into convex parts). IDs alias
+    /// where objects meet as the light sees them: a point near its object's outline can read
+    /// the texel of the object beside it.
+    ObjectId,
+    /// IDs and depth (the lecture's "Combining Shadow and Object Maps"): another object's ID
+    /// shadows, and where the texel holds the point's own object its depth decides, so that
+    /// objects shadow themselves too.
+    IdDepth,
+}
+
+impl MapRead {
+    /// Whether the depth passes write object IDs for it.
+    pub fn reads_ids(self) -> bool {
+        matches!(self, MapRead::ObjectId | MapRead::IdDepth)
+    }
+
+    /// `GNOMON_READ_*` of lookup.wgsl (projective shadows read by depth: their records make
+    /// every caster nearer than every point).
+    pub(crate) fn code(self) -> u32 {
+        match self {
+            MapRead::Depth | MapRead::Coverage => 0,
+            MapRead::ObjectId => 1,
+            MapRead::IdDepth => 2,
+        }
+    }
 }
 
 /// The constant depth bias of a projective map's depth pass, in depth units: every caster
@@ -104,7 +144,7 @@ impl Default for RenderSettings {
             light_view: false,
             metrics: false,
             tint: false,
-            projective: false,
+            read: MapRead::Depth,
         }
     }
 }
@@ -261,6 +301,7 @@ impl Renderer {
             },
             1,
             1,
+            false,
         );
         let volumes = VolumePipelines::new(&gpu, &pipelines);
         let volume_casters = VolumeCasters::new(scene);
@@ -470,7 +511,8 @@ impl Renderer {
                 largest = largest.max(map.resolution);
             }
         }
-        if !self.atlas.holds(largest, map_count.max(1) as u32) {
+        let ids = settings.read.reads_ids() || self.atlas.has_ids();
+        if !self.atlas.holds(largest, map_count.max(1) as u32, ids) {
             self.atlas = ShadowAtlas::new(
                 &self.resources,
                 &AtlasBindings {
@@ -481,6 +523,7 @@ impl Renderer {
                 },
                 largest.max(self.atlas.layer_size),
                 (map_count as u32).max(self.atlas.layers),
+                ids,
             );
         }
         let view_from_world = camera.view_from_world();
@@ -504,7 +547,7 @@ impl Renderer {
                     },
                     &settings.bias,
                 );
-                if settings.projective {
+                if settings.read == MapRead::Coverage {
                     // Every point at depth 1/2 and every caster written at 0 (the bias): a
                     // covered texel shadows whatever reads it, nearer than the casters or not,
                     // and an empty one (1) nothing.
@@ -555,10 +598,11 @@ impl Renderer {
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         queue.write_buffer(&self.shadows_buffer, 0, bytemuck::bytes_of(&*self.shadows));
         self.scene
-            .write_transforms(queue, view_from_world, settings.projective);
+            .write_transforms(queue, view_from_world, settings.read == MapRead::Coverage);
         self.prepared_camera = Some(*camera);
         self.main_spec = crate::pipelines::MainSpec {
             lights: lights.len() as u32,
+            read: settings.read.code(),
             per_pixel: lights.iter().flat_map(|l| l.1).any(|s| {
                 matches!(
                     s.selection,
@@ -591,6 +635,8 @@ impl Renderer {
         timed: bool,
     ) {
         let stride = std::mem::size_of::<crate::scene::Vertex>() as u64;
+        let ids = self.main_spec.read != 0;
+        self.pipelines.depth(&self.gpu.device, stride, ids);
         for k in 0..self.maps.len() {
             let offset = self.slot(k as u32);
             let timestamps = if timed {
@@ -599,8 +645,8 @@ impl Renderer {
                 None
             };
             let map = &self.maps[k];
-            let mut pass = begin_depth_pass(encoder, &self.atlas, map, timestamps);
-            pass.set_pipeline(self.pipelines.depth_for(stride).expect("made at start"));
+            let mut pass = begin_depth_pass(encoder, &self.atlas, map, ids, timestamps);
+            pass.set_pipeline(self.pipelines.depth_for(stride, ids).expect("made above"));
             pass.set_bind_group(0, &self.frame_group, &[offset]);
             pass.set_bind_group(1, &self.records_group, &[]);
             self.scene.bind(&mut pass);
@@ -611,19 +657,21 @@ impl Renderer {
 
     /// Records the prepared frame's depth passes with a caller's casters (its vertex and index
     /// buffers and transforms) instead of the scene's. Call [`CasterSet::write_transforms`]
-    /// after [`Renderer::prepare`] first.
+    /// after [`Renderer::prepare`] first. Where the frame reads object IDs, a caster's ID is
+    /// its draw's index + 1.
     pub fn encode_shadow_maps_of(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         casters: &CasterSet,
     ) {
+        let ids = self.main_spec.read != 0;
         self.pipelines
-            .depth(&self.gpu.device, casters.vertex_stride);
+            .depth(&self.gpu.device, casters.vertex_stride, ids);
         for (k, map) in self.maps.iter().enumerate() {
-            let mut pass = begin_depth_pass(encoder, &self.atlas, map, None);
+            let mut pass = begin_depth_pass(encoder, &self.atlas, map, ids, None);
             pass.set_pipeline(
                 self.pipelines
-                    .depth_for(casters.vertex_stride)
+                    .depth_for(casters.vertex_stride, ids)
                     .expect("made above"),
             );
             pass.set_bind_group(0, &self.frame_group, &[self.slot(k as u32)]);
@@ -687,16 +735,31 @@ impl Renderer {
 }
 
 /// The depth pass of one map: its layer cleared to the far depth, drawn inside the inset
-/// square (the border stays at the far depth: lookups outside the focus region read as lit).
+/// square (the border stays at the far depth: lookups outside the focus region read as lit);
+/// with `ids`, its object-ID layer too, cleared to 0 (no caster).
 fn begin_depth_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     atlas: &ShadowAtlas,
     map: &PreparedMap,
+    ids: bool,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) -> wgpu::RenderPass<'e> {
+    let id_target = ids.then(|| wgpu::RenderPassColorAttachment {
+        view: &atlas.id_layer_views[map.layer as usize],
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            store: wgpu::StoreOp::Store,
+        },
+    });
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("shadow depth"),
-        color_attachments: &[],
+        color_attachments: if ids {
+            std::slice::from_ref(&id_target)
+        } else {
+            &[]
+        },
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: &atlas.layer_views[map.layer as usize],
             depth_ops: Some(wgpu::Operations {

@@ -34,7 +34,7 @@ fn scene(plate: bool) -> RenderScene {
 
 fn settings() -> RenderSettings {
     RenderSettings {
-        projective: true,
+        read: gnomon_render::MapRead::Coverage,
         ..common::square_settings(SIZE)
     }
 }

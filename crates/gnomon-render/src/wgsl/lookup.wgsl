@@ -37,6 +37,16 @@ const GNOMON_SELECT_CUBE: u32 = 3u;
 const GNOMON_FILTER_ONE_TAP: u32 = 0u;
 const GNOMON_FILTER_HARDWARE_2X2: u32 = 1u;
 const GNOMON_FILTER_PCF_5X5: u32 = 2u;
+// How a main pass reads the maps (gnomon's passes: the override constant MAP_READ).
+// By depth: shadowed where a caster nearer the light than the point is stored.
+const GNOMON_READ_DEPTH: u32 = 0u;
+// Object IDs (the shadows lecture's "Object ID Shadows"): the ID map holds the ID of the
+// object nearest the light per texel; a point is shadowed where it finds another object's,
+// lit where it finds its own or none. No bias; an object cannot shadow itself.
+const GNOMON_READ_OBJECT_ID: u32 = 1u;
+// IDs and depth (the lecture's "Combining Shadow and Object Maps"): another object's ID
+// shadows; where the texel holds the point's own object, its depth decides (self-shadowing).
+const GNOMON_READ_ID_DEPTH: u32 = 2u;
 // GnomonMap.info.y: flags.
 const GNOMON_MAP_PERSPECTIVE: u32 = 1u;
 // One hemisphere of a dual paraboloid map: clip_from_camera takes a point to q, the
@@ -95,6 +105,9 @@ struct GnomonShadows {
 @group(GNOMON_GROUP) @binding(2) var gnomon_compare: sampler_comparison;
 @group(GNOMON_GROUP) @binding(3) var gnomon_raw: texture_2d_array<f32>;
 @group(GNOMON_GROUP) @binding(4) var gnomon_nearest: sampler;
+// The object-ID maps, one layer per map beside its depth (0: no caster drawn there, else the
+// caster's ID: gnomon's depth pass writes its draw's instance index + 1).
+@group(GNOMON_GROUP) @binding(5) var gnomon_ids: texture_2d_array<u32>;
 
 // Cascade view depth z_i of the depths z_0..z_3 (z_a), z_4..z_7 (z_b) and z_8, picked by
 // comparing indices.
@@ -373,6 +386,64 @@ fn gnomon_lookup_view(view: GnomonMapView, p: vec3<f32>, filter_mode: u32) -> f3
         return sum / 25.0;
     }
     return gnomon_tap(view, uv, reference);
+}
+
+// One texel of the object-ID map read by the object `object` at `reference` (`texel`: the
+// texel's integer coordinates in the map, clamped to it): 1 lit, 0 shadowed.
+fn gnomon_id_tap(view: GnomonMapView, texel: vec2<f32>, object: u32, reference: f32, read: u32) -> f32 {
+    let t = clamp(texel, vec2<f32>(0.0), vec2<f32>(view.resolution - 1.0));
+    let layer_size = vec2<f32>(textureDimensions(gnomon_ids).xy);
+    let found = textureLoad(gnomon_ids, vec2<i32>(view.rect.xy * layer_size + t), view.layer, 0).r;
+    if (found == 0u) {
+        return 1.0;
+    }
+    if (found != object) {
+        return 0.0;
+    }
+    if (read == GNOMON_READ_OBJECT_ID) {
+        return 1.0;
+    }
+    // The object's own texel: its depth, read at the texel's centre.
+    let uv = view.rect.xy + (t + 0.5) / view.resolution * view.rect.zw;
+    let stored = textureSampleLevel(gnomon_raw, gnomon_nearest, uv, view.layer, 0.0).r;
+    return select(0.0, 1.0, reference <= stored);
+}
+
+// The object-ID map of `view` read at p by the object `object` (GNOMON_READ_OBJECT_ID or
+// GNOMON_READ_ID_DEPTH): 1 lit, 0 shadowed; the filters weigh the texels' verdicts as they
+// weigh depth comparisons (2x2: bilinear, 5x5: the mean).
+fn gnomon_lookup_ids(view: GnomonMapView, p: vec3<f32>, object: u32, read: u32, filter_mode: u32) -> f32 {
+    let at = gnomon_map_point(view, p);
+    if (!at.inside) {
+        return 1.0;
+    }
+    let uv = vec2<f32>(0.5 + 0.5 * at.ndc.x, 0.5 - 0.5 * at.ndc.y);
+    // Texel centres at whole numbers.
+    let texel = uv * view.resolution - 0.5;
+    if (filter_mode == GNOMON_FILTER_HARDWARE_2X2) {
+        let base = floor(texel);
+        let f = texel - base;
+        let top = mix(
+            gnomon_id_tap(view, base, object, at.reference, read),
+            gnomon_id_tap(view, base + vec2<f32>(1.0, 0.0), object, at.reference, read),
+            f.x);
+        let bottom = mix(
+            gnomon_id_tap(view, base + vec2<f32>(0.0, 1.0), object, at.reference, read),
+            gnomon_id_tap(view, base + vec2<f32>(1.0, 1.0), object, at.reference, read),
+            f.x);
+        return mix(top, bottom, f.y);
+    }
+    let centre = round(texel);
+    if (filter_mode == GNOMON_FILTER_PCF_5X5) {
+        var sum = 0.0;
+        for (var y = -2; y <= 2; y++) {
+            for (var x = -2; x <= 2; x++) {
+                sum += gnomon_id_tap(view, centre + vec2<f32>(f32(x), f32(y)), object, at.reference, read);
+            }
+        }
+        return sum / 25.0;
+    }
+    return gnomon_id_tap(view, centre, object, at.reference, read);
 }
 
 // gnomon_lookup_view of map `map`.

@@ -1,7 +1,8 @@
 // gnomon's own passes, appended to the lookup module (lookup.wgsl, bind group 1).
 //
 // Depth pass (vs_depth / fs_depth): per map, the casters' linear light depth plus constant and
-// slope-scaled bias, so that the bias is in world units whatever the map's warp.
+// slope-scaled bias, so that the bias is in world units whatever the map's warp; fs_depth_id
+// also writes the caster's object ID (its instance index + 1) into the map's ID layer.
 // Main pass (vs_main with fs_measured or fs_color): ambient plus Lambert per light, each
 // light's shadow factor from its maps; fs_measured also writes the lit-light bits and the
 // sampling metrics. Volume passes (vs_main_infinite with fs_ambient, fs_volume_lit,
@@ -53,13 +54,16 @@ struct CasterInstance {
 struct DepthOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) depth: f32,
+    // The caster's object ID: its instance index + 1 (0 is "no caster").
+    @location(1) @interpolate(flat) object: u32,
 };
 
 @vertex
-fn vs_depth(@location(0) position: vec3<f32>, instance: CasterInstance) -> DepthOut {
+fn vs_depth(@location(0) position: vec3<f32>, instance: CasterInstance, @builtin(instance_index) index: u32) -> DepthOut {
     let camera_from_object = mat4x4<f32>(instance.c0, instance.c1, instance.c2, instance.c3);
     let p = camera_from_object * vec4<f32>(position, 1.0);
     var out: DepthOut;
+    out.object = index + 1u;
     let info = gnomon_shadows.maps[slot.map].info;
     out.clip = gnomon_shadows.maps[slot.map].clip_from_camera * p;
     out.depth = dot(gnomon_shadows.maps[slot.map].depth_from_camera, p);
@@ -76,12 +80,28 @@ fn vs_depth(@location(0) position: vec3<f32>, instance: CasterInstance) -> Depth
     return out;
 }
 
-@fragment
-fn fs_depth(in: DepthOut) -> @builtin(frag_depth) f32 {
+fn biased_depth(in: DepthOut) -> f32 {
     // Slope-scaled bias: the depth change across one texel (the pass renders texels).
     let bias = gnomon_shadows.maps[slot.map].bias;
     let slope = max(abs(dpdx(in.depth)), abs(dpdy(in.depth)));
     return clamp(in.depth + bias.x + min(bias.y * slope, bias.z), 0.0, 1.0);
+}
+
+@fragment
+fn fs_depth(in: DepthOut) -> @builtin(frag_depth) f32 {
+    return biased_depth(in);
+}
+
+struct DepthIdOut {
+    @builtin(frag_depth) depth: f32,
+    @location(0) object: vec4<u32>,
+};
+
+// The depth pass of a frame that reads object IDs: the nearest caster's ID wins the texel with
+// its depth.
+@fragment
+fn fs_depth_id(in: DepthOut) -> DepthIdOut {
+    return DepthIdOut(biased_depth(in), vec4<u32>(in.object, 0u, 0u, 0u));
 }
 
 struct MainOut {
@@ -93,9 +113,11 @@ struct MainOut {
     // wgpu maps clip z to [-1, 1] with z * 2 - w, which cancels reversed Z's precision far
     // away; the ratio of the interpolated pair is exact).
     @location(3) depth: vec2<f32>,
+    // The object's ID (its instance index + 1), as the depth pass writes it.
+    @location(4) @interpolate(flat) object: u32,
 };
 
-fn main_out(position: vec3<f32>, normal: vec3<f32>, instance: Instance, clip_from_camera: mat4x4<f32>) -> MainOut {
+fn main_out(position: vec3<f32>, normal: vec3<f32>, instance: Instance, index: u32, clip_from_camera: mat4x4<f32>) -> MainOut {
     let camera_from_object = mat4x4<f32>(instance.c0, instance.c1, instance.c2, instance.c3);
     let normal_matrix = mat3x3<f32>(instance.n0.xyz, instance.n1.xyz, instance.n2.xyz);
     var out: MainOut;
@@ -105,17 +127,18 @@ fn main_out(position: vec3<f32>, normal: vec3<f32>, instance: Instance, clip_fro
     out.camera = p.xyz;
     out.normal = normal_matrix * normal;
     out.color = instance.color;
+    out.object = index + 1u;
     return out;
 }
 
 @vertex
-fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, instance: Instance) -> MainOut {
-    return main_out(position, normal, instance, frame.clip_from_camera);
+fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, instance: Instance, @builtin(instance_index) index: u32) -> MainOut {
+    return main_out(position, normal, instance, index, frame.clip_from_camera);
 }
 
 @vertex
-fn vs_main_infinite(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, instance: Instance) -> MainOut {
-    return main_out(position, normal, instance, frame.infinite_clip_from_camera);
+fn vs_main_infinite(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, instance: Instance, @builtin(instance_index) index: u32) -> MainOut {
+    return main_out(position, normal, instance, index, frame.infinite_clip_from_camera);
 }
 
 // Pipeline specialisations: the sampling metrics (fs_measured), the number of lights (a loop
@@ -126,6 +149,8 @@ override LIGHT_COUNT: u32 = 1u;
 // Whether a light picks its map per pixel: cascades (with their blend band and fade) or a
 // point light's cube faces.
 override PER_PIXEL: bool = false;
+// How the maps are read: GNOMON_READ_DEPTH, GNOMON_READ_OBJECT_ID or GNOMON_READ_ID_DEPTH.
+override MAP_READ: u32 = 0u;
 
 // A fragment's surface: geometric normal (the triangle's plane) and shading normal, both
 // turned toward the camera (at the origin of view space).
@@ -136,6 +161,8 @@ struct Surface {
     n_geo: vec3<f32>,
     n: vec3<f32>,
     receives: bool,
+    // Its object's ID (object-ID reads).
+    object: u32,
 };
 
 fn surface(in: MainOut, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> Surface {
@@ -152,6 +179,7 @@ fn surface(in: MainOut, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> Surface {
         s.n = -s.n;
     }
     s.receives = in.color.w > 0.5;
+    s.object = in.object;
     return s;
 }
 
@@ -206,9 +234,16 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
                 fade = selected.fade;
             }
             let at = gnomon_read_at(light, map, s.p, s.n_geo, n_dot_l_geo);
-            if (at.covered) {
+            if (at.covered && MAP_READ == GNOMON_READ_DEPTH) {
                 one_tap = gnomon_lookup_view(at.view, at.point, GNOMON_FILTER_ONE_TAP);
                 shadow = gnomon_lookup_view(at.view, at.point, gnomon_shadows.info.y);
+            } else if (at.covered) {
+                // Object IDs need no offset (nothing is compared between objects): the point
+                // itself is read; IDs and depth compare an object with itself by depth, so
+                // they read at the offset point as depth maps do.
+                let point = select(at.point, s.p, MAP_READ == GNOMON_READ_OBJECT_ID);
+                one_tap = gnomon_lookup_ids(at.view, point, s.object, MAP_READ, GNOMON_FILTER_ONE_TAP);
+                shadow = gnomon_lookup_ids(at.view, point, s.object, MAP_READ, gnomon_shadows.info.y);
             }
             if (PER_PIXEL) {
                 // Shadows fade toward the shadow distance.

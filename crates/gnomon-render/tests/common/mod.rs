@@ -61,6 +61,11 @@ pub struct OracleMask {
     pub n_dot_l: Vec<f64>,
     /// The surface point each pixel sees (`None`: no geometry).
     pub points: Vec<Option<DVec3>>,
+    /// The scene's instance each pixel sees (`None`: no geometry).
+    pub objects: Vec<Option<usize>>,
+    /// Whether the light reaches each pixel's point but for shadows (inside a spot's cone and
+    /// a light's range; false where no geometry).
+    pub in_light: Vec<bool>,
 }
 
 /// Ray casts the mask the renderer's `--mask` draws: primary rays through pixel centres,
@@ -100,6 +105,8 @@ pub fn oracle(
     let mut mask = vec![MASK_EMPTY; n];
     let mut n_dot_l = vec![0.0; n];
     let mut points = vec![None; n];
+    let mut objects = vec![None; n];
+    let mut reached = vec![false; n];
     for py in 0..height {
         for px in 0..width {
             let x = (px as f64 + 0.5) / width as f64 * 2.0 - 1.0;
@@ -113,6 +120,7 @@ pub fn oracle(
             let i = (py * width + px) as usize;
             let p = near + (far - near) * hit.time_of_impact;
             points[i] = Some(p);
+            objects[i] = Some(triangles[hit.subshape as usize].1);
             let mut normal = dvec(hit.normal).normalize();
             if normal.dot(near - p) < 0.0 {
                 normal = -normal;
@@ -135,6 +143,7 @@ pub fn oracle(
             };
             let ndl = normal.dot(to_light);
             n_dot_l[i] = ndl;
+            reached[i] = in_light;
             if ndl <= 0.0 || !in_light {
                 mask[i] = MASK_UNLIT;
                 continue;
@@ -154,6 +163,93 @@ pub fn oracle(
         mask,
         n_dot_l,
         points,
+        objects,
+        in_light: reached,
+    }
+}
+
+/// Where the light meets the scene's casters, per pixel of an oracle's mask (the object-ID
+/// oracle): which casting instance the light reaches first on its ray through the pixel's
+/// point, and whether that changes within a few texels of a map around the point, across the
+/// light's rays (the point lies near an outline of what the light sees, where an object-ID
+/// map aliases).
+pub struct LightFirst {
+    /// The casting instance the light's ray through the point meets first (at the point
+    /// itself where nothing is nearer the light and its object casts; `None` where nothing
+    /// casts on the ray or the pixel has no geometry).
+    pub objects: Vec<Option<usize>>,
+    /// Whether a ray of the light through a point within the radius around the pixel's
+    /// point (across the rays) meets another first.
+    pub near_outline: Vec<bool>,
+}
+
+/// [`LightFirst`] of `oracle`'s pixels, the outlines within `radius_texels` of `map`'s
+/// texels (their largest side at the point, across the light's rays).
+pub fn light_first(
+    scene: &RenderScene,
+    light: &Light,
+    oracle: &OracleMask,
+    map: &gnomon::ShadowMap,
+    radius_texels: f64,
+) -> LightFirst {
+    let triangles = scene.world_triangles();
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    let mut owners = Vec::new();
+    for (t, k) in &triangles {
+        if scene.instances[*k].casts {
+            let base = vertices.len() as u32;
+            vertices.extend(t.iter().map(|p| vector(*p)));
+            indices.push([base, base + 1, base + 2]);
+            owners.push(*k);
+        }
+    }
+    let casters = TriMesh::new(vertices, indices).expect("caster mesh");
+    let far = 4.0 * scene.bounds().expect("bounds").scene_box().diagonal() + 1.0;
+    // The direction of the light's ray through q, and the first caster on it (through q
+    // and beyond).
+    let along = |q: DVec3| match light {
+        Light::Directional(d) => d.direction(),
+        Light::Spot(s) => (q - s.position()).normalize(),
+        Light::Point(l) => (q - l.position()).normalize(),
+    };
+    let first = |q: DVec3| {
+        let origin = match light {
+            Light::Directional(d) => q - d.direction() * far,
+            Light::Spot(s) => s.position(),
+            Light::Point(l) => l.position(),
+        };
+        let ray = Ray::new(vector(origin), vector(along(q)));
+        casters
+            .cast_local_ray_and_get_normal(&ray, f64::MAX, false)
+            .map(|hit| owners[hit.subshape as usize])
+    };
+    let ndc = |q: DVec3| {
+        let c = map.clip_from_world * q.extend(1.0);
+        glam::DVec2::new(c.x, c.y) / c.w
+    };
+    let mut objects = vec![None; oracle.points.len()];
+    let mut near_outline = vec![false; oracle.points.len()];
+    for (i, p) in oracle.points.iter().enumerate() {
+        let Some(p) = *p else { continue };
+        let centre = first(p);
+        objects[i] = centre;
+        let a = along(p);
+        let u = a.any_orthonormal_vector();
+        let v = a.cross(u);
+        // The map's texel across the rays at p, its larger side (2 / resolution in ndc).
+        let step = 1e-5 * (1.0 + p.abs().max_element());
+        let rate = |d: DVec3| ((ndc(p + step * d) - ndc(p)) / step).length();
+        let texel = 2.0 / map.resolution as f64 / rate(u).min(rate(v)).max(1e-300);
+        let r = radius_texels * texel;
+        near_outline[i] = (0..8).any(|k| {
+            let angle = k as f64 * std::f64::consts::FRAC_PI_4;
+            first(p + r * (angle.cos() * u + angle.sin() * v)) != centre
+        });
+    }
+    LightFirst {
+        objects,
+        near_outline,
     }
 }
 
