@@ -115,7 +115,7 @@ fn time_views(
     let device = (renderer.gpu().describe(), renderer.timing_source().name());
     let projective = entries
         .iter()
-        .any(|e| matches!(e, Entry::Map(row) if row.projective));
+        .any(|e| matches!(e, Entry::Map(row) if row.projective()));
     let row_scene = crate::rows::RowScene::new(&loaded.scene, projective)?;
     // Planar shadows fall on the scene's ground.
     let receiver = entries
@@ -135,7 +135,7 @@ fn time_views(
         match entry {
             Entry::Map(row) if row.refuses(lights).is_some() => Ok((f64::NAN, Timings::default())),
             Entry::Map(row) => {
-                let row_bounds = row_scene.prepare(renderer, row.projective)?;
+                let row_bounds = row_scene.prepare(renderer, row.projective())?;
                 let (setups, setup_us) = light_setups(row, camera, lights, row_bounds, samples)?;
                 let shadowed = ShadowedLight::pairs(lights, &setups);
                 let f = renderer.render_lights(camera, &shadowed, &row.settings(&settings))?;

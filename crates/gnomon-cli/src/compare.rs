@@ -239,7 +239,7 @@ fn compare_scene(
     let planar_rows = usize::from(compared.planar);
     let views = args.views.select(&loaded.views)?;
     let scene = &loaded.scene;
-    let row_scene = crate::rows::RowScene::new(scene, techniques.iter().any(|r| r.projective))?;
+    let row_scene = crate::rows::RowScene::new(scene, techniques.iter().any(|r| r.projective()))?;
     let bounds = row_scene.bounds();
     std::fs::create_dir_all(out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", out.display())))?;
@@ -339,7 +339,7 @@ fn compare_scene(
                 progress.inc(1);
                 continue;
             }
-            let row_bounds = row_scene.prepare(&mut renderer, entry.projective)?;
+            let row_bounds = row_scene.prepare(&mut renderer, entry.projective())?;
             let (setups, setup_us) = light_setups(entry, &camera, &lights, row_bounds, &samples)?;
             let setup = &setups[0];
             let shadowed = ShadowedLight::pairs(&lights, &setups);

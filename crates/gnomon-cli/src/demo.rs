@@ -61,7 +61,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         true,
     )?;
     let row_scene =
-        crate::rows::RowScene::new(&loaded.scene, techniques.iter().any(|r| r.projective))?;
+        crate::rows::RowScene::new(&loaded.scene, techniques.iter().any(|r| r.projective()))?;
     // Planar shadows where the scene has a ground to fall on.
     let planar = crate::render::planar_receiver(&loaded.scene, None).ok();
     // Every map technique, planar shadows, then the shadow volumes.
@@ -87,7 +87,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 all.push(json!({ "view": view.name, "technique": row.label, "skipped": why }));
                 continue;
             }
-            let row_bounds = row_scene.prepare(&mut renderer, row.projective)?;
+            let row_bounds = row_scene.prepare(&mut renderer, row.projective())?;
             let (setups, setup_us) = light_setups(row, &camera, &lights, row_bounds, &samples)?;
             let setup = &setups[0];
             let shadowed = ShadowedLight::pairs(&lights, &setups);

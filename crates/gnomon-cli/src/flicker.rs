@@ -173,10 +173,14 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
         .map(|t| frame_at(args.path, step, &camera, &light, target, t))
         .collect::<Result<_, _>>()?;
     let rows = crate::rows::rows(&args.techniques, &args.params, args.shadow_map, false)?;
-    if rows.iter().any(|r| r.projective) {
-        return Err(CliError::usage(
-            "flicker measures shadow maps read by depth; projective is not measured yet",
-        ));
+    if let Some(r) = rows
+        .iter()
+        .find(|r| r.read != gnomon_render::MapRead::Depth)
+    {
+        return Err(CliError::usage(format!(
+            "flicker measures shadow maps read by depth; {} is not measured yet",
+            r.label
+        )));
     }
     let bounds = loaded.scene.bounds()?;
     let mut renderer = open_renderer(&loaded.scene, args.size, Some(args.shadow_map))?;

@@ -3,7 +3,7 @@
 //! projected shadows, and `compare`'s extra row. Every command (and the viewer) parses technique names here.
 
 use gnomon::{ShadowTechnique, Technique};
-use gnomon_render::StencilMode;
+use gnomon_render::{MapRead, StencilMode};
 
 /// The exact shadow volumes, one name per way of counting.
 pub const VOLUMES: [(&str, StencilMode); 3] = [
@@ -19,6 +19,10 @@ pub const PLANAR: &str = "planar";
 /// Projective texture shadows (the lecture's light maps) on the focused map's projection:
 /// casters' coverage projected onto whatever lies behind or in front of them, casters lit.
 pub const PROJECTIVE: &str = "projective";
+
+/// The lecture's light-space maps read otherwise than by depth, each on the focused map's
+/// projection, by name.
+pub const MAP_READS: [(&str, MapRead); 1] = [(PROJECTIVE, MapRead::Coverage)];
 
 /// `compare`'s row of SPPSM with two maps of half the area each (the texels of one map).
 pub const SPPSM_SAME_TEXELS: &str = "sppsm-same-texels";
@@ -61,8 +65,9 @@ pub enum Drawn {
     Volumes(StencilMode),
     /// Planar projected shadows on one receiver plane ([`PLANAR`]).
     Planar,
-    /// Projective texture shadows on the focused map ([`PROJECTIVE`]).
-    Projective,
+    /// The focused map read otherwise than by depth ([`MAP_READS`]: projective texture
+    /// shadows).
+    Read(MapRead),
 }
 
 impl Drawn {
@@ -75,19 +80,20 @@ impl Drawn {
         if name == PLANAR {
             return Ok(Drawn::Planar);
         }
-        if name == PROJECTIVE {
-            return Ok(Drawn::Projective);
+        if let Some((_, read)) = MAP_READS.iter().find(|(n, _)| *n == name) {
+            return Ok(Drawn::Read(*read));
         }
         name.parse::<Technique>()
             .map(Drawn::Map)
             .map_err(|_| format!("unknown technique '{name}' (known: {})", known(true)))
     }
 
-    /// The map technique it sets up, if any (projective shadows: the focused map's).
+    /// The map technique it sets up, if any (the map reads of [`MAP_READS`]: the focused
+    /// map's).
     pub fn map_technique(&self) -> Option<Technique> {
         match self {
             Drawn::Map(t) => Some(*t),
-            Drawn::Projective => Some(Technique::Focused(Default::default())),
+            Drawn::Read(_) => Some(Technique::Focused(Default::default())),
             Drawn::Volumes(_) | Drawn::Planar => None,
         }
     }
@@ -104,9 +110,25 @@ impl Drawn {
                     .0
             }
             Drawn::Planar => PLANAR,
-            Drawn::Projective => PROJECTIVE,
+            Drawn::Read(read) => read_name(*read),
         }
     }
+
+    /// How the main pass reads its maps ([`MapRead::Depth`] for every map technique).
+    pub fn map_read(&self) -> MapRead {
+        match self {
+            Drawn::Read(read) => *read,
+            _ => MapRead::Depth,
+        }
+    }
+}
+
+/// The name of a map read of [`MAP_READS`], or the depth read's technique name `focused`.
+pub fn read_name(read: MapRead) -> &'static str {
+    MAP_READS
+        .iter()
+        .find(|(_, r)| *r == read)
+        .map_or("focused", |(n, _)| n)
 }
 
 /// A shadow-map technique by name (the commands that need a map: setup, analyze, compare,
@@ -114,7 +136,7 @@ impl Drawn {
 pub fn parse_map(name: &str) -> Result<Technique, String> {
     match Drawn::parse(name)? {
         Drawn::Map(t) => Ok(t),
-        Drawn::Volumes(_) | Drawn::Planar | Drawn::Projective => Err(format!(
+        Drawn::Volumes(_) | Drawn::Planar | Drawn::Read(_) => Err(format!(
             "'{name}' draws no shadow map; this needs a shadow-map technique (known: {})",
             known(false)
         )),
@@ -127,7 +149,7 @@ pub fn known(volumes: bool) -> String {
     if volumes {
         names.extend(VOLUMES.iter().map(|(n, _)| *n));
         names.push(PLANAR);
-        names.push(PROJECTIVE);
+        names.extend(MAP_READS.iter().map(|(n, _)| *n));
     }
     names.join(", ")
 }
@@ -151,7 +173,8 @@ mod tests {
         for name in Technique::NAMES
             .iter()
             .chain(VOLUMES.iter().map(|(n, _)| n))
-            .chain([&PLANAR, &PROJECTIVE])
+            .chain([&PLANAR])
+            .chain(MAP_READS.iter().map(|(n, _)| n))
         {
             assert_eq!(Drawn::parse(name).unwrap().name(), *name);
         }

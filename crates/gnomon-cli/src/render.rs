@@ -155,7 +155,7 @@ impl DrawArgs {
                 ..DepthBias::default()
             },
             tint: self.tint,
-            projective: self.technique == Drawn::Projective,
+            read: self.technique.map_read(),
             ..RenderSettings::default()
         }
     }
@@ -607,7 +607,7 @@ fn run_volumes(
 /// casting ground would cover the whole light map, and casters are lit), everything else as
 /// it is.
 pub fn drawn_scene(drawn: Drawn, mut scene: RenderScene) -> RenderScene {
-    if drawn == Drawn::Projective {
+    if drawn.map_read() == gnomon_render::MapRead::Coverage {
         for instance in scene.instances.iter_mut().filter(|i| i.name == "ground") {
             instance.casts = false;
         }

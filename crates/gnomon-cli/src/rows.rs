@@ -4,6 +4,7 @@
 //! (`sppsm-same-texels`, `paraboloid-cube-texels`, [`crate::names::CASCADE_ROWS`]).
 
 use gnomon::{ShadowTechnique, Technique};
+use gnomon_render::MapRead;
 
 use crate::CliError;
 use crate::args::TechniqueParams;
@@ -20,24 +21,29 @@ pub struct Row {
     pub resolution: u32,
     /// The options that give it.
     pub params: TechniqueParams,
-    /// Projective texture shadows on its (focused) maps ([`crate::names::PROJECTIVE`]).
-    pub projective: bool,
+    /// How its maps are read: by depth, or (on the focused maps) as another of the
+    /// lecture's light-space maps ([`crate::names::MAP_READS`]).
+    pub read: MapRead,
 }
 
 impl Row {
     /// Its `--technique` name on the command line.
     pub fn technique_name(&self) -> &'static str {
-        if self.projective {
-            crate::names::PROJECTIVE
-        } else {
-            self.technique.name()
+        match self.read {
+            MapRead::Depth => self.technique.name(),
+            read => crate::names::read_name(read),
         }
     }
 
-    /// The renderer's settings of this row: `base`, projective where the row is.
+    /// Whether it draws projective texture shadows (its scene's ground a receiver only).
+    pub fn projective(&self) -> bool {
+        self.read == MapRead::Coverage
+    }
+
+    /// The renderer's settings of this row: `base`, with the row's map read.
     pub fn settings(&self, base: &gnomon_render::RenderSettings) -> gnomon_render::RenderSettings {
         gnomon_render::RenderSettings {
-            projective: self.projective,
+            read: self.read,
             ..*base
         }
     }
@@ -78,7 +84,7 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
             technique: params.apply(Technique::Sppsm(Default::default())),
             resolution: ((shadow_map as f64) / std::f64::consts::SQRT_2).round() as u32,
             params: *params,
-            projective: false,
+            read: MapRead::Depth,
         });
     }
     if name == PARABOLOID_CUBE_TEXELS {
@@ -87,7 +93,7 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
             technique: params.apply(Technique::Paraboloid(Default::default())),
             resolution: ((shadow_map as f64) * 3f64.sqrt()).round() as u32,
             params: *params,
-            projective: false,
+            read: MapRead::Depth,
         });
     }
     if let Some((label, options)) = CASCADE_ROWS.iter().find(|(n, _)| *n == name) {
@@ -97,16 +103,16 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
             technique: params.apply(Technique::Cascades(Default::default())),
             resolution: shadow_map,
             params,
-            projective: false,
+            read: MapRead::Depth,
         });
     }
-    if name == crate::names::PROJECTIVE {
+    if let Some((label, read)) = crate::names::MAP_READS.iter().find(|(n, _)| *n == name) {
         return Ok(Row {
-            label: name.into(),
+            label: (*label).into(),
             technique: params.apply(Technique::Focused(Default::default())),
             resolution: shadow_map,
             params: *params,
-            projective: true,
+            read: *read,
         });
     }
     let technique = crate::names::parse_map(name).map_err(|e| {
@@ -120,7 +126,7 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
         technique: params.apply(technique),
         resolution: shadow_map,
         params: *params,
-        projective: false,
+        read: MapRead::Depth,
     })
 }
 
@@ -214,8 +220,11 @@ impl RowScene {
             .collect();
         let receiving_ground = if projective {
             Some(
-                crate::render::drawn_scene(crate::names::Drawn::Projective, scene.clone())
-                    .bounds()?,
+                crate::render::drawn_scene(
+                    crate::names::Drawn::Read(MapRead::Coverage),
+                    scene.clone(),
+                )
+                .bounds()?,
             )
         } else {
             None

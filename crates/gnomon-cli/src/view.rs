@@ -453,9 +453,10 @@ impl ViewModel {
             .as_ref()
             .filter(|(k, _)| *k == key)
             .map(|(_, s)| s);
-        let bounds = self
-            .scene
-            .prepare(renderer, draw.technique == Drawn::Projective)?;
+        let bounds = self.scene.prepare(
+            renderer,
+            draw.technique.map_read() == gnomon_render::MapRead::Coverage,
+        )?;
         let (setup, setup_us) = timed_setup(
             &technique,
             &camera,
@@ -1191,7 +1192,7 @@ fn shown(field: &Field, technique: Option<&Drawn>, read: Option<&[&str]>) -> boo
             ["technique", "stencil", "area_light", "area_samples"].contains(&id)
         }
         Some(Drawn::Planar) => id == "technique" || id == "receiver_plane",
-        Some(Drawn::Map(_) | Drawn::Projective) => {
+        Some(Drawn::Map(_) | Drawn::Read(_)) => {
             if ["stencil", "receiver_plane", "area_light", "area_samples"].contains(&id) {
                 false
             } else if field.is_param {
