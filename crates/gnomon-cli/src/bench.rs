@@ -30,7 +30,8 @@ pub struct BenchArgs {
     /// focused, lispsm, tsm, xpsm, psm, sppsm, cascades, cube, paraboloid, sppsm-same-texels,
     /// paraboloid-cube-texels, cascades-stable, cascades-lispsm, cascades-best; a row that
     /// cannot draw a view's light is not timed there), shadow volumes (volumes = z-fail, volumes-z-pass,
-    /// volumes-per-caster) and planar shadows on the ground (planar).
+    /// volumes-per-caster), planar shadows on the ground (planar) and the focused map read as
+    /// the lecture's other light-space maps (projective, object-id, id-depth).
     #[arg(
         long,
         value_delimiter = ',',

@@ -32,7 +32,7 @@ pub struct CompareArgs {
     #[command(flatten)]
     pub views: ViewListArgs,
     /// The shadow-map techniques: `all` (every map technique) or names, comma-separated, and
-    /// `projective` and `planar` (planar shadows on the ground); the exact shadow volumes are
+    /// `projective`, `object-id`, `id-depth` and `planar` (planar shadows on the ground); the exact shadow volumes are
     /// always drawn: they are the reference.
     #[arg(long, value_delimiter = ',', default_value = "all")]
     pub techniques: Vec<String>,

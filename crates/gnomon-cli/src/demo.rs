@@ -53,13 +53,14 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         light_view: true,
         ..RenderSettings::default()
     };
-    // Every technique, SPPSM with the texels of one map, and the cascade rows.
-    let techniques = crate::rows::rows(
-        &["all".to_string(), crate::names::PROJECTIVE.to_string()],
-        &args.params,
-        args.shadow_map,
-        true,
-    )?;
+    // Every technique, SPPSM with the texels of one map, the cascade rows, and the focused
+    // map read as the lecture's other light-space maps (projective, object IDs, IDs and
+    // depth).
+    let names: Vec<String> = std::iter::once("all")
+        .chain(crate::names::MAP_READS.iter().map(|(n, _)| *n))
+        .map(String::from)
+        .collect();
+    let techniques = crate::rows::rows(&names, &args.params, args.shadow_map, true)?;
     let row_scene =
         crate::rows::RowScene::new(&loaded.scene, techniques.iter().any(|r| r.projective()))?;
     // Planar shadows where the scene has a ground to fall on.

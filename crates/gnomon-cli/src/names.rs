@@ -20,9 +20,21 @@ pub const PLANAR: &str = "planar";
 /// casters' coverage projected onto whatever lies behind or in front of them, casters lit.
 pub const PROJECTIVE: &str = "projective";
 
+/// Object-ID shadow maps (the lecture's "Object ID Shadows") on the focused map's projection:
+/// shadowed where the map holds another object's ID; no bias, no self-shadowing.
+pub const OBJECT_ID: &str = "object-id";
+
+/// Object IDs and depth (the lecture's "Combining Shadow and Object Maps"): another object's
+/// ID shadows, an object's own texels compare depth.
+pub const ID_DEPTH: &str = "id-depth";
+
 /// The lecture's light-space maps read otherwise than by depth, each on the focused map's
 /// projection, by name.
-pub const MAP_READS: [(&str, MapRead); 1] = [(PROJECTIVE, MapRead::Coverage)];
+pub const MAP_READS: [(&str, MapRead); 3] = [
+    (PROJECTIVE, MapRead::Coverage),
+    (OBJECT_ID, MapRead::ObjectId),
+    (ID_DEPTH, MapRead::IdDepth),
+];
 
 /// `compare`'s row of SPPSM with two maps of half the area each (the texels of one map).
 pub const SPPSM_SAME_TEXELS: &str = "sppsm-same-texels";

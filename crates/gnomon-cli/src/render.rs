@@ -90,9 +90,12 @@ pub struct RenderArgs {
 #[derive(Debug, Clone, Args)]
 pub struct DrawArgs {
     /// The shadow technique: a shadow-map technique, `volumes` (exact stenciled shadow
-    /// volumes; `volumes-z-pass`, `volumes-per-caster` name a way of counting them), or
-    /// `planar` (planar projected shadows on the ground, or --receiver-plane; nothing else is
-    /// shadowed): the names of [`crate::names`].
+    /// volumes; `volumes-z-pass`, `volumes-per-caster` name a way of counting them), `planar`
+    /// (planar projected shadows on the ground, or --receiver-plane; nothing else is
+    /// shadowed), or the focused map read as the shadows lecture's other light-space maps:
+    /// `projective` (light maps: coverage, casters lit), `object-id` (another object's ID
+    /// shadows; no bias, no self-shadowing), `id-depth` (IDs, and depth within an object):
+    /// the names of [`crate::names`].
     #[arg(long, default_value = "focused", value_parser = crate::names::drawn_arg)]
     pub technique: Drawn,
     #[command(flatten)]

@@ -130,8 +130,8 @@ pub fn row(name: &str, params: &TechniqueParams, shadow_map: u32) -> Result<Row,
     })
 }
 
-/// Rows by name (`all`: every map technique; `projective`: projective shadows on focused
-/// maps), each named once; `params` must be read by one of
+/// Rows by name (`all`: every map technique; `projective`, `object-id`, `id-depth`: the
+/// focused maps read as the lecture's other light-space maps), each named once; `params` must be read by one of
 /// the techniques (the fixed rows keep their own). With `expand`, SPPSM is followed by
 /// `sppsm-same-texels`, paraboloid by `paraboloid-cube-texels` and cascades by the cascade rows (`compare`'s tables).
 pub fn rows(

@@ -357,12 +357,12 @@ fn demo_writes_every_view_and_technique() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("setups.json")).unwrap()).unwrap();
     let entries = json.as_array().unwrap();
     // Every view with every map technique, SPPSM with one map's texels, paraboloid maps with
-    // a cube's, projective shadows, the three cascade rows, planar shadows on the ground and
-    // the exact shadow volumes (a row that cannot draw a view's light is an entry that says
-    // so).
+    // a cube's, projective shadows, object IDs, IDs and depth, the three cascade rows,
+    // planar shadows on the ground and the exact shadow volumes (a row that cannot draw a
+    // view's light is an entry that says so).
     assert_eq!(
         entries.len(),
-        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 1 + 2 + 3 + 1 + 1)
+        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 3 + 2 + 3 + 1 + 1)
     );
     let skipped = entries.iter().filter(|e| e["skipped"].is_string()).count();
     assert!(
@@ -371,6 +371,8 @@ fn demo_writes_every_view_and_technique() {
     );
     for row in [
         "projective",
+        "object-id",
+        "id-depth",
         "sppsm-same-texels",
         "paraboloid-cube-texels",
         "cascades-stable",
@@ -720,6 +722,43 @@ fn render_projective_shadows() {
     assert!(differing * 4 < shadowed, "{differing} of {shadowed}");
     assert_render_refuses(&[(
         vec!["--technique", "projective", "--lispsm-n", "3"],
+        "--lispsm-n does nothing",
+    )]);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `render --technique object-id` and `id-depth`: the focused map read by object IDs agrees
+/// with the exact volumes but near outlines (and, for object IDs, on objects that shadow
+/// themselves: the demo's are boxes), with no bias at all for object IDs.
+#[test]
+fn render_object_id_shadows() {
+    let dir = temp_dir("object-id");
+    let exact = render_mask(&dir, "volumes", &[], "exact");
+    let no_bias = [
+        "--bias-constant",
+        "0",
+        "--bias-slope",
+        "0",
+        "--normal-offset",
+        "0",
+    ];
+    for (technique, extra) in [("object-id", &no_bias[..]), ("id-depth", &[][..])] {
+        let mask = render_mask(&dir, technique, extra, technique);
+        let geometry = exact.pixels().filter(|p| p.0[0] != 128).count();
+        let shadowed = mask.pixels().filter(|p| p.0[0] == 0).count();
+        let differing = mask
+            .pixels()
+            .zip(exact.pixels())
+            .filter(|(p, q)| p != q)
+            .count();
+        assert!(shadowed > geometry / 20, "{technique}: {shadowed}");
+        assert!(
+            differing * 100 < geometry,
+            "{technique}: {differing} of {geometry} differ from the exact mask"
+        );
+    }
+    assert_render_refuses(&[(
+        vec!["--technique", "object-id", "--lispsm-n", "3"],
         "--lispsm-n does nothing",
     )]);
     std::fs::remove_dir_all(dir).unwrap();
@@ -1252,7 +1291,12 @@ fn run_compare(
 #[test]
 fn compare_has_planar_and_projective_rows() {
     let dir = temp_dir("compare-planar");
-    for techniques in ["planar", "focused,planar", "projective,planar"] {
+    for techniques in [
+        "planar",
+        "focused,planar",
+        "projective,planar",
+        "object-id,id-depth,planar",
+    ] {
         let json = run_compare(&dir, "overview,low_sun", techniques, "512", "160x90");
         for view in 0..2 {
             let rows = json["views"][view]["techniques"].as_array().unwrap();
@@ -1281,6 +1325,17 @@ fn compare_has_planar_and_projective_rows() {
                     command.contains("--technique projective --shadow-map 512"),
                     "{command}"
                 );
+            }
+            for name in ["object-id", "id-depth"] {
+                if let Some(row) = rows.iter().find(|r| r["technique"] == name) {
+                    // Wrong only near the outlines the light sees, at this map size.
+                    assert!(row["wrong_percent"].as_f64().unwrap() < 2.0, "{row}");
+                    let command = row["command"].as_str().unwrap();
+                    assert!(
+                        command.contains(&format!("--technique {name} --shadow-map 512")),
+                        "{command}"
+                    );
+                }
             }
         }
         let rows = techniques.split(',').count() as u32;
