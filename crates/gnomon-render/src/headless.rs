@@ -43,6 +43,10 @@ pub struct Frame {
     pub mask: Vec<u8>,
     /// Each light's own mask, in the order of the lights (the same values).
     pub light_masks: Vec<Vec<u8>>,
+    /// The first light's shadow factor per pixel as the main pass filters it (1 lit, 0
+    /// shadowed; 1 where the surface receives no shadows, 0 where there is no geometry):
+    /// shadow-map frames only (`None` for the volumes).
+    pub shadow: Option<Vec<f32>>,
     /// The shadow map(s) as the light sees them, if asked for.
     pub light_view: Option<LightView>,
     /// The per-pixel sampling metrics of the first light, if asked for
@@ -410,7 +414,7 @@ impl Renderer {
             .read(&self.gpu, &self.resources, &targets.color.0, 4, 0)?;
         let lit = self
             .readback
-            .read(&self.gpu, &self.resources, &targets.lit.0, 4, 0)?;
+            .read(&self.gpu, &self.resources, &targets.lit.0, 8, 0)?;
         let metrics = match &targets.metrics {
             Some((texture, _)) if settings.metrics => Some(PixelMetrics::from_rgba(
                 &self
@@ -420,6 +424,10 @@ impl Renderer {
             _ => None,
         };
         let (mask, light_masks) = masks_from_bits(&lit, lights.len());
+        let shadow = lit
+            .chunks_exact(8)
+            .map(|texel| f32::from_le_bytes([texel[4], texel[5], texel[6], texel[7]]))
+            .collect();
         let light_view = if settings.light_view {
             Some(self.light_view(camera, lights)?)
         } else {
@@ -432,6 +440,7 @@ impl Renderer {
             color,
             mask,
             light_masks,
+            shadow: Some(shadow),
             light_view,
             metrics,
             timings,
@@ -503,12 +512,13 @@ impl Renderer {
     }
 }
 
-/// The combined mask and each light's mask from the lit-light bits (bit 31: geometry).
+/// The combined mask and each light's mask from the lit-light bits (bit 31: geometry), the
+/// first four bytes of each texel of eight.
 fn masks_from_bits(bits: &[u8], lights: usize) -> (Vec<u8>, Vec<Vec<u8>>) {
-    let n = bits.len() / 4;
+    let n = bits.len() / 8;
     let mut mask = Vec::with_capacity(n);
     let mut per_light = vec![Vec::with_capacity(n); lights];
-    for texel in bits.chunks_exact(4) {
+    for texel in bits.chunks_exact(8) {
         let b = u32::from_le_bytes([texel[0], texel[1], texel[2], texel[3]]);
         let geometry = b & 0x8000_0000 != 0;
         let value = |lit: bool| match (geometry, lit) {

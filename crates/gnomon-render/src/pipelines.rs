@@ -12,7 +12,9 @@ pub(crate) const CAMERA_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat:
 /// The colour of headless frames (the measured main pass's first target), in which
 /// [`crate::Renderer::frame_color`] keeps them.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-pub(crate) const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+/// The lit-light bits (and the geometry bit 31), and the first light's shadow factor as the
+/// bits of an f32.
+pub(crate) const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 /// Four f32 as their bits (Rgba32Float is not renderable on GL).
 pub(crate) const METRICS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// A volume pass's per-light mask.

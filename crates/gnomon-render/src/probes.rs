@@ -7,7 +7,10 @@ use gnomon::Camera;
 
 use crate::error::RenderError;
 use crate::headless::color_target;
-use crate::pipelines::{LIT_FORMAT, scene_buffers};
+use crate::pipelines::scene_buffers;
+
+/// The probes' target: one u32 of state bits per point.
+const PROBE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 use crate::records::ShadowedLight;
 use crate::renderer::{RenderSettings, Renderer};
 use crate::scene::Vertex;
@@ -117,7 +120,7 @@ impl Renderer {
                 module: shader,
                 entry_point: Some("fs_probe"),
                 compilation_options: Default::default(),
-                targets: &[Some(LIT_FORMAT.into())],
+                targets: &[Some(PROBE_FORMAT.into())],
             }),
             multiview_mask: None,
             cache: None,
@@ -129,7 +132,7 @@ impl Renderer {
                 "probes",
                 (PROBE_SIZE, PROBE_SIZE),
                 1,
-                LIT_FORMAT,
+                PROBE_FORMAT,
                 wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
             ),
             points: self.resources.buffer(

@@ -283,6 +283,7 @@ pub(crate) fn filter_code(filter: Filter) -> u32 {
         Filter::None => 0,
         Filter::Hardware2x2 => 1,
         Filter::Pcf5x5 => 2,
+        Filter::Pcss => 3,
     }
 }
 

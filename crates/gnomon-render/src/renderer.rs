@@ -32,6 +32,11 @@ pub enum Filter {
     Hardware2x2,
     /// 5x5 taps, averaged (percentage closer filtering).
     Pcf5x5,
+    /// Percentage-closer soft shadows (Fernando 2005) of area lights of
+    /// [`RenderSettings::area_light_radius`]: a blocker search, the penumbra's width from the
+    /// blockers' distance, a filter that wide (discs across the light's rays, carried into
+    /// each map by its local Jacobian: right on warped maps and cascades too).
+    Pcss,
 }
 
 /// Depth bias against shadow acne.
@@ -84,6 +89,10 @@ pub struct RenderSettings {
     /// How the main pass reads the shadow maps: by depth (every shadow-map technique), or as
     /// another of the shadows lecture's light-space maps.
     pub read: MapRead,
+    /// The radius of every light's area for [`Filter::Pcss`]: a directional light's angular
+    /// radius in degrees (the sun's is 0.27), a spot or point light's in world units (a disc
+    /// facing the receiver); 0 gives hard shadows.
+    pub area_light_radius: f64,
 }
 
 /// How the main pass reads a frame's shadow maps (the same matrices, another test).
@@ -145,6 +154,7 @@ impl Default for RenderSettings {
             metrics: false,
             tint: false,
             read: MapRead::Depth,
+            area_light_radius: 0.0,
         }
     }
 }
@@ -536,6 +546,7 @@ impl Renderer {
         for (k, (light, setup)) in lights.iter().enumerate() {
             shadows.lights[k] =
                 light_record(light, *setup, view_from_world, world_from_camera, layer)?;
+            shadows.lights[k].range[2] = area_size(light, settings.area_light_radius)?;
             let Some(setup) = setup else { continue };
             for (i, map) in setup.maps.iter().enumerate() {
                 shadows.maps[layer] = map_record(
@@ -732,6 +743,24 @@ impl Renderer {
         pass.set_bind_group(0, &self.frame_group, &[0]);
         pass.set_bind_group(1, &self.atlas.bind_group, &[]);
     }
+}
+
+/// A light's area for PCSS as the lookup reads it (`GnomonLight.range.z`): a directional
+/// light's tangent of its angular radius, a spot or point light's radius.
+fn area_size(light: &gnomon::Light, radius: f64) -> Result<f32, RenderError> {
+    let limit = match light {
+        gnomon::Light::Directional(_) => gnomon::area_light::MAX_ANGULAR_RADIUS_DEGREES,
+        _ => f64::MAX,
+    };
+    if !(radius.is_finite() && (0.0..=limit).contains(&radius)) {
+        return Err(RenderError::Invalid(format!(
+            "area light radius {radius}: 0 or more (at most {limit} degrees for a directional light)"
+        )));
+    }
+    Ok(match light {
+        gnomon::Light::Directional(_) => radius.to_radians().tan(),
+        _ => radius,
+    } as f32)
 }
 
 /// The depth pass of one map: its layer cleared to the far depth, drawn inside the inset

@@ -110,6 +110,7 @@ impl Renderer {
             .collect::<Vec<u8>>();
         Ok(SoftFrame {
             frame: Frame {
+                shadow: None,
                 width: settings.width,
                 height: settings.height,
                 color: rgba,

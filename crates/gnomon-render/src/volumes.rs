@@ -566,6 +566,7 @@ impl Renderer {
                 color,
                 mask,
                 light_masks,
+                shadow: None,
                 light_view: None,
                 metrics: None,
                 timings,

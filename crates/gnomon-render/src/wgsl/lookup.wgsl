@@ -37,6 +37,15 @@ const GNOMON_SELECT_CUBE: u32 = 3u;
 const GNOMON_FILTER_ONE_TAP: u32 = 0u;
 const GNOMON_FILTER_HARDWARE_2X2: u32 = 1u;
 const GNOMON_FILTER_PCF_5X5: u32 = 2u;
+// Percentage-closer soft shadows (Fernando 2005) of each light's area (GnomonLight.range.z):
+// a blocker search, the penumbra's width from the blockers' distance, then a filter that wide;
+// both footprints are discs across the light's rays carried into the map by its local
+// Jacobian, so that they are right on warped maps and cascades too.
+const GNOMON_FILTER_PCSS: u32 = 3u;
+// PCSS's taps (Vogel's spiral over the disc) and the largest footprint radius, in texels.
+const GNOMON_PCSS_SEARCH_TAPS: i32 = 16;
+const GNOMON_PCSS_FILTER_TAPS: i32 = 32;
+const GNOMON_PCSS_MAX_TEXELS: f32 = 48.0;
 // How a main pass reads the maps (gnomon's passes: the override constant MAP_READ).
 // By depth: shadowed where a caster nearer the light than the point is stored.
 const GNOMON_READ_DEPTH: u32 = 0u;
@@ -83,7 +92,9 @@ struct GnomonLight {
     vector: vec4<f32>,
     // xyz: the spot's axis, w: cos of its half-angle.
     spot: vec4<f32>,
-    // x: the spot's or point light's range, y: its near distance.
+    // x: the spot's or point light's range, y: its near distance, z: its area's size for
+    // soft shadows (directional: the tangent of its angular radius; spot and point: its
+    // radius in world units).
     range: vec4<f32>,
     // x: kind, y: selection, z: first map, w: number of maps.
     info: vec4<u32>,
@@ -491,7 +502,120 @@ fn gnomon_read_surface(light: u32, map: u32, p: vec3<f32>, n_geo: vec3<f32>, n_d
     if (!at.covered) {
         return 1.0;
     }
+    if (filter_mode == GNOMON_FILTER_PCSS) {
+        return gnomon_lookup_pcss(light, at.view, at.point, n_geo);
+    }
     return gnomon_lookup_view(at.view, at.point, filter_mode);
+}
+
+// The change of a map's compared depth per world unit along `direction` at p.
+fn gnomon_depth_rate(view: GnomonMapView, p: vec3<f32>, direction: vec3<f32>) -> f32 {
+    if (view.paraboloid) {
+        // depth = |q|, q = the hemisphere's frame: d|q| = (q / |q|) . dq.
+        let m = view.clip_from_camera;
+        let q = (m * vec4<f32>(p, 1.0)).xyz;
+        let dq = (m * vec4<f32>(direction, 0.0)).xyz;
+        return dot(q, dq) / max(length(q), 1e-30);
+    }
+    return dot(view.depth_from_camera.xyz, direction);
+}
+
+// Point on Vogel's spiral over the unit disc: tap i of n.
+fn gnomon_vogel(i: i32, n: i32) -> vec2<f32> {
+    let r = sqrt((f32(i) + 0.5) / f32(n));
+    let phi = f32(i) * 2.39996323;
+    return r * vec2<f32>(cos(phi), sin(phi));
+}
+
+// Percentage-closer soft shadows of `light`'s area at the surface point p (geometric normal
+// n_geo) in map `view`: 1 lit, 0 in the umbra. The footprints are discs across the light's
+// rays at p, carried into the map's normalised coordinates by its Jacobian there (so their
+// size is right on warped maps), and compared against the receiver's own plane (its depth
+// at each tap from the Jacobian: receiver-plane depth bias), so that wide filters do not
+// shadow the surface by itself.
+fn gnomon_lookup_pcss(light: u32, view: GnomonMapView, p: vec3<f32>, n_geo: vec3<f32>) -> f32 {
+    let at = gnomon_map_point(view, p);
+    if (!at.inside) {
+        return 1.0;
+    }
+    let kind = gnomon_shadows.lights[light].info.x;
+    let area = gnomon_shadows.lights[light].range.z;
+    var to_light = -gnomon_shadows.lights[light].vector.xyz;
+    var distance = 0.0;
+    if (kind != GNOMON_LIGHT_DIRECTIONAL) {
+        to_light = gnomon_shadows.lights[light].vector.xyz - p;
+        distance = length(to_light);
+        to_light = to_light / max(distance, 1e-30);
+    }
+    // Across the light's rays: u, v; the map's normalised coordinates per world unit along
+    // them (columns of jacobian).
+    let g = gnomon_ndc_gradients(view, p);
+    let u = normalize(select(cross(to_light, vec3<f32>(1.0, 0.0, 0.0)),
+        cross(to_light, vec3<f32>(0.0, 1.0, 0.0)), abs(to_light.x) > 0.7));
+    let v = cross(to_light, u);
+    let jacobian = mat2x2<f32>(vec2<f32>(dot(g[0], u), dot(g[1], u)), vec2<f32>(dot(g[0], v), dot(g[1], v)));
+    // Depth units per world unit toward the light (positive: nearer the light is smaller).
+    let rate = -gnomon_depth_rate(view, p, to_light);
+    // The receiver's plane: depth change per normalised map unit, through its tangents.
+    let t1 = normalize(select(cross(n_geo, vec3<f32>(1.0, 0.0, 0.0)),
+        cross(n_geo, vec3<f32>(0.0, 1.0, 0.0)), abs(n_geo.x) > 0.7));
+    let t2 = cross(n_geo, t1);
+    let tangent = mat2x2<f32>(vec2<f32>(dot(g[0], t1), dot(g[1], t1)), vec2<f32>(dot(g[0], t2), dot(g[1], t2)));
+    let det = determinant(tangent);
+    var depth_per_ndc = vec2<f32>(0.0);
+    if (abs(det) > 1e-12 * max(dot(tangent[0], tangent[0]) + dot(tangent[1], tangent[1]), 1e-30)) {
+        let inverse = mat2x2<f32>(vec2<f32>(tangent[1].y, -tangent[0].y), vec2<f32>(-tangent[1].x, tangent[0].x)) * (1.0 / det);
+        let along = vec2<f32>(gnomon_depth_rate(view, p, t1), gnomon_depth_rate(view, p, t2));
+        // depth = along . tau, tau = inverse ndc: a row vector along^T inverse.
+        depth_per_ndc = vec2<f32>(dot(along, inverse[0]), dot(along, inverse[1]));
+    }
+    // The world radius (across the rays at p) that a blocker t world units toward the light
+    // reaches within the light's area: a directional light's cone, a disc's (its image at
+    // p's distance from the light, as perspective maps and paraboloids scale).
+    let texel_per_world = 0.5 * view.resolution * sqrt(max(abs(determinant(jacobian)), 1e-30));
+    let largest = GNOMON_PCSS_MAX_TEXELS / max(texel_per_world, 1e-30);
+    let t_max = max(at.reference, 0.0) / max(rate, 1e-30);
+    var search = area * t_max;
+    if (kind != GNOMON_LIGHT_DIRECTIONAL) {
+        let t = min(t_max, 0.999 * distance);
+        search = area * t / max(distance - t, 1e-30);
+    }
+    search = clamp(search, 0.0, largest);
+    // Blocker search: the mean depth of the texels nearer the light than the receiver's plane.
+    var blockers = 0.0;
+    var blocker_depth = 0.0;
+    for (var i = 0; i < GNOMON_PCSS_SEARCH_TAPS; i++) {
+        let offset = jacobian * (search * gnomon_vogel(i, GNOMON_PCSS_SEARCH_TAPS));
+        let ndc = at.ndc + offset;
+        let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+        let stored = textureSampleLevel(
+            gnomon_raw, gnomon_nearest, gnomon_layer_uv(view, uv), view.layer, 0.0).r;
+        if (stored < at.reference + dot(depth_per_ndc, offset)) {
+            blockers += 1.0;
+            blocker_depth += stored;
+        }
+    }
+    if (blockers == 0.0) {
+        return 1.0;
+    }
+    // The penumbra's half-width at p from the blockers' distance t toward the light.
+    let t = max(at.reference - blocker_depth / blockers, 0.0) / max(rate, 1e-30);
+    var penumbra = area * t;
+    if (kind != GNOMON_LIGHT_DIRECTIONAL) {
+        let t_light = min(t, 0.999 * distance);
+        penumbra = area * t_light / max(distance - t_light, 1e-30);
+    }
+    // At least half a texel (the hard shadow's own filter), at most the footprint's limit.
+    let radius = clamp(penumbra, 0.5 / max(texel_per_world, 1e-30), largest);
+    var lit = 0.0;
+    for (var i = 0; i < GNOMON_PCSS_FILTER_TAPS; i++) {
+        let offset = jacobian * (radius * gnomon_vogel(i, GNOMON_PCSS_FILTER_TAPS));
+        let ndc = at.ndc + offset;
+        let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+        lit += textureSampleCompareLevel(gnomon_depth, gnomon_compare, gnomon_layer_uv(view, uv),
+            view.layer, at.reference + dot(depth_per_ndc, offset));
+    }
+    return lit / f32(GNOMON_PCSS_FILTER_TAPS);
 }
 
 // One map's lookup at the surface point p (its normal offset applied).

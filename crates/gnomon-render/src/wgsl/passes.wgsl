@@ -203,6 +203,8 @@ struct Shaded {
     lit_bits: u32,
     // N.L of light 0 (geometric normal).
     n_dot_l: f32,
+    // Light 0's filtered shadow factor (1 lit; 1 where the surface receives none).
+    shadow: f32,
 };
 
 fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
@@ -211,6 +213,7 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
     var direct = 0.0;
     out.lit_bits = 0u;
     out.n_dot_l = 0.0;
+    out.shadow = 1.0;
     for (var light = 0u; light < LIGHT_COUNT; light++) {
         let incidence = gnomon_incidence(light, s.p);
         let n_dot_l_geo = dot(s.n_geo, incidence.to_light);
@@ -236,7 +239,11 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
             let at = gnomon_read_at(light, map, s.p, s.n_geo, n_dot_l_geo);
             if (at.covered && MAP_READ == GNOMON_READ_DEPTH) {
                 one_tap = gnomon_lookup_view(at.view, at.point, GNOMON_FILTER_ONE_TAP);
-                shadow = gnomon_lookup_view(at.view, at.point, gnomon_shadows.info.y);
+                if (gnomon_shadows.info.y == GNOMON_FILTER_PCSS) {
+                    shadow = gnomon_lookup_pcss(light, at.view, at.point, s.n_geo);
+                } else {
+                    shadow = gnomon_lookup_view(at.view, at.point, gnomon_shadows.info.y);
+                }
             } else if (at.covered) {
                 // Object IDs read the point itself, without the normal offset: nothing is
                 // compared between objects, and an offset along the normal moves the read
@@ -253,6 +260,9 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
                     one_tap = 1.0;
                 }
             }
+        }
+        if (light == 0u) {
+            out.shadow = shadow;
         }
         if (incidence.in_light) {
             direct += max(dot(s.n, incidence.to_light), 0.0) * incidence.cone * shadow;
@@ -308,7 +318,8 @@ fn sampling_metrics(p: vec3<f32>, dp_dx: vec3<f32>, dp_dy: vec3<f32>) -> vec2<f3
 
 struct Measured {
     @location(0) color: vec4<f32>,
-    // Bits 0..30: the lights that reach the point; bit 31: geometry here.
+    // x: bits 0..30, the lights that reach the point; bit 31: geometry here. y: light 0's
+    // filtered shadow factor, as the bits of an f32.
     @location(1) lit: vec4<u32>,
     // The bits of four floats (integer targets render on every backend): x: pixels per
     // texel along the worst direction, y: in area (-1 where the map does not see the point),
@@ -341,7 +352,7 @@ fn measured(in: MainOut) -> Measured {
     let shaded = shade(s, in.color.rgb);
     var out: Measured;
     out.color = vec4<f32>(shaded.color, 1.0);
-    out.lit = vec4<u32>(shaded.lit_bits | 0x80000000u, 0u, 0u, 0u);
+    out.lit = vec4<u32>(shaded.lit_bits | 0x80000000u, bitcast<u32>(shaded.shadow), 0u, 0u);
     var sampling = vec2<f32>(0.0);
     if (METRICS) {
         sampling = sampling_metrics(s.p, dp_dx, dp_dy);
