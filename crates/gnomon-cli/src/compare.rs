@@ -41,6 +41,12 @@ pub struct CompareArgs {
     /// Shadow-map resolution in texels.
     #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
     pub shadow_map: u32,
+    /// The maps' filter; with `--pcf pcss --area-light R` each view also gets the soft
+    /// shadows of its area lights as a cluster of --area-samples hard lights with exact
+    /// volumes, and each row the penumbra error of its PCSS against them (the mean absolute
+    /// difference of the shadow factor over the union of both penumbrae).
+    #[command(flatten)]
+    pub soft: crate::render::SoftArgs,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "640x360", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -99,11 +105,13 @@ fn mask_errors(map: &Frame, n_dot_l: &[f32], exact: &Frame) -> (MaskErrors, Vec<
 }
 
 /// One row of a scene's summary: the technique, its mean and worst wrong-pixel share over
-/// the views, its mean undersampling p99, mean setup (us) and frame (ms).
+/// the views, its mean undersampling p99, mean penumbra error (PCSS), mean setup (us) and
+/// frame (ms).
 pub(crate) struct SummaryRow {
     label: String,
     wrong: Vec<f64>,
     p99: Vec<f64>,
+    penumbra: Vec<f64>,
     setup_us: Vec<f64>,
     frame_ms: Vec<f64>,
 }
@@ -139,6 +147,20 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     let techniques = crate::rows::rows(&names, &args.params, args.shadow_map, true)?;
     if techniques.is_empty() && !planar {
         return Err(CliError::usage("nothing to compare"));
+    }
+    match (args.soft.pcss(), args.soft.area_light) {
+        (true, None) => {
+            return Err(CliError::usage(
+                "--pcf pcss softens by the lights' size: give --area-light R (degrees for a \
+                 sun, whose is 0.27; world units for spot and point lights)",
+            ));
+        }
+        (false, Some(_)) => {
+            return Err(CliError::usage(
+                "--area-light measures PCSS's penumbrae: give --pcf pcss too",
+            ));
+        }
+        _ => {}
     }
     let rows = Rows {
         techniques: &techniques,
@@ -248,9 +270,36 @@ fn compare_scene(
     let settings = RenderSettings {
         width,
         height,
-        filter: Filter::Hardware2x2,
+        filter: args.soft.pcf.into(),
+        area_light_radius: args.soft.pcss_radius(),
         metrics: true,
         ..RenderSettings::default()
+    };
+    let pcss = args.soft.pcss();
+    // PCSS filters maps read by depth; rows that read IDs or coverage keep the default filter
+    // (and their commands say nothing of it).
+    let row_settings = |row: &crate::rows::Row| {
+        if row.read == gnomon_render::MapRead::Depth {
+            row.settings(&settings)
+        } else {
+            row.settings(&RenderSettings {
+                filter: Filter::default(),
+                area_light_radius: 0.0,
+                ..settings
+            })
+        }
+    };
+    // A map's command: the filter and the area light (the samples are the reference's).
+    let map_soft = crate::render::SoftArgs {
+        area_samples: None,
+        ..args.soft.clone()
+    };
+    let soft_flags = |row: &crate::rows::Row| {
+        if row.read == gnomon_render::MapRead::Depth {
+            map_soft.non_default_flags()
+        } else {
+            String::new()
+        }
     };
     let progress =
         indicatif::ProgressBar::new((views.len() * (techniques.len() + planar_rows + 1)) as u64);
@@ -272,14 +321,30 @@ fn compare_scene(
          (pass times from {}).\n\n\
          Each grid has one row per technique in the table's order, then the exact shadow \
          volumes; columns: the frame, the mask errors (red: false shadow, blue: missed \
-         shadow), the sampling error map.\n",
+         shadow), the sampling error map.{}\n",
         loaded.name,
         width,
         height,
         args.shadow_map,
         args.shadow_map,
         renderer.gpu().describe(),
-        renderer.timing_source().name()
+        renderer.timing_source().name(),
+        if pcss {
+            format!(
+                " Maps read by depth are filtered with PCSS of area lights of radius {} \
+                 (degrees for a sun, world units for spot and point lights); penumbra error: \
+                 the mean absolute difference of the first light's shadow factor from the soft \
+                 shadows of the same area light ({} hard lights with exact volumes, the third \
+                 column of the volumes' row) over the pixels with N.L > 0.1 where either lies \
+                 between 0.02 and 0.98 (the union of both penumbrae).",
+                args.soft.area_light.unwrap_or(0.0),
+                args.soft
+                    .area_samples
+                    .unwrap_or(crate::render::DEFAULT_AREA_SAMPLES)
+            )
+        } else {
+            String::new()
+        }
     );
     // One untimed frame first: the first draw compiles the pipelines.
     if let (Some(view), false) = (views.first(), techniques.is_empty()) {
@@ -298,6 +363,7 @@ fn compare_scene(
             label,
             wrong: Vec::new(),
             p99: Vec::new(),
+            penumbra: Vec::new(),
             setup_us: Vec::new(),
             frame_ms: Vec::new(),
         })
@@ -309,6 +375,20 @@ fn compare_scene(
         progress.set_message(format!("{}: volumes", view.name));
         let exact =
             renderer.render_volumes_lit_by(&camera, &lights, &settings, StencilMode::ZFail)?;
+        // With PCSS, the soft shadows of the view's area lights: the reference of the
+        // penumbrae.
+        let soft = match args.soft.area_clusters(&lights, &bounds.scene_box())? {
+            Some(clusters) if pcss => {
+                progress.set_message(format!("{}: soft volumes", view.name));
+                Some(renderer.render_soft_volumes(
+                    &camera,
+                    &clusters,
+                    &settings,
+                    StencilMode::ZFail,
+                )?)
+            }
+            _ => None,
+        };
         // What the pixels see from each light, once per view, shared by every technique.
         let samples = lights
             .iter()
@@ -343,7 +423,7 @@ fn compare_scene(
             let (setups, setup_us) = light_setups(entry, &camera, &lights, row_bounds, &samples)?;
             let setup = &setups[0];
             let shadowed = ShadowedLight::pairs(&lights, &setups);
-            let frame = renderer.render_lights(&camera, &shadowed, &entry.settings(&settings))?;
+            let frame = renderer.render_lights(&camera, &shadowed, &row_settings(entry))?;
             let metrics = frame.metrics.as_ref().expect("metrics asked for");
             let (errors, error_image) = mask_errors(&frame, &metrics.n_dot_l, &exact.frame);
             if view_n_dot_l.is_none() {
@@ -352,6 +432,17 @@ fn compare_scene(
             let t = frame.timings;
             let frame_ms = setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms;
             let undersampling = heatmap::percentiles(metrics, &metrics.undersampling);
+            // PCSS filters maps read by depth; the other reads take one tap.
+            let penumbra = soft
+                .as_ref()
+                .filter(|_| entry.read == gnomon_render::MapRead::Depth)
+                .map(|soft| {
+                    gnomon_render::penumbra_error(
+                        &soft.factor,
+                        frame.shadow.as_deref().expect("a map frame has its factor"),
+                        &metrics.n_dot_l,
+                    )
+                });
             paste(&frame.color, 0, k as u32);
             paste(&error_image, 1, k as u32);
             paste(&heatmap::draw(metrics, width, height), 2, k as u32);
@@ -361,6 +452,9 @@ fn compare_scene(
                 .push(undersampling["p99"].as_f64().unwrap_or(f64::NAN));
             summary[k].setup_us.push(setup_us);
             summary[k].frame_ms.push(frame_ms);
+            if let Some(p) = penumbra {
+                summary[k].penumbra.push(p.mean);
+            }
             // sppsm-same-texels is sppsm at its own map size.
             let command = crate::args::render_command_of(
                 &loaded.options,
@@ -369,7 +463,10 @@ fn compare_scene(
                 &entry.params,
                 entry.resolution,
                 (width, height),
-                " --out frame.png --mask mask.png --error-map error.png",
+                &format!(
+                    "{} --out frame.png --mask mask.png --error-map error.png",
+                    soft_flags(entry)
+                ),
             );
             rows.push(json!({
                 "technique": entry.label,
@@ -383,6 +480,8 @@ fn compare_scene(
                 "compared_pixels": errors.compared,
                 "undersampling": undersampling,
                 "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
+                "penumbra_error": penumbra.map(|p| p.mean),
+                "penumbra_pixels": penumbra.map(|p| p.pixels),
                 "setup_us": setup_us,
                 "frame_ms": frame_ms,
             }));
@@ -449,6 +548,9 @@ fn compare_scene(
         }
         let row = (techniques.len() + planar_rows) as u32;
         paste(&exact.frame.color, 0, row);
+        if let Some(soft) = &soft {
+            paste(&soft.frame.color, 2, row);
+        }
         let exact_mask: Vec<u8> = exact
             .frame
             .mask
@@ -467,21 +569,21 @@ fn compare_scene(
         let _ = write!(
             markdown,
             "\n## {} ({})\n\nExact shadow volumes: frame {exact_ms:.1} ms.\n\n\
-             | technique | wrong pixels | false shadow | missed shadow | undersampling p50 | p95 | p99 | max | area p99 | setup (us) | frame (ms) | fallback |\n\
-             | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |\n",
+             | technique | wrong pixels | false shadow | missed shadow | undersampling p50 | p95 | p99 | max | area p99 | penumbra error | setup (us) | frame (ms) | fallback |\n\
+             | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |\n",
             view.name, view.description
         );
         for r in &rows {
             if let Some(why) = r["skipped"].as_str() {
                 let label = r["technique"].as_str().unwrap_or_default();
-                let _ = writeln!(markdown, "| {label} | n/a: {why} |||||||||||");
+                let _ = writeln!(markdown, "| {label} | n/a: {why} ||||||||||||");
                 continue;
             }
             let u = &r["undersampling"];
             let f = |v: &Value| v.as_f64().map_or("-".to_string(), |x| format!("{x:.2}"));
             let _ = writeln!(
                 markdown,
-                "| {} | {:.3}% | {:.3}% | {:.3}% | {} | {} | {} | {} | {} | {:.1} | {:.1} | {} |",
+                "| {} | {:.3}% | {:.3}% | {:.3}% | {} | {} | {} | {} | {} | {} | {:.1} | {:.1} | {} |",
                 r["technique"].as_str().unwrap_or_default(),
                 r["wrong_percent"].as_f64().unwrap_or_default(),
                 r["false_shadow_percent"].as_f64().unwrap_or_default(),
@@ -491,6 +593,9 @@ fn compare_scene(
                 f(&u["p99"]),
                 f(&u["max"]),
                 f(&r["area_undersampling"]["p99"]),
+                r["penumbra_error"]
+                    .as_f64()
+                    .map_or("-".to_string(), |x| format!("{x:.4}")),
                 r["setup_us"].as_f64().unwrap_or_default(),
                 r["frame_ms"].as_f64().unwrap_or_default(),
                 r["fallback"].as_str().unwrap_or("none"),
@@ -528,6 +633,29 @@ fn compare_scene(
             );
         }
         let _ = writeln!(markdown, "- exact shadow volumes: `{volumes_command}`");
+        let soft_command = soft.as_ref().map(|_| {
+            let mut flags = args.soft.clone();
+            flags.pcf = crate::render::PcfArg::Hardware2x2;
+            render_command(
+                &loaded.options,
+                view,
+                None,
+                &args.params,
+                args.shadow_map,
+                (width, height),
+                &format!(
+                    "{} --out soft.png --mask soft-factor.png",
+                    flags.non_default_flags()
+                ),
+            )
+        });
+        if let Some(command) = &soft_command {
+            let _ = writeln!(
+                markdown,
+                "- soft shadows of the area light (the penumbrae's reference; the exact volumes' \
+                 row, third column): `{command}`"
+            );
+        }
         report.push(json!({
             "view": view.name,
             "description": view.description,
@@ -541,19 +669,25 @@ fn compare_scene(
             "more_lights": view.more_lights.iter().map(crate::report::view_light_json).collect::<Vec<_>>(),
             "volumes_command": volumes_command,
             "volumes_frame_ms": exact_ms,
+            "soft_command": soft_command,
             "techniques": rows,
         }));
     }
     progress.finish_and_clear();
     let _ = write!(
         markdown,
-        "\n## Over all views\n\n| technique | mean wrong pixels | worst view | mean undersampling p99 |\n| --- | ---: | ---: | ---: |\n"
+        "\n## Over all views\n\n| technique | mean wrong pixels | worst view | mean undersampling p99 | mean penumbra error |\n| --- | ---: | ---: | ---: | ---: |\n"
     );
     for row in &summary {
         let worst = row.wrong.iter().copied().fold(0.0, f64::max);
+        let penumbra = if row.penumbra.is_empty() {
+            "-".to_string()
+        } else {
+            format!("{:.4}", mean(&row.penumbra))
+        };
         let _ = writeln!(
             markdown,
-            "| {} | {:.3}% | {worst:.3}% | {} |",
+            "| {} | {:.3}% | {worst:.3}% | {} | {penumbra} |",
             row.label,
             mean(&row.wrong),
             two_places(mean(&row.p99))

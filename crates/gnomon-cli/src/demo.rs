@@ -35,6 +35,22 @@ pub struct DemoArgs {
     pub params: TechniqueParams,
 }
 
+/// The radius of the area lights of the gallery's soft column: the sun's angular radius
+/// (degrees), and for spot and point lights a street lamp's globe of 25 cm (world units).
+fn soft_radius(light: &gnomon::Light) -> f64 {
+    match light {
+        gnomon::Light::Directional(_) => 0.27,
+        _ => 0.25,
+    }
+}
+
+/// The hard lights that sample each area light in the gallery's soft column (a picture;
+/// `compare --pcf pcss` measures with 64 by default).
+const SOFT_SAMPLES: usize = 32;
+
+/// The map technique the gallery softens with PCSS (it takes every kind of light).
+const PCSS_TECHNIQUE: &str = "lispsm";
+
 /// Runs `gnomon demo`.
 pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let started = Instant::now();
@@ -65,8 +81,10 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         crate::rows::RowScene::new(&loaded.scene, techniques.iter().any(|r| r.projective()))?;
     // Planar shadows where the scene has a ground to fall on.
     let planar = crate::render::planar_receiver(&loaded.scene, None).ok();
-    // Every map technique, planar shadows, then the shadow volumes.
-    let per_view = techniques.len() + 1 + usize::from(planar.is_some());
+    let pcss_row = crate::rows::row(PCSS_TECHNIQUE, &args.params, args.shadow_map)?;
+    // Every map technique, planar shadows, the shadow volumes, then soft shadows: the area
+    // light as a cluster of hard lights with exact volumes, and PCSS.
+    let per_view = techniques.len() + 3 + usize::from(planar.is_some());
     let total = views.len() * per_view;
     let mut rows = String::new();
     let mut all = Vec::new();
@@ -240,6 +258,125 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             "extrusion_and_stencil_ms": timings.shadow_pass_ms,
             "shading_ms": timings.main_pass_ms,
         }));
+        // Soft shadows of the main light as an area light: the cluster reference, then PCSS.
+        let soft = crate::render::SoftArgs {
+            pcf: crate::render::PcfArg::Hardware2x2,
+            area_light: Some(soft_radius(&lights[0])),
+            area_samples: Some(SOFT_SAMPLES),
+        };
+        let clusters = soft
+            .area_clusters(&lights, &row_scene.bounds().scene_box())?
+            .expect("an area light is given");
+        let reference =
+            renderer.render_soft_volumes(&camera, &clusters, &settings, StencilMode::PerCaster)?;
+        let stem = format!("{}_soft", view.name);
+        write_frame(
+            &reference.frame,
+            &args.out.join(format!("{stem}.png")),
+            None,
+            None,
+        )?;
+        let t = reference.frame.timings;
+        eprintln!(
+            "[{:>2}/{total}] {:<15} {:<8} {SOFT_SAMPLES} hard lights with volumes  {:>6.1} ms",
+            v * per_view + per_view - 1,
+            view.name,
+            "soft",
+            t.shadow_pass_ms + t.main_pass_ms,
+        );
+        let radius_words = match lights[0] {
+            gnomon::Light::Directional(_) => format!("{} degrees", soft_radius(&lights[0])),
+            _ => format!("{} m", soft_radius(&lights[0])),
+        };
+        cells.push_str(&format!(
+            "<td><img src=\"{stem}.png\" width=480><br>soft shadows of an area light of {radius_words}              (the reference): {SOFT_SAMPLES} hard lights with exact volumes, averaged &middot;              {:.1} ms<br><code>{}</code></td>",
+            t.shadow_pass_ms + t.main_pass_ms,
+            render_command(
+                &loaded.options,
+                view,
+                None,
+                &args.params,
+                args.shadow_map,
+                (width, height),
+                &format!("{} --out {stem}.png", soft.non_default_flags()),
+            )
+        ));
+        all.push(json!({
+            "view": view.name,
+            "technique": "soft-volumes",
+            "area_light": soft.area_light,
+            "area_samples": SOFT_SAMPLES,
+            "ms": t.shadow_pass_ms + t.main_pass_ms,
+        }));
+        let pcss = crate::render::SoftArgs {
+            pcf: crate::render::PcfArg::Pcss,
+            area_samples: None,
+            ..soft
+        };
+        let stem = format!("{}_pcss", view.name);
+        let label = format!("pcss ({PCSS_TECHNIQUE})");
+        if let Some(why) = pcss_row.refuses(&lights) {
+            cells.push_str(&format!("<td>{label}: not drawn ({why})</td>"));
+        } else {
+            let row_bounds = row_scene.prepare(&mut renderer, false)?;
+            let (setups, setup_us) =
+                light_setups(&pcss_row, &camera, &lights, row_bounds, &samples)?;
+            let shadowed = ShadowedLight::pairs(&lights, &setups);
+            let frame = renderer.render_lights(
+                &camera,
+                &shadowed,
+                &RenderSettings {
+                    filter: gnomon_render::Filter::Pcss,
+                    area_light_radius: pcss.pcss_radius(),
+                    metrics: true,
+                    ..settings
+                },
+            )?;
+            write_frame(&frame, &args.out.join(format!("{stem}.png")), None, None)?;
+            let error = gnomon_render::penumbra_error(
+                &reference.factor,
+                frame.shadow.as_deref().expect("a map frame has its factor"),
+                &frame.metrics.as_ref().expect("asked for").n_dot_l,
+            );
+            let t = frame.timings;
+            eprintln!(
+                "[{:>2}/{total}] {:<15} {:<8} setup {:>7.1} us  shadow pass {:>6.1} ms  main pass {:>6.1} ms  penumbra error {:.4}",
+                v * per_view + per_view,
+                view.name,
+                "pcss",
+                setup_us,
+                t.shadow_pass_ms,
+                t.main_pass_ms,
+                error.mean,
+            );
+            cells.push_str(&format!(
+                "<td><img src=\"{stem}.png\" width=480><br>{label}, the same area light &middot;                  penumbra error {:.3} (against the reference, over {} pixels) &middot; shadow                  pass {:.1} ms &middot; main pass {:.1} ms<br><code>{}</code></td>",
+                error.mean,
+                error.pixels,
+                t.shadow_pass_ms,
+                t.main_pass_ms,
+                crate::args::render_command_of(
+                    &loaded.options,
+                    view,
+                    (Some(&pcss_row.technique), pcss_row.technique_name()),
+                    &pcss_row.params,
+                    pcss_row.resolution,
+                    (width, height),
+                    &format!("{} --out {stem}.png", pcss.non_default_flags()),
+                )
+            ));
+            all.push(json!({
+                "view": view.name,
+                "technique": "pcss",
+                "map_technique": PCSS_TECHNIQUE,
+                "area_light": pcss.area_light,
+                "penumbra_error": error.mean,
+                "penumbra_pixels": error.pixels,
+                "setup_us": setup_us,
+                "shadow_pass_ms": t.shadow_pass_ms,
+                "main_pass_ms": t.main_pass_ms,
+            }));
+        }
         rows.push_str(&format!(
             "<tr><th>{}<br><small>{}</small></th>{cells}</tr>",
             view.name, view.description
@@ -253,14 +390,20 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 .as_ref()
                 .map(|_| "<th>planar (the ground)</th>".to_string()),
         )
-        .chain(["<th>volumes (exact)</th>".to_string()])
+        .chain([
+            "<th>volumes (exact)</th>".to_string(),
+            "<th>soft (reference)</th>".to_string(),
+            format!("<th>pcss ({PCSS_TECHNIQUE})</th>"),
+        ])
         .collect();
     let html = format!(
         "<!doctype html><meta charset=utf-8><title>gnomon demo</title>\
          <style>body{{font-family:sans-serif}} td,th{{vertical-align:top;padding:6px}}</style>\
          <h1>gnomon demo: {} scene</h1><p>Each cell: the frame, and below it the shadow map as the \
-         light sees it with the camera's view frustum in red; the last column has the exact \
-         shadows of stenciled shadow volumes. {}x{} pixels, {}x{} shadow maps, \
+         light sees it with the camera's view frustum in red; then the exact \
+         shadows of stenciled shadow volumes, and soft shadows of the main light as an area \
+         light (the sun's 0.27 degrees, a lamp's 25 cm globe): the reference (a cluster of hard \
+         lights with exact volumes) and PCSS. {}x{} pixels, {}x{} shadow maps, \
          rendered on {}.</p><table><tr><th>view</th>{header}</tr>{rows}</table>\
          <p>Setups and timings: <a href=setups.json>setups.json</a></p>",
         loaded.name,

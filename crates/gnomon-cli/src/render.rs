@@ -23,6 +23,10 @@ pub enum PcfArg {
     /// 5x5 percentage closer filtering.
     #[value(name = "5x5")]
     Pcf5x5,
+    /// Percentage-closer soft shadows of an area light of --area-light's radius (blocker
+    /// search, penumbra from the blockers' distance; footprints carried into each map by its
+    /// Jacobian, so warped maps and cascades soften right).
+    Pcss,
 }
 
 impl From<PcfArg> for Filter {
@@ -31,6 +35,7 @@ impl From<PcfArg> for Filter {
             PcfArg::None => Filter::None,
             PcfArg::Hardware2x2 => Filter::Hardware2x2,
             PcfArg::Pcf5x5 => Filter::Pcf5x5,
+            PcfArg::Pcss => Filter::Pcss,
         }
     }
 }
@@ -65,7 +70,9 @@ pub struct RenderArgs {
     #[arg(long, default_value = "frame.png")]
     pub out: PathBuf,
     /// Also write the direct-light mask (PNG, one value per pixel sampled at its centre:
-    /// 255 lit, 0 not lit, 128 no geometry).
+    /// 255 lit, 0 not lit, 128 no geometry). With soft shadows (--area-light for the
+    /// volumes, --pcf pcss for a map) it is the main light's shadow factor instead: 255 x the
+    /// factor, 0 where there is no geometry.
     #[arg(long)]
     pub mask: Option<PathBuf>,
     /// Also write the shadow map as the light sees it, with the view frustum over it (PNG;
@@ -109,9 +116,8 @@ pub struct DrawArgs {
     /// (Default z-fail.)
     #[arg(long, value_enum)]
     pub stencil: Option<StencilArg>,
-    /// Shadow-map filtering.
-    #[arg(long, value_enum, default_value = "2x2")]
-    pub pcf: PcfArg,
+    #[command(flatten)]
+    pub soft: SoftArgs,
     /// Constant depth bias in world units, 0 to 10^4.
     #[arg(long, default_value_t = DepthBias::default().constant_world, value_parser = parse_bias_world, allow_hyphen_values = true)]
     pub bias_constant: f64,
@@ -131,12 +137,22 @@ pub struct DrawArgs {
     /// ground).
     #[arg(long, value_parser = crate::args::parse_plane, allow_hyphen_values = true)]
     pub receiver_plane: Option<[f64; 4]>,
-    /// Soft shadows of the exact volumes: each light an area light of this radius (spot and
-    /// point lights: a disc of R world units, perpendicular to a spot's direction or facing
-    /// the scene's centre from a point light; directional: R degrees, the sun's is 0.27),
-    /// sampled by --area-samples hard lights whose frames are averaged. With it, --mask
+}
+
+/// The shadow maps' filter and the lights' areas (soft shadows), shared by `render`, `view`
+/// and `compare` (one definition of each option).
+#[derive(Debug, Clone, Args)]
+pub struct SoftArgs {
+    /// Shadow-map filtering.
+    #[arg(long, value_enum, default_value = "2x2")]
+    pub pcf: PcfArg,
+    /// Soft shadows: each light an area light of this radius (spot and point lights: a disc
+    /// of R world units; directional: R degrees, the sun's is 0.27). The exact volumes sample
+    /// it by --area-samples hard lights whose frames are averaged (the disc perpendicular to
+    /// a spot's direction or facing the scene's centre from a point light), and --mask then
     /// writes the main light's shadow factor (255 x the share of its samples that reach a
-    /// pixel; 0 where there is no geometry).
+    /// pixel; 0 where there is no geometry); a shadow-map technique softens by it with
+    /// --pcf pcss.
     #[arg(long, allow_hyphen_values = true)]
     pub area_light: Option<f64>,
     /// The hard lights sampling each area light, 1 to 4096 (default 64).
@@ -144,52 +160,28 @@ pub struct DrawArgs {
     pub area_samples: Option<usize>,
 }
 
-impl DrawArgs {
-    /// The renderer's settings of a `size` image: filtering, bias and tint.
-    pub fn settings(&self, size: (u32, u32)) -> RenderSettings {
-        RenderSettings {
-            width: size.0,
-            height: size.1,
-            filter: self.pcf.into(),
-            bias: DepthBias {
-                constant_world: self.bias_constant,
-                slope_texels: self.bias_slope,
-                normal_offset_texels: self.normal_offset,
-                ..DepthBias::default()
-            },
-            tint: self.tint,
-            read: self.technique.map_read(),
-            ..RenderSettings::default()
+impl SoftArgs {
+    /// Whether the maps are filtered with PCSS.
+    pub fn pcss(&self) -> bool {
+        self.pcf == PcfArg::Pcss
+    }
+
+    /// The area lights' radius PCSS softens with (0 without PCSS).
+    pub fn pcss_radius(&self) -> f64 {
+        if self.pcss() {
+            self.area_light.unwrap_or(0.0)
+        } else {
+            0.0
         }
     }
 
-    /// The options of filtering, bias, tint and counting that differ from their defaults, as
-    /// they are written on a command line (each with a leading space).
+    /// The options that differ from their defaults, as written on a command line (each with
+    /// a leading space).
     pub fn non_default_flags(&self) -> String {
         let mut flags = String::new();
-        let defaults = DepthBias::default();
         if self.pcf != PcfArg::Hardware2x2 {
             let value = self.pcf.to_possible_value().expect("no skipped values");
             flags += &format!(" --pcf {}", value.get_name());
-        }
-        if self.bias_constant != defaults.constant_world {
-            flags += &format!(" --bias-constant {}", self.bias_constant);
-        }
-        if self.bias_slope != defaults.slope_texels {
-            flags += &format!(" --bias-slope {}", self.bias_slope);
-        }
-        if self.normal_offset != defaults.normal_offset_texels {
-            flags += &format!(" --normal-offset {}", self.normal_offset);
-        }
-        if let Some(stencil) = self.stencil {
-            let value = stencil.to_possible_value().expect("no skipped values");
-            flags += &format!(" --stencil {}", value.get_name());
-        }
-        if self.tint {
-            flags += " --tint";
-        }
-        if let Some(p) = self.receiver_plane {
-            flags += &format!(" --receiver-plane={},{},{},{}", p[0], p[1], p[2], p[3]);
         }
         if let Some(r) = self.area_light {
             flags += &format!(" --area-light {r}");
@@ -225,6 +217,66 @@ impl DrawArgs {
             .map(Some)
     }
 
+    /// Refuses an `--area-light` radius `lights` cannot take (negative; over 45 degrees for a
+    /// directional light).
+    pub fn check_area_light(&self, lights: &[gnomon::Light]) -> Result<(), CliError> {
+        if let Some(radius) = self.area_light {
+            for light in lights {
+                gnomon::area_light::check_radius(light, radius)
+                    .map_err(|e| CliError::usage(format!("--area-light: {e}")))?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl DrawArgs {
+    /// The renderer's settings of a `size` image: filtering, bias and tint.
+    pub fn settings(&self, size: (u32, u32)) -> RenderSettings {
+        RenderSettings {
+            width: size.0,
+            height: size.1,
+            filter: self.soft.pcf.into(),
+            bias: DepthBias {
+                constant_world: self.bias_constant,
+                slope_texels: self.bias_slope,
+                normal_offset_texels: self.normal_offset,
+                ..DepthBias::default()
+            },
+            tint: self.tint,
+            read: self.technique.map_read(),
+            area_light_radius: self.soft.pcss_radius(),
+            ..RenderSettings::default()
+        }
+    }
+
+    /// The options of filtering, bias, tint and counting that differ from their defaults, as
+    /// they are written on a command line (each with a leading space).
+    pub fn non_default_flags(&self) -> String {
+        let mut flags = self.soft.non_default_flags();
+        let defaults = DepthBias::default();
+        if self.bias_constant != defaults.constant_world {
+            flags += &format!(" --bias-constant {}", self.bias_constant);
+        }
+        if self.bias_slope != defaults.slope_texels {
+            flags += &format!(" --bias-slope {}", self.bias_slope);
+        }
+        if self.normal_offset != defaults.normal_offset_texels {
+            flags += &format!(" --normal-offset {}", self.normal_offset);
+        }
+        if let Some(stencil) = self.stencil {
+            let value = stencil.to_possible_value().expect("no skipped values");
+            flags += &format!(" --stencil {}", value.get_name());
+        }
+        if self.tint {
+            flags += " --tint";
+        }
+        if let Some(p) = self.receiver_plane {
+            flags += &format!(" --receiver-plane={},{},{},{}", p[0], p[1], p[2], p[3]);
+        }
+        flags
+    }
+
     /// Refuses the options that only `technique` does not read: `--receiver-plane` without
     /// planar shadows, `--stencil` without the volumes.
     pub fn check_read(&self) -> Result<(), CliError> {
@@ -234,9 +286,34 @@ impl DrawArgs {
                 self.technique.name()
             )));
         }
-        if self.area_light.is_some() && !matches!(self.technique, Drawn::Volumes(_)) {
+        let soft = &self.soft;
+        match (self.technique, soft.pcss()) {
+            (Drawn::Map(_), true) if soft.area_light.is_none() => {
+                return Err(CliError::usage(
+                    "--pcf pcss softens by the light's size: give --area-light R (degrees for \
+                     a sun, whose is 0.27; world units for spot and point lights)",
+                ));
+            }
+            (Drawn::Map(_), true) | (Drawn::Volumes(_), false) => {}
+            (Drawn::Volumes(_) | Drawn::Planar | Drawn::Read(_), true) => {
+                return Err(CliError::usage(format!(
+                    "--pcf pcss filters shadow maps read by depth; technique {} reads none",
+                    self.technique.name()
+                )));
+            }
+            _ if soft.area_light.is_some() => {
+                return Err(CliError::usage(format!(
+                    "--area-light softens the exact shadow volumes, or a shadow map with --pcf \
+                     pcss; technique {} without --pcf pcss does not read it",
+                    self.technique.name()
+                )));
+            }
+            _ => {}
+        }
+        if soft.area_samples.is_some() && !matches!(self.technique, Drawn::Volumes(_)) {
             return Err(CliError::usage(format!(
-                "--area-light softens the exact shadow volumes; technique {} does not read it",
+                "--area-samples samples the exact volumes' area light; technique {} does not \
+                 read it",
                 self.technique.name()
             )));
         }
@@ -419,6 +496,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     // Every light of the view (a scene file's view may have several), the first the main one.
     let lights = args.light.lights(&args.view, &loaded.views)?;
     args.draw.check_read()?;
+    args.draw.soft.check_area_light(&lights)?;
     let technique = match args.draw.technique {
         Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &lights, mode),
         Drawn::Planar => return run_planar(args, &scene, &camera, &lights),
@@ -476,7 +554,23 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         ..args.draw.settings(args.size)
     };
     let shadowed = gnomon_render::ShadowedLight::pairs(&lights, &setups);
-    let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
+    let mut frame = renderer.render_lights(&camera, &shadowed, &settings)?;
+    if args.draw.soft.pcss() {
+        // Soft shadows: the mask is the main light's shadow factor, as the volumes' is.
+        let factor = frame.shadow.as_deref().expect("a map frame has its factor");
+        frame.mask = frame
+            .mask
+            .iter()
+            .zip(factor)
+            .map(|(&m, f)| {
+                if m == gnomon_render::MASK_EMPTY {
+                    0
+                } else {
+                    (f.clamp(0.0, 1.0) * 255.0).round() as u8
+                }
+            })
+            .collect();
+    }
     if let (Some(path), Some(metrics)) = (&args.error_map, &frame.metrics) {
         // The frame's size (the legend lies over its bottom strip).
         let image = heatmap::draw(metrics, frame.width, frame.height);
@@ -559,6 +653,7 @@ fn run_volumes(
     };
     if let Some(clusters) = args
         .draw
+        .soft
         .area_clusters(lights, &scene.bounds()?.scene_box())?
     {
         let soft = renderer.render_soft_volumes(camera, &clusters, &settings, mode)?;

@@ -187,7 +187,11 @@ pub fn rows(
             }
             _ => Vec::new(),
         };
-        expanded.push(r);
+        // A row already added as another's extra (cascades-stable after cascades) stays
+        // where it was.
+        if !expanded.iter().any(|u: &Row| u.label == r.label) {
+            expanded.push(r);
+        }
         for extra in extras {
             if !expanded.iter().any(|u: &Row| u.label == extra) {
                 expanded.push(row(extra, params, shadow_map)?);
@@ -261,5 +265,31 @@ impl RowScene {
     /// shadows).
     pub fn restore(&self, renderer: &mut gnomon_render::Renderer) -> Result<(), CliError> {
         self.prepare(renderer, false).map(|_| ())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn expanded_rows_name_each_row_once() {
+        let names: Vec<String> = ["cascades", "cascades-stable", "sppsm", "focused"]
+            .map(String::from)
+            .to_vec();
+        let rows = rows(&names, &TechniqueParams::default(), 1024, true).unwrap();
+        let labels: Vec<&str> = rows.iter().map(|r| r.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            [
+                "cascades",
+                "cascades-stable",
+                "cascades-lispsm",
+                "cascades-best",
+                "sppsm",
+                "sppsm-same-texels",
+                "focused"
+            ]
+        );
     }
 }

@@ -108,6 +108,9 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
         args.draw.stencil_mode(gnomon_render::StencilMode::ZFail)?;
     }
     args.draw.check_read()?;
+    args.draw
+        .soft
+        .check_area_light(std::slice::from_ref(&light))?;
     let named = args.view.named(&loaded.views)?.cloned();
     let up = args
         .view
@@ -374,7 +377,7 @@ impl ViewModel {
                     Drawn::Volumes(named) => {
                         let mode = draw.stencil_mode(named)?;
                         let scene_box = self.scene.bounds().scene_box();
-                        if let Some(clusters) = draw.area_clusters(lights, &scene_box)? {
+                        if let Some(clusters) = draw.soft.area_clusters(lights, &scene_box)? {
                             // Soft shadows: the cluster's frames averaged on the CPU.
                             let soft = renderer
                                 .render_soft_volumes(&camera, &clusters, &settings, mode)?;
@@ -1091,9 +1094,13 @@ impl OptionPanel {
                 .map_or(t, |p| p.apply(t));
             options_read_by(&applied)
         });
+        let pcss = self
+            .fields
+            .iter()
+            .any(|f| f.id == "pcf" && matches!(&f.kind, FieldKind::Choice(_, v) if v == "pcss"));
         self.fields
             .iter()
-            .map(|f| shown(f, technique.as_ref(), read.as_deref()))
+            .map(|f| shown(f, technique.as_ref(), read.as_deref(), pcss))
             .collect()
     }
 
@@ -1182,9 +1189,10 @@ impl OptionPanel {
 }
 
 /// Whether `field` applies to `technique`: a parameter where it is among `read` (the options
-/// the map technique reads), the map's options for map techniques, the counting and the area
-/// light for volumes, the receiver plane for planar shadows.
-fn shown(field: &Field, technique: Option<&Drawn>, read: Option<&[&str]>) -> bool {
+/// the map technique reads), the map's options for map techniques (the area light too where
+/// they filter with PCSS), the counting and the area light for volumes, the receiver plane
+/// for planar shadows.
+fn shown(field: &Field, technique: Option<&Drawn>, read: Option<&[&str]>, pcss: bool) -> bool {
     let id = field.id.as_str();
     match technique {
         None => id == "technique",
@@ -1192,6 +1200,7 @@ fn shown(field: &Field, technique: Option<&Drawn>, read: Option<&[&str]>) -> boo
             ["technique", "stencil", "area_light", "area_samples"].contains(&id)
         }
         Some(Drawn::Planar) => id == "technique" || id == "receiver_plane",
+        Some(Drawn::Map(_)) if id == "area_light" => pcss,
         Some(Drawn::Map(_) | Drawn::Read(_)) => {
             if ["stencil", "receiver_plane", "area_light", "area_samples"].contains(&id) {
                 false

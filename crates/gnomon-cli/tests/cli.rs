@@ -358,12 +358,22 @@ fn demo_writes_every_view_and_technique() {
     let entries = json.as_array().unwrap();
     // Every view with every map technique, SPPSM with one map's texels, paraboloid maps with
     // a cube's, projective shadows, object IDs, IDs and depth, the three cascade rows,
-    // planar shadows on the ground and the exact shadow volumes (a row that cannot draw a
-    // view's light is an entry that says so).
+    // planar shadows on the ground, the exact shadow volumes, and soft shadows (the area
+    // light's reference and PCSS) (a row that cannot draw a view's light is an entry that
+    // says so).
     assert_eq!(
         entries.len(),
-        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 3 + 2 + 3 + 1 + 1)
+        gnomon_scene::DEMO_VIEWS.len() * (gnomon::Technique::NAMES.len() + 3 + 2 + 3 + 1 + 1 + 2)
     );
+    for view in gnomon_scene::DEMO_VIEWS {
+        let pcss = entries
+            .iter()
+            .find(|e| e["view"] == view.name && e["technique"] == "pcss")
+            .unwrap_or_else(|| panic!("{}: no pcss entry", view.name));
+        assert!(pcss["penumbra_error"].as_f64().unwrap() < 0.5, "{pcss}");
+        assert!(dir.join(format!("{}_soft.png", view.name)).exists());
+        assert!(dir.join(format!("{}_pcss.png", view.name)).exists());
+    }
     let skipped = entries.iter().filter(|e| e["skipped"].is_string()).count();
     assert!(
         skipped > 0,
@@ -803,6 +813,85 @@ fn render_soft_shadows_of_an_area_light() {
         (
             vec!["--technique", "volumes", "--area-samples", "8"],
             "--area-light",
+        ),
+    ]);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `render --pcf pcss --area-light R`: PCSS on a shadow map; its mask is the shadow factor,
+/// close to the soft volumes' of the same area light; misuses are usage errors.
+#[test]
+fn render_pcss_of_an_area_light() {
+    let dir = temp_dir("pcss");
+    let reference = render_mask(
+        &dir,
+        "volumes",
+        &["--area-light", "4", "--area-samples", "64"],
+        "reference",
+    );
+    let pcss = render_mask(
+        &dir,
+        "lispsm",
+        &["--pcf", "pcss", "--area-light", "4"],
+        "pcss",
+    );
+    let hard = render_mask(&dir, "lispsm", &[], "hard");
+    let penumbra = pcss.pixels().filter(|p| p.0[0] > 5 && p.0[0] < 250).count();
+    assert!(penumbra > 20, "{penumbra} penumbra pixels");
+    assert!(hard.pixels().all(|p| [0, 128, 255].contains(&p.0[0])));
+    // Where either is in a penumbra, PCSS stays near the reference.
+    let (mut sum, mut count) = (0.0, 0);
+    for (p, r) in pcss.pixels().zip(reference.pixels()) {
+        let (p, r) = (p.0[0] as f64 / 255.0, r.0[0] as f64 / 255.0);
+        if (0.02..0.98).contains(&p) || (0.02..0.98).contains(&r) {
+            sum += (p - r).abs();
+            count += 1;
+        }
+    }
+    assert!(
+        sum / (count as f64) < 0.15,
+        "{} over {count}",
+        sum / count as f64
+    );
+    assert_render_refuses(&[
+        (
+            vec!["--technique", "lispsm", "--pcf", "pcss"],
+            "--area-light R",
+        ),
+        (
+            vec![
+                "--technique",
+                "lispsm",
+                "--pcf",
+                "pcss",
+                "--area-light",
+                "50",
+            ],
+            "area light radius",
+        ),
+        (
+            vec![
+                "--technique",
+                "object-id",
+                "--pcf",
+                "pcss",
+                "--area-light",
+                "1",
+            ],
+            "reads none",
+        ),
+        (
+            vec![
+                "--technique",
+                "lispsm",
+                "--pcf",
+                "pcss",
+                "--area-light",
+                "1",
+                "--area-samples",
+                "8",
+            ],
+            "--area-samples",
         ),
     ]);
     std::fs::remove_dir_all(dir).unwrap();
@@ -1326,6 +1415,7 @@ fn compare_has_planar_and_projective_rows() {
                     "{command}"
                 );
             }
+            assert!(rows.iter().all(|r| r["penumbra_error"].is_null()));
             for name in ["object-id", "id-depth"] {
                 if let Some(row) = rows.iter().find(|r| r["technique"] == name) {
                     // Wrong only near the outlines the light sees, at this map size.
@@ -1344,6 +1434,84 @@ fn compare_has_planar_and_projective_rows() {
     }
     let markdown = std::fs::read_to_string(dir.join("index.md")).unwrap();
     assert!(markdown.contains("| planar |"), "{markdown}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `compare --pcf pcss --area-light R`: each map row read by depth gets its penumbra error
+/// against the soft volumes of the same area light, and a command that reproduces it.
+#[test]
+fn compare_measures_pcss_penumbrae() {
+    let dir = temp_dir("compare-pcss");
+    let out = gnomon(&[
+        "compare",
+        "--views",
+        "overview,low_sun",
+        "--techniques",
+        "focused,cascades-best,object-id",
+        "--shadow-map",
+        "1024",
+        "--size",
+        "160x90",
+        "--pcf",
+        "pcss",
+        "--area-light",
+        "2",
+        "--area-samples",
+        "16",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    for view in json["views"].as_array().unwrap() {
+        let soft = view["soft_command"].as_str().unwrap();
+        assert!(
+            soft.contains("--technique volumes --size 160x90 --area-light 2 --area-samples 16"),
+            "{soft}"
+        );
+        for row in view["techniques"].as_array().unwrap() {
+            let depth = row["technique"] != "object-id";
+            assert_eq!(row["penumbra_error"].is_number(), depth, "{row}");
+            if depth {
+                assert!(row["penumbra_error"].as_f64().unwrap() < 0.3, "{row}");
+                assert!(row["penumbra_pixels"].as_u64().unwrap() > 0, "{row}");
+                // The row's command reproduces it.
+                let command = row["command"].as_str().unwrap();
+                assert!(
+                    command.contains("--pcf pcss --area-light 2 --out"),
+                    "{command}"
+                );
+                let words: Vec<&str> = command.split_whitespace().skip(1).collect();
+                let rendered = Command::new(env!("CARGO_BIN_EXE_gnomon"))
+                    .args(&words)
+                    .current_dir(&dir)
+                    .output()
+                    .unwrap();
+                assert!(
+                    rendered.status.success(),
+                    "{command}: {}",
+                    String::from_utf8_lossy(&rendered.stderr)
+                );
+            }
+        }
+    }
+    let markdown = std::fs::read_to_string(dir.join("index.md")).unwrap();
+    assert!(markdown.contains("mean penumbra error"), "{markdown}");
+    for (extra, needle) in [
+        (vec!["--pcf", "pcss"], "--area-light R"),
+        (vec!["--area-light", "1"], "--pcf pcss"),
+    ] {
+        let mut args = vec!["compare", "--views", "overview", "--size", "64x36"];
+        args.extend(extra);
+        let out = gnomon(&args);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&out.stderr).contains(needle));
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }
 

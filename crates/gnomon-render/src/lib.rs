@@ -46,7 +46,7 @@ pub use pipelines::COLOR_FORMAT;
 pub use records::{MAX_LIGHTS, MAX_MAPS, ShadowedLight};
 pub use renderer::{DepthBias, Filter, MapRead, RenderSettings, Renderer, SceneTarget};
 pub use scene::{Instance, RenderScene};
-pub use soft::SoftFrame;
+pub use soft::{PenumbraError, SoftFrame, penumbra_error};
 pub use timing::TimingSource;
 pub use volumes::{StencilMode, VolumeFrame, VolumeStats};
 

@@ -748,15 +748,8 @@ impl Renderer {
 /// A light's area for PCSS as the lookup reads it (`GnomonLight.range.z`): a directional
 /// light's tangent of its angular radius, a spot or point light's radius.
 fn area_size(light: &gnomon::Light, radius: f64) -> Result<f32, RenderError> {
-    let limit = match light {
-        gnomon::Light::Directional(_) => gnomon::area_light::MAX_ANGULAR_RADIUS_DEGREES,
-        _ => f64::MAX,
-    };
-    if !(radius.is_finite() && (0.0..=limit).contains(&radius)) {
-        return Err(RenderError::Invalid(format!(
-            "area light radius {radius}: 0 or more (at most {limit} degrees for a directional light)"
-        )));
-    }
+    gnomon::area_light::check_radius(light, radius)
+        .map_err(|e| RenderError::Invalid(e.to_string()))?;
     Ok(match light {
         gnomon::Light::Directional(_) => radius.to_radians().tan(),
         _ => radius,

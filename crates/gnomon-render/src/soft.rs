@@ -127,6 +127,35 @@ impl Renderer {
     }
 }
 
+/// How far a soft shadow factor lies from a reference's over their penumbrae.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PenumbraError {
+    /// The mean absolute difference of the factors over the pixels judged.
+    pub mean: f64,
+    /// The pixels judged: those (facing the light, N.L > 0.1) where either factor lies
+    /// strictly between lit and shadowed (0.02 to 0.98): the union of both penumbrae.
+    pub pixels: usize,
+}
+
+/// The penumbra error of `factor` (one per pixel: a frame's [`Frame::shadow`]) against
+/// `reference` (a [`SoftFrame::factor`] of the same view), over the pixels whose N.L
+/// (`n_dot_l`) is above 0.1.
+pub fn penumbra_error(reference: &[Option<f32>], factor: &[f32], n_dot_l: &[f32]) -> PenumbraError {
+    let inside = |f: f32| f > 0.02 && f < 0.98;
+    let (mut sum, mut pixels) = (0.0, 0usize);
+    for ((r, f), n) in reference.iter().zip(factor).zip(n_dot_l) {
+        let Some(r) = *r else { continue };
+        if *n > 0.1 && (inside(r) || inside(*f)) {
+            sum += (r - f).abs() as f64;
+            pixels += 1;
+        }
+    }
+    PenumbraError {
+        mean: sum / pixels.max(1) as f64,
+        pixels,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -16,7 +16,7 @@ use gnomon::{
     DirectionalLight, Light, MapSettings, PointLight, ShadowTechnique, SpotLight, Technique,
     compute_setup_with_samples,
 };
-use gnomon_render::{Filter, RenderScene, RenderSettings, Renderer, StencilMode};
+use gnomon_render::{Filter, RenderScene, RenderSettings, Renderer, StencilMode, penumbra_error};
 
 const SIZE: u32 = 256;
 /// Light samples of the reference.
@@ -120,22 +120,6 @@ fn pcss(
     (frame.shadow.unwrap(), frame.metrics.unwrap().n_dot_l)
 }
 
-/// Penumbra error: the mean absolute difference over the pixels (N.L > 0.1) where either
-/// factor lies strictly between lit and shadowed, and how many those are.
-fn penumbra_error(reference: &[Option<f32>], factor: &[f32], n_dot_l: &[f32]) -> (f64, usize) {
-    let inside = |f: f32| f > 0.02 && f < 0.98;
-    let (mut sum, mut count) = (0.0, 0usize);
-    for i in 0..factor.len() {
-        let Some(r) = reference[i] else { continue };
-        if n_dot_l[i] <= 0.1 || !(inside(r) || inside(factor[i])) {
-            continue;
-        }
-        sum += (r - factor[i]).abs() as f64;
-        count += 1;
-    }
-    (sum / count.max(1) as f64, count)
-}
-
 #[test]
 fn pcss_follows_the_cluster_reference_on_every_fit() {
     let scene = scene();
@@ -148,11 +132,10 @@ fn pcss_follows_the_cluster_reference_on_every_fit() {
                 continue;
             }
             let (factor, n_dot_l) = pcss(&mut renderer, &technique, &light, radius);
-            let (error, count) = penumbra_error(&reference, &factor, &n_dot_l);
-            let (hard_error, _) = {
-                let (hard, _) = pcss(&mut renderer, &technique, &light, 0.0);
-                penumbra_error(&reference, &hard, &n_dot_l)
-            };
+            let error = penumbra_error(&reference, &factor, &n_dot_l);
+            let (error, count) = (error.mean, error.pixels);
+            let (hard, _) = pcss(&mut renderer, &technique, &light, 0.0);
+            let hard_error = penumbra_error(&reference, &hard, &n_dot_l).mean;
             println!(
                 "{name} {technique_name}: penumbra error {error:.4} over {count} pixels \
                  (hard shadows: {hard_error:.4})"

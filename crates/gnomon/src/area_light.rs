@@ -25,6 +25,22 @@ pub fn vogel_disc(i: usize, n: usize) -> (f64, f64) {
     (r * phi.cos(), r * phi.sin())
 }
 
+/// Checks the radius of `light`'s area: finite, 0 or more, and for a directional light (an
+/// angular radius in degrees) at most [`MAX_ANGULAR_RADIUS_DEGREES`].
+pub fn check_radius(light: &Light, radius: f64) -> Result<(), SetupError> {
+    let limit = match light {
+        Light::Directional(_) => MAX_ANGULAR_RADIUS_DEGREES,
+        _ => f64::MAX,
+    };
+    if !(radius.is_finite() && (0.0..=limit).contains(&radius)) {
+        return Err(SetupError::InvalidParameter {
+            name: "area light radius (0 or more; at most 45 degrees for a directional light)",
+            value: radius,
+        });
+    }
+    Ok(())
+}
+
 /// `light` as an area light sampled by `samples` hard lights: for a spot light, a disc of
 /// `radius` world units centred on it and perpendicular to its direction; for a point light,
 /// the same disc perpendicular to `facing` (where the scene lies from it); for a directional
@@ -42,16 +58,7 @@ pub fn area_light_samples(
             value: samples as f64,
         });
     }
-    let limit = match light {
-        Light::Directional(_) => MAX_ANGULAR_RADIUS_DEGREES,
-        _ => f64::MAX,
-    };
-    if !(radius.is_finite() && (0.0..=limit).contains(&radius)) {
-        return Err(SetupError::InvalidParameter {
-            name: "area light radius (0 or more; at most 45 degrees for a directional light)",
-            value: radius,
-        });
-    }
+    check_radius(light, radius)?;
     let basis = |axis: DVec3| {
         let u = axis.any_orthonormal_vector();
         (u, axis.cross(u))
