@@ -41,10 +41,11 @@ pub struct CompareArgs {
     /// Shadow-map resolution in texels.
     #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
     pub shadow_map: u32,
-    /// The maps' filter; with `--pcf pcss --area-light R` each view also gets the soft
-    /// shadows of its area lights as a cluster of --area-samples hard lights with exact
-    /// volumes, and each row the penumbra error of its PCSS against them (the mean absolute
-    /// difference of the shadow factor over the union of both penumbrae).
+    /// The maps' filter; with `--area-light R` each view also gets the soft shadows of its
+    /// area lights as a cluster of --area-samples hard lights with exact volumes, and each
+    /// row read by depth the penumbra error of its filter against them (the mean absolute
+    /// difference of the shadow factor over the union of both penumbrae): PCSS's with
+    /// `--pcf pcss`, the hard shadows' with another filter.
     #[command(flatten)]
     pub soft: crate::render::SoftArgs,
     /// Image size, WIDTHxHEIGHT.
@@ -148,19 +149,11 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     if techniques.is_empty() && !planar {
         return Err(CliError::usage("nothing to compare"));
     }
-    match (args.soft.pcss(), args.soft.area_light) {
-        (true, None) => {
-            return Err(CliError::usage(
-                "--pcf pcss softens by the lights' size: give --area-light R (degrees for a \
-                 sun, whose is 0.27; world units for spot and point lights)",
-            ));
-        }
-        (false, Some(_)) => {
-            return Err(CliError::usage(
-                "--area-light measures PCSS's penumbrae: give --pcf pcss too",
-            ));
-        }
-        _ => {}
+    if args.soft.pcss() && args.soft.area_light.is_none() {
+        return Err(CliError::usage(
+            "--pcf pcss softens by the lights' size: give --area-light R (degrees for a sun, \
+             whose is 0.27; world units for spot and point lights)",
+        ));
     }
     let rows = Rows {
         techniques: &techniques,
@@ -292,6 +285,7 @@ fn compare_scene(
     // A map's command: the filter and the area light (the samples are the reference's).
     let map_soft = crate::render::SoftArgs {
         area_samples: None,
+        area_light: args.soft.area_light.filter(|_| pcss),
         ..args.soft.clone()
     };
     let soft_flags = |row: &crate::rows::Row| {
@@ -329,15 +323,19 @@ fn compare_scene(
         args.shadow_map,
         renderer.gpu().describe(),
         renderer.timing_source().name(),
-        if pcss {
+        if let Some(radius) = args.soft.area_light {
             format!(
-                " Maps read by depth are filtered with PCSS of area lights of radius {} \
-                 (degrees for a sun, world units for spot and point lights); penumbra error: \
+                " Area lights of radius {radius} (degrees for a sun, world units for spot and \
+                 point lights){}; penumbra error: \
                  the mean absolute difference of the first light's shadow factor from the soft \
                  shadows of the same area light ({} hard lights with exact volumes, the third \
                  column of the volumes' row) over the pixels with N.L > 0.1 where either lies \
                  between 0.02 and 0.98 (the union of both penumbrae).",
-                args.soft.area_light.unwrap_or(0.0),
+                if pcss {
+                    ", maps read by depth filtered with their PCSS"
+                } else {
+                    ", maps filtered without them (hard shadows)"
+                },
                 args.soft
                     .area_samples
                     .unwrap_or(crate::render::DEFAULT_AREA_SAMPLES)
@@ -378,7 +376,7 @@ fn compare_scene(
         // With PCSS, the soft shadows of the view's area lights: the reference of the
         // penumbrae.
         let soft = match args.soft.area_clusters(&lights, &bounds.scene_box())? {
-            Some(clusters) if pcss => {
+            Some(clusters) => {
                 progress.set_message(format!("{}: soft volumes", view.name));
                 Some(renderer.render_soft_volumes(
                     &camera,
@@ -387,7 +385,7 @@ fn compare_scene(
                     StencilMode::ZFail,
                 )?)
             }
-            _ => None,
+            None => None,
         };
         // What the pixels see from each light, once per view, shared by every technique.
         let samples = lights
