@@ -51,6 +51,34 @@ const SOFT_SAMPLES: usize = 32;
 /// The map technique the gallery softens with PCSS (it takes every kind of light).
 const PCSS_TECHNIQUE: &str = "lispsm";
 
+/// Writes `frame` as `STEM.png` in `out` (and with `light_view` its maps as the light sees
+/// them, `STEM_light.png`) and gives its gallery cell: the images, `caption` and the command
+/// that draws it.
+fn cell(
+    out: &std::path::Path,
+    stem: &str,
+    frame: &gnomon_render::Frame,
+    light_view: bool,
+    caption: &str,
+    command: &str,
+) -> Result<String, CliError> {
+    let light = light_view.then(|| out.join(format!("{stem}_light.png")));
+    write_frame(
+        frame,
+        &out.join(format!("{stem}.png")),
+        None,
+        light.as_deref(),
+    )?;
+    let light_image = if light_view {
+        format!("<br><img src=\"{stem}_light.png\" width=240>")
+    } else {
+        String::new()
+    };
+    Ok(format!(
+        "<td><img src=\"{stem}.png\" width=480>{light_image}<br>{caption}<br><code>{command}</code></td>"
+    ))
+}
+
 /// Runs `gnomon demo`.
 pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let started = Instant::now();
@@ -112,13 +140,6 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             let shadowed = ShadowedLight::pairs(&lights, &setups);
             let frame = renderer.render_lights(&camera, &shadowed, &row.settings(&settings))?;
             let stem = format!("{}_{}", view.name, row.label);
-            let light_view = args.out.join(format!("{stem}_light.png"));
-            write_frame(
-                &frame,
-                &args.out.join(format!("{stem}.png")),
-                None,
-                Some(&light_view),
-            )?;
             let timings = frame.timings;
             sums[0] += setup_us;
             sums[1] += timings.shadow_pass_ms;
@@ -142,14 +163,12 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 (width, height),
                 &format!(" --out {stem}.png --light-view {stem}_light.png"),
             );
-            cells.push_str(&format!(
-                "<td><img src=\"{stem}.png\" width=480><br><img src=\"{stem}_light.png\" width=240>\
-                 <br>{} &middot; setup {setup_us:.0} &micro;s &middot; shadow pass {:.1} ms &middot; \
-                 main pass {:.1} ms &middot; fallback {fallback}<br><code>{command}</code></td>",
-                row.label,
-                timings.shadow_pass_ms,
-                timings.main_pass_ms
-            ));
+            let caption = format!(
+                "{} &middot; setup {setup_us:.0} &micro;s &middot; shadow pass {:.1} ms &middot; \
+                 main pass {:.1} ms &middot; fallback {fallback}",
+                row.label, timings.shadow_pass_ms, timings.main_pass_ms
+            );
+            cells.push_str(&cell(&args.out, &stem, &frame, true, &caption, &command)?);
             all.push(json!({
                 "view": view.name,
                 "technique": row.label,
@@ -164,39 +183,38 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             // Planar projected shadows on the ground (nothing else receives: the limit).
             let drawn = renderer.render_planar_lit_by(&camera, &lights, receiver, &settings)?;
             let stem = format!("{}_planar", view.name);
-            write_frame(
-                &drawn.frame,
-                &args.out.join(format!("{stem}.png")),
-                None,
-                None,
-            )?;
             let timings = drawn.frame.timings;
             eprintln!(
                 "[{:>2}/{total}] {:<15} {:<8} {} flattened triangles  flattening and stencil {:>6.1} ms  shading {:>6.1} ms",
-                v * per_view + per_view - 1,
+                v * per_view + per_view - 3,
                 view.name,
                 crate::names::PLANAR,
                 drawn.stats.triangles,
                 timings.shadow_pass_ms,
                 timings.main_pass_ms,
             );
-            cells.push_str(&format!(
-                "<td><img src=\"{stem}.png\" width=480><br>planar projected shadows (the ground \
-                 only) &middot; {} flattened triangles &middot; flattening and stencil {:.1} ms \
-                 &middot; shading {:.1} ms<br><code>{}</code></td>",
-                drawn.stats.triangles,
-                timings.shadow_pass_ms,
-                timings.main_pass_ms,
-                crate::args::render_command_of(
-                    &loaded.options,
-                    view,
-                    (None, crate::names::PLANAR),
-                    &args.params,
-                    args.shadow_map,
-                    (width, height),
-                    &format!(" --out {stem}.png"),
-                )
-            ));
+            let caption = format!(
+                "planar projected shadows (the ground only) &middot; {} flattened triangles \
+                 &middot; flattening and stencil {:.1} ms &middot; shading {:.1} ms",
+                drawn.stats.triangles, timings.shadow_pass_ms, timings.main_pass_ms,
+            );
+            let command = crate::args::render_command_of(
+                &loaded.options,
+                view,
+                (None, crate::names::PLANAR),
+                &args.params,
+                args.shadow_map,
+                (width, height),
+                &format!(" --out {stem}.png"),
+            );
+            cells.push_str(&cell(
+                &args.out,
+                &stem,
+                &drawn.frame,
+                false,
+                &caption,
+                &command,
+            )?);
             all.push(json!({
                 "view": view.name,
                 "technique": crate::names::PLANAR,
@@ -209,18 +227,12 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         let drawn =
             renderer.render_volumes_lit_by(&camera, &lights, &settings, StencilMode::PerCaster)?;
         let stem = format!("{}_volumes", view.name);
-        write_frame(
-            &drawn.frame,
-            &args.out.join(format!("{stem}.png")),
-            None,
-            None,
-        )?;
         let (timings, stats) = (drawn.frame.timings, drawn.stats);
         volume_sums[0] += timings.shadow_pass_ms;
         volume_sums[1] += timings.main_pass_ms;
         eprintln!(
             "[{:>2}/{total}] {:<15} {:<8} {} volume triangles ({} casters z-pass, {} z-fail)  extrusion and stencil {:>6.1} ms  shading {:>6.1} ms",
-            v * per_view + per_view,
+            v * per_view + per_view - 2,
             view.name,
             "volumes",
             stats.triangles,
@@ -229,25 +241,32 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             timings.shadow_pass_ms,
             timings.main_pass_ms,
         );
-        cells.push_str(&format!(
-            "<td><img src=\"{stem}.png\" width=480><br>exact shadow volumes &middot; {} triangles \
-             ({} casters z-pass, {} z-fail) &middot; extrusion and stencil {:.1} ms &middot; \
-             shading {:.1} ms<br><code>{}</code></td>",
+        let caption = format!(
+            "exact shadow volumes &middot; {} triangles ({} casters z-pass, {} z-fail) &middot; \
+             extrusion and stencil {:.1} ms &middot; shading {:.1} ms",
             stats.triangles,
             stats.z_pass_casters,
             stats.z_fail_casters,
             timings.shadow_pass_ms,
             timings.main_pass_ms,
-            render_command(
-                &loaded.options,
-                view,
-                None,
-                &args.params,
-                args.shadow_map,
-                (width, height),
-                &format!(" --stencil per-caster --out {stem}.png"),
-            )
-        ));
+        );
+        let command = render_command(
+            &loaded.options,
+            view,
+            None,
+            &args.params,
+            args.shadow_map,
+            (width, height),
+            &format!(" --stencil per-caster --out {stem}.png"),
+        );
+        cells.push_str(&cell(
+            &args.out,
+            &stem,
+            &drawn.frame,
+            false,
+            &caption,
+            &command,
+        )?);
         all.push(json!({
             "view": view.name,
             "technique": "volumes",
@@ -270,12 +289,6 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         let reference =
             renderer.render_soft_volumes(&camera, &clusters, &settings, StencilMode::PerCaster)?;
         let stem = format!("{}_soft", view.name);
-        write_frame(
-            &reference.frame,
-            &args.out.join(format!("{stem}.png")),
-            None,
-            None,
-        )?;
         let t = reference.frame.timings;
         eprintln!(
             "[{:>2}/{total}] {:<15} {:<8} {SOFT_SAMPLES} hard lights with volumes  {:>6.1} ms",
@@ -288,19 +301,28 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             gnomon::Light::Directional(_) => format!("{} degrees", soft_radius(&lights[0])),
             _ => format!("{} m", soft_radius(&lights[0])),
         };
-        cells.push_str(&format!(
-            "<td><img src=\"{stem}.png\" width=480><br>soft shadows of an area light of {radius_words}              (the reference): {SOFT_SAMPLES} hard lights with exact volumes, averaged &middot;              {:.1} ms<br><code>{}</code></td>",
+        let caption = format!(
+            "soft shadows of an area light of {radius_words} (the reference): {SOFT_SAMPLES} \
+             hard lights with exact volumes, averaged &middot; {:.1} ms",
             t.shadow_pass_ms + t.main_pass_ms,
-            render_command(
-                &loaded.options,
-                view,
-                None,
-                &args.params,
-                args.shadow_map,
-                (width, height),
-                &format!("{} --out {stem}.png", soft.non_default_flags()),
-            )
-        ));
+        );
+        let command = render_command(
+            &loaded.options,
+            view,
+            None,
+            &args.params,
+            args.shadow_map,
+            (width, height),
+            &format!("{} --out {stem}.png", soft.non_default_flags()),
+        );
+        cells.push_str(&cell(
+            &args.out,
+            &stem,
+            &reference.frame,
+            false,
+            &caption,
+            &command,
+        )?);
         all.push(json!({
             "view": view.name,
             "technique": "soft-volumes",
@@ -332,7 +354,6 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                     ..settings
                 },
             )?;
-            write_frame(&frame, &args.out.join(format!("{stem}.png")), None, None)?;
             let error = gnomon_render::penumbra_error(
                 &reference.factor,
                 frame.shadow.as_deref().expect("a map frame has its factor"),
@@ -349,22 +370,22 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
                 t.main_pass_ms,
                 error.mean,
             );
-            cells.push_str(&format!(
-                "<td><img src=\"{stem}.png\" width=480><br>{label}, the same area light &middot;                  penumbra error {:.3} (against the reference, over {} pixels) &middot; shadow                  pass {:.1} ms &middot; main pass {:.1} ms<br><code>{}</code></td>",
-                error.mean,
-                error.pixels,
-                t.shadow_pass_ms,
-                t.main_pass_ms,
-                crate::args::render_command_of(
-                    &loaded.options,
-                    view,
-                    (Some(&pcss_row.technique), pcss_row.technique_name()),
-                    &pcss_row.params,
-                    pcss_row.resolution,
-                    (width, height),
-                    &format!("{} --out {stem}.png", pcss.non_default_flags()),
-                )
-            ));
+            let caption = format!(
+                "{label}, the same area light &middot; penumbra error {:.3} (against the \
+                 reference, over {} pixels) &middot; shadow pass {:.1} ms &middot; main pass \
+                 {:.1} ms",
+                error.mean, error.pixels, t.shadow_pass_ms, t.main_pass_ms,
+            );
+            let command = crate::args::render_command_of(
+                &loaded.options,
+                view,
+                (Some(&pcss_row.technique), pcss_row.technique_name()),
+                &pcss_row.params,
+                pcss_row.resolution,
+                (width, height),
+                &format!("{} --out {stem}.png", pcss.non_default_flags()),
+            );
+            cells.push_str(&cell(&args.out, &stem, &frame, false, &caption, &command)?);
             all.push(json!({
                 "view": view.name,
                 "technique": "pcss",
