@@ -524,6 +524,12 @@ fn gnomon_depth_rate(view: GnomonMapView, p: vec3<f32>, direction: vec3<f32>) ->
     return dot(view.depth_from_camera.xyz, direction);
 }
 
+// A unit vector perpendicular to the unit vector n.
+fn gnomon_perpendicular(n: vec3<f32>) -> vec3<f32> {
+    let axis = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.x) > 0.7);
+    return normalize(cross(n, axis));
+}
+
 // Point on Vogel's spiral over the unit disc: tap i of n.
 fn gnomon_vogel(i: i32, n: i32) -> vec2<f32> {
     let r = sqrt((f32(i) + 0.5) / f32(n));
@@ -544,25 +550,19 @@ fn gnomon_lookup_pcss(light: u32, view: GnomonMapView, p: vec3<f32>, n_geo: vec3
     }
     let kind = gnomon_shadows.lights[light].info.x;
     let area = gnomon_shadows.lights[light].range.z;
-    var to_light = -gnomon_shadows.lights[light].vector.xyz;
-    var distance = 0.0;
-    if (kind != GNOMON_LIGHT_DIRECTIONAL) {
-        to_light = gnomon_shadows.lights[light].vector.xyz - p;
-        distance = length(to_light);
-        to_light = to_light / max(distance, 1e-30);
-    }
+    let to_light = gnomon_incidence(light, p).to_light;
+    // The distance to a spot or point light (unused for a directional one).
+    let distance = length(gnomon_shadows.lights[light].vector.xyz - p);
     // Across the light's rays: u, v; the map's normalised coordinates per world unit along
     // them (columns of jacobian).
     let g = gnomon_ndc_gradients(view, p);
-    let u = normalize(select(cross(to_light, vec3<f32>(1.0, 0.0, 0.0)),
-        cross(to_light, vec3<f32>(0.0, 1.0, 0.0)), abs(to_light.x) > 0.7));
+    let u = gnomon_perpendicular(to_light);
     let v = cross(to_light, u);
     let jacobian = mat2x2<f32>(vec2<f32>(dot(g[0], u), dot(g[1], u)), vec2<f32>(dot(g[0], v), dot(g[1], v)));
     // Depth units per world unit toward the light (positive: nearer the light is smaller).
     let rate = -gnomon_depth_rate(view, p, to_light);
     // The receiver's plane: depth change per normalised map unit, through its tangents.
-    let t1 = normalize(select(cross(n_geo, vec3<f32>(1.0, 0.0, 0.0)),
-        cross(n_geo, vec3<f32>(0.0, 1.0, 0.0)), abs(n_geo.x) > 0.7));
+    let t1 = gnomon_perpendicular(n_geo);
     let t2 = cross(n_geo, t1);
     let tangent = mat2x2<f32>(vec2<f32>(dot(g[0], t1), dot(g[1], t1)), vec2<f32>(dot(g[0], t2), dot(g[1], t2)));
     let det = determinant(tangent);
