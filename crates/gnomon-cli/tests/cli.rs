@@ -12,6 +12,23 @@ fn gnomon(args: &[&str]) -> Output {
         .expect("the binary runs")
 }
 
+/// Runs a command the binary printed (`gnomon ...`) as a shell runs it, in `dir` (its
+/// quoted arguments stay whole), and fails the test, showing its standard error, unless it
+/// succeeds.
+fn run_printed(command: &str, dir: &std::path::Path) {
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(command.replacen("gnomon", env!("CARGO_BIN_EXE_gnomon"), 1))
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{command}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// Runs the binary and fails the test, showing its standard error, unless it succeeds.
 fn gnomon_ok(args: &[&str]) -> Output {
     let out = gnomon(args);
@@ -1496,17 +1513,7 @@ fn compare_measures_pcss_penumbrae() {
                 command.contains("--pcf pcss --area-light 2 --out"),
                 "{command}"
             );
-            let words: Vec<&str> = command.split_whitespace().skip(1).collect();
-            let rendered = Command::new(env!("CARGO_BIN_EXE_gnomon"))
-                .args(&words)
-                .current_dir(&dir)
-                .output()
-                .unwrap();
-            assert!(
-                rendered.status.success(),
-                "{command}: {}",
-                String::from_utf8_lossy(&rendered.stderr)
-            );
+            run_printed(command, &dir);
         }
     }
     let markdown = std::fs::read_to_string(dir.join("index.md")).unwrap();
@@ -2451,17 +2458,7 @@ fn scene_files_work_in_every_command() {
         .unwrap();
     assert!(command.contains("--scene-file '"), "{command}");
     // The command as a shell runs it (the file's name has a space: it is quoted).
-    let out = Command::new("sh")
-        .arg("-c")
-        .arg(command.replacen("gnomon", env!("CARGO_BIN_EXE_gnomon"), 1))
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{command}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_printed(command, &dir);
     let demo = dir.join("demo");
     gnomon_ok(&[
         "demo",
