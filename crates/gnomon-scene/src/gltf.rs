@@ -2,17 +2,22 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{DMat4, DVec3};
+use std::sync::Arc;
+
+use glam::{DMat4, DVec2, DVec3};
 use gltf::mesh::Mode;
 
 use crate::load::{LoadError, MeshFormat, RawPart};
+use crate::mesh::{Cutout, Wrap};
 
 /// Every triangle of the default scene (else the first, else every root node) of a glTF
 /// document in `bytes`: one part per material of each mesh (coloured by its base colour
 /// factor), in the mesh's frame, placed at every node that uses the mesh (the node
 /// hierarchy's transforms composed; a mesh several nodes share is read once); primitives
 /// that are not triangle lists are skipped and named in `notes`, as are alpha-masked
-/// materials whose constant alpha is below their cutoff (never drawn).
+/// materials whose constant alpha is below their cutoff (never drawn). An alpha-masked
+/// material with a base colour texture becomes a [`Cutout`] of its part: the texture's alpha
+/// times the factor's, read at the primitive's texture coordinates.
 /// `base`: the folder buffer files are relative to (`None`: only buffers inside the file).
 pub(crate) fn parts(
     bytes: &[u8],
@@ -49,6 +54,8 @@ pub(crate) fn parts(
     let mut out = Collector {
         visited: vec![false; document.nodes().len()],
         buffers: &buffers,
+        base,
+        cutouts: std::collections::HashMap::new(),
         parts: Vec::new(),
         mesh_parts: std::collections::HashMap::new(),
         notes,
@@ -82,9 +89,15 @@ pub(crate) fn parts(
         .any(|m| m.pbr_metallic_roughness().base_color_texture().is_some())
     {
         out.notes.push(
-            "base colour textures are not read: parts take their material's base colour factor"
+            "base colour textures give only alpha-masked materials' holes: parts take their material's base colour factor"
                 .into(),
         );
+    }
+    let holes = out.cutouts.values().filter(|c| c.is_some()).count();
+    if holes > 0 {
+        out.notes.push(format!(
+            "{holes} alpha-masked material(s) cut holes in the shadow maps and the camera's view; exact volumes and planar shadows draw them whole"
+        ));
     }
     if document
         .materials()
@@ -121,6 +134,11 @@ struct Collector<'a> {
     /// shared child, refused (either could multiply the work without bound).
     visited: Vec<bool>,
     buffers: &'a [gltf::buffer::Data],
+    /// The folder image files are relative to.
+    base: Option<&'a Path>,
+    /// Each alpha-masked material's cutout, once read (`None`: it has no holes, or its
+    /// texture could not be read).
+    cutouts: std::collections::HashMap<usize, Option<Arc<Cutout>>>,
     /// The parts by (mesh, material index; `None`: the default material), in order of
     /// appearance.
     parts: Vec<((usize, Option<usize>), RawPart)>,
@@ -206,6 +224,29 @@ impl Collector<'_> {
             ));
             return;
         };
+        let cutout = self.cutout(&material);
+        let uvs: Vec<DVec2> = match &cutout {
+            Some(_) => {
+                let set = material
+                    .pbr_metallic_roughness()
+                    .base_color_texture()
+                    .map_or(0, |t| t.tex_coord());
+                match reader.read_tex_coords(set) {
+                    Some(uvs) => uvs
+                        .into_f32()
+                        .map(|[u, v]| DVec2::new(u.into(), v.into()))
+                        .collect(),
+                    None => {
+                        self.notes.push(format!(
+                            "a primitive of {} has no texture coordinates {set}: drawn without its material's holes",
+                            name()
+                        ));
+                        Vec::new()
+                    }
+                }
+            }
+            None => Vec::new(),
+        };
         let key = (mesh.index(), material.index());
         let k = match self.parts.iter().position(|(m, _)| *m == key) {
             Some(k) => k,
@@ -225,6 +266,8 @@ impl Collector<'_> {
                         // The default material (no material given) is white.
                         color: material.map(|_| [r, g, b].map(|v| v.clamp(0.0, 1.0))),
                         placements: Vec::new(),
+                        uvs: Vec::new(),
+                        cutout: cutout.clone(),
                     },
                 ));
                 self.parts.len() - 1
@@ -235,6 +278,14 @@ impl Collector<'_> {
         part.positions
             .extend(positions.map(|p| DVec3::new(p[0].into(), p[1].into(), p[2].into())));
         let count = part.positions.len() as i64 - start;
+        if part.cutout.is_some() {
+            if uvs.len() as i64 == count {
+                part.uvs.extend(uvs);
+            } else {
+                // One primitive without texture coordinates: the part is drawn whole.
+                part.cutout = None;
+            }
+        }
         let indices: Vec<i64> = match reader.read_indices() {
             Some(indices) => indices.into_u32().map(i64::from).collect(),
             None => (0..count).collect(),
@@ -261,12 +312,85 @@ impl Collector<'_> {
     }
 }
 
+impl Collector<'_> {
+    /// The cutout of an alpha-masked material with a base colour texture (read once per
+    /// material); `None` for other materials, a texture without holes, or one that cannot be
+    /// read (named in the notes: the part is drawn whole).
+    fn cutout(&mut self, material: &gltf::Material) -> Option<Arc<Cutout>> {
+        let index = material.index()?;
+        if material.alpha_mode() != gltf::material::AlphaMode::Mask {
+            return None;
+        }
+        let info = material.pbr_metallic_roughness().base_color_texture()?;
+        if let Some(known) = self.cutouts.get(&index) {
+            return known.clone();
+        }
+        let texture = info.texture();
+        let factor = material.pbr_metallic_roughness().base_color_factor()[3];
+        let cutout = match gltf::image::Data::from_source(
+            texture.source().source(),
+            self.base,
+            self.buffers,
+        ) {
+            Ok(image) => {
+                let sampler = texture.sampler();
+                let wrap = |mode: gltf::texture::WrappingMode| match mode {
+                    gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+                    gltf::texture::WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+                    gltf::texture::WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+                };
+                let cutout = Cutout {
+                    width: image.width,
+                    height: image.height,
+                    alpha: texel_alpha(&image)
+                        .map(|a| (f32::from(a) * factor.clamp(0.0, 1.0)).round() as u8)
+                        .collect(),
+                    cutoff: material.alpha_cutoff().unwrap_or(0.5),
+                    wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+                };
+                (cutout.alpha.len() == (image.width * image.height) as usize
+                    && cutout.width > 0
+                    && cutout.height > 0
+                    && cutout.has_holes())
+                .then(|| Arc::new(cutout))
+            }
+            Err(e) => {
+                self.notes.push(format!(
+                    "cannot read the texture of alpha-masked material {index} ({e}): drawn without its holes"
+                ));
+                None
+            }
+        };
+        self.cutouts.insert(index, cutout.clone());
+        cutout
+    }
+}
+
+/// Each texel's alpha (0 to 255) of a decoded glTF image: 255 where it has no alpha channel.
+fn texel_alpha(image: &gltf::image::Data) -> Box<dyn Iterator<Item = u8> + '_> {
+    use gltf::image::Format;
+    let p = &image.pixels;
+    match image.format {
+        Format::R8G8B8A8 => Box::new(p.chunks_exact(4).map(|t| t[3])),
+        Format::R16G16B16A16 => Box::new(p.chunks_exact(8).map(|t| t[7])),
+        Format::R32G32B32A32FLOAT => Box::new(p.chunks_exact(16).map(|t| {
+            let a = f32::from_le_bytes([t[12], t[13], t[14], t[15]]);
+            (a.clamp(0.0, 1.0) * 255.0).round() as u8
+        })),
+        _ => Box::new(std::iter::repeat_n(
+            255,
+            (image.width * image.height) as usize,
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use crate::Mesh;
+    use crate::Wrap;
     use crate::load::tests::{CUBE_OFF, volume};
     use crate::load::{LoadError, MeshFormat};
-    use glam::DVec3;
+    use glam::{DVec2, DVec3};
 
     /// A unit cube's buffer (the OFF tests' cube): 8 f32 positions, then 36 u32 indices
     /// (counter-clockwise from outside).
@@ -491,6 +615,129 @@ mod tests {
         assert_eq!(notes.len(), 1, "{notes:?}");
         assert!(notes[0].contains("Lines"), "{notes:?}");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A unit quad in the xz plane (normal +y) with texture coordinates u = x, v = z, in an
+    /// alpha-masked material (cutoff 0.5, alpha factor `factor`) whose 4x4 texture's alpha is
+    /// `alpha` (row by row), clamped at its edges.
+    fn masked_quad(alpha: [u8; 16], factor: f32) -> String {
+        let mut buffer = Vec::new();
+        let corners = [[0.0f32, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]];
+        for [x, z] in corners {
+            for v in [x, 0.0, z] {
+                buffer.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        for [x, z] in corners {
+            for v in [x, z] {
+                buffer.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        for i in [0u32, 1, 2, 0, 2, 3] {
+            buffer.extend_from_slice(&i.to_le_bytes());
+        }
+        let rgba: Vec<u8> = alpha.iter().flat_map(|&a| [200, 120, 40, a]).collect();
+        let mut png = Vec::new();
+        image::write_buffer_with_format(
+            &mut std::io::Cursor::new(&mut png),
+            &rgba,
+            4,
+            4,
+            image::ExtendedColorType::Rgba8,
+            image::ImageFormat::Png,
+        )
+        .unwrap();
+        format!(
+            r#"{{"asset": {{"version": "2.0"}},
+            "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}],
+            "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}},
+                            {{"buffer": 0, "byteOffset": 48, "byteLength": 32}},
+                            {{"buffer": 0, "byteOffset": 80, "byteLength": 24}}],
+            "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                            "min": [0, 0, 0], "max": [1, 0, 1]}},
+                          {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}},
+                          {{"bufferView": 2, "componentType": 5125, "count": 6, "type": "SCALAR"}}],
+            "images": [{{"uri": "data:image/png;base64,{}"}}],
+            "samplers": [{{"wrapS": 33071, "wrapT": 33648}}],
+            "textures": [{{"source": 0, "sampler": 0}}],
+            "materials": [{{"alphaMode": "MASK", "alphaCutoff": 0.5,
+                            "pbrMetallicRoughness": {{"baseColorFactor": [1, 1, 1, {factor}],
+                                                      "baseColorTexture": {{"index": 0}}}}}}],
+            "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}},
+                                         "indices": 2, "material": 0}}]}}],
+            "nodes": [{{"mesh": 0}}], "scenes": [{{"nodes": [0]}}], "scene": 0}}"#,
+            buffer.len(),
+            base64(&buffer),
+            base64(&png),
+        )
+    }
+
+    /// An alpha-masked material's texture becomes the part's cutout: its alpha times the
+    /// factor, the sampler's wrap modes, texture coordinates on every vertex; the holes are
+    /// where the alpha is below the cutoff.
+    #[test]
+    fn masked_textures_become_cutouts() {
+        // The left half (u < 0.5) transparent, the right half opaque.
+        let alpha = [0, 0, 255, 255].repeat(4).try_into().unwrap();
+        let text = masked_quad(alpha, 1.0);
+        let (parts, notes) = Mesh::parse_parts(
+            text.as_bytes(),
+            MeshFormat::Gltf,
+            Some(std::path::Path::new(".")),
+        )
+        .unwrap();
+        assert_eq!(parts.len(), 1);
+        let mesh = &parts[0].mesh;
+        let cutout = mesh.cutout.as_ref().expect("a cutout");
+        assert_eq!((cutout.width, cutout.height), (4, 4));
+        assert_eq!(cutout.wrap, [Wrap::ClampToEdge, Wrap::MirroredRepeat]);
+        assert_eq!(cutout.cutoff, 0.5);
+        assert_eq!(mesh.uvs.len(), mesh.positions.len());
+        for (p, uv) in mesh.positions.iter().zip(&mesh.uvs) {
+            assert_eq!((p.x, p.z), (uv.x, uv.y));
+        }
+        assert!(!cutout.solid_at(DVec2::new(0.1, 0.5)));
+        assert!(cutout.solid_at(DVec2::new(0.9, 0.5)));
+        // Bilinear between texel centres: halfway at u = 0.5.
+        assert!((cutout.alpha_at(DVec2::new(0.5, 0.3)) - 0.5).abs() < 1e-9);
+        // Clamped beyond u = 1, mirrored in v.
+        assert!(cutout.solid_at(DVec2::new(1.7, 0.5)) && !cutout.solid_at(DVec2::new(-3.0, 1.7)));
+        assert!(
+            notes.iter().any(|n| n.contains("alpha-masked")),
+            "{notes:?}"
+        );
+        // The material's alpha factor scales the texture's: 0.4 leaves nothing above 0.5,
+        // and a texture without holes gives no cutout.
+        let faded = masked_quad([255; 16], 0.4);
+        let (parts, _) = Mesh::parse_parts(
+            faded.as_bytes(),
+            MeshFormat::Gltf,
+            Some(std::path::Path::new(".")),
+        )
+        .unwrap();
+        let cutout = parts[0].mesh.cutout.as_ref().expect("a cutout");
+        assert!(cutout.alpha.iter().all(|&a| a == 102));
+        let solid = masked_quad([255; 16], 1.0);
+        let (parts, _) = Mesh::parse_parts(
+            solid.as_bytes(),
+            MeshFormat::Gltf,
+            Some(std::path::Path::new(".")),
+        )
+        .unwrap();
+        assert!(parts[0].mesh.cutout.is_none() && parts[0].mesh.uvs.is_empty());
+        // A unreadable texture: drawn whole, named in the notes.
+        let broken = text.replace("data:image/png;base64,", "data:image/png;base64,AAAA");
+        let (parts, notes) = Mesh::parse_parts(
+            broken.as_bytes(),
+            MeshFormat::Gltf,
+            Some(std::path::Path::new(".")),
+        )
+        .unwrap();
+        assert!(parts[0].mesh.cutout.is_none());
+        assert!(
+            notes.iter().any(|n| n.contains("cannot read the texture")),
+            "{notes:?}"
+        );
     }
 
     /// A mesh that two nodes use is one part placed twice (once mirrored), in the mesh's own

@@ -17,9 +17,12 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use glam::{DMat4, DVec3};
+use std::sync::Arc;
+
+use glam::{DMat4, DVec2, DVec3};
 
 use crate::Mesh;
+use crate::mesh::Cutout;
 
 /// The mesh file formats [`Mesh::load`] reads, chosen by the file's extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -246,6 +249,9 @@ pub(crate) struct RawPart {
     pub polygons: Vec<Vec<i64>>,
     pub color: Option<[f32; 3]>,
     pub placements: Vec<DMat4>,
+    /// Texture coordinates, one per position, where the part has a cutout.
+    pub uvs: Vec<DVec2>,
+    pub cutout: Option<Arc<Cutout>>,
 }
 
 impl RawPart {
@@ -256,6 +262,8 @@ impl RawPart {
             polygons,
             color: None,
             placements: vec![DMat4::IDENTITY],
+            uvs: Vec::new(),
+            cutout: None,
         }
     }
 }
@@ -345,7 +353,7 @@ impl Mesh {
         };
         let mut parts = Vec::new();
         for part in raw {
-            match Self::from_polygons(part.positions, &part.polygons) {
+            match Self::from_polygons_with(part.positions, &part.polygons, part.uvs, part.cutout) {
                 Ok(mesh) => parts.push(MeshPart {
                     name: part.name,
                     mesh,
@@ -367,13 +375,24 @@ impl Mesh {
     }
 
     /// One mesh of several: their vertices and triangles one after another.
+    ///
+    /// The merged mesh keeps a cutout (and the texture coordinates) only where every mesh
+    /// has the same one; otherwise it is drawn whole.
     pub fn merged(meshes: &[Mesh]) -> Mesh {
-        let mut out = Mesh::default();
+        let cutout = meshes.first().and_then(|m| m.cutout.clone());
+        let shared = meshes.iter().all(|m| m.cutout == cutout);
+        let mut out = Mesh {
+            cutout: cutout.filter(|_| shared),
+            ..Mesh::default()
+        };
         for m in meshes {
             let base = out.positions.len() as u32;
             out.positions.extend_from_slice(&m.positions);
             out.normals.extend_from_slice(&m.normals);
             out.indices.extend(m.indices.iter().map(|i| i + base));
+            if out.cutout.is_some() {
+                out.uvs.extend_from_slice(&m.uvs);
+            }
         }
         out
     }
@@ -392,6 +411,17 @@ impl Mesh {
     /// where the faces meet at less than [`CREASE_DEGREES`], and a vertex split where they
     /// meet at more (a box keeps flat faces, a scanned surface stays smooth).
     pub fn from_polygons(positions: Vec<DVec3>, polygons: &[Vec<i64>]) -> Result<Mesh, LoadError> {
+        Self::from_polygons_with(positions, polygons, Vec::new(), None)
+    }
+
+    /// [`Mesh::from_polygons`] with texture coordinates (one per position) and a cutout
+    /// that reads them (both kept only together).
+    pub(crate) fn from_polygons_with(
+        positions: Vec<DVec3>,
+        polygons: &[Vec<i64>],
+        uvs: Vec<DVec2>,
+        cutout: Option<Arc<Cutout>>,
+    ) -> Result<Mesh, LoadError> {
         if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
             return Err(LoadError::NonFinite {
                 path: PathBuf::new(),
@@ -418,7 +448,12 @@ impl Mesh {
                 path: PathBuf::new(),
             });
         }
-        Ok(creased(&positions, &indices))
+        let Creased { mut mesh, origins } = creased(&positions, &indices);
+        if let Some(cutout) = cutout.filter(|_| uvs.len() == positions.len()) {
+            mesh.uvs = origins.iter().map(|&v| uvs[v as usize]).collect();
+            mesh.cutout = Some(cutout);
+        }
+        Ok(mesh)
     }
 
     /// The smallest box around the vertices: (min, max).
@@ -458,7 +493,7 @@ pub const CREASE_DEGREES: f64 = 60.0;
 /// was split does not matter), over the triangles around the vertex whose normal is within
 /// [`CREASE_DEGREES`] of the corner's triangle; corners of a vertex with the same normal
 /// share one vertex. Unit normals; zero where a vertex touches only degenerate triangles.
-fn creased(positions: &[DVec3], indices: &[u32]) -> Mesh {
+fn creased(positions: &[DVec3], indices: &[u32]) -> Creased {
     let cos_crease = CREASE_DEGREES.to_radians().cos();
     let triangles = indices.len() / 3;
     let corner = |t: usize, k: usize| indices[3 * t + k] as usize;
@@ -496,7 +531,9 @@ fn creased(positions: &[DVec3], indices: &[u32]) -> Mesh {
         positions: Vec::with_capacity(positions.len()),
         normals: Vec::with_capacity(positions.len()),
         indices: vec![0; indices.len()],
+        ..Mesh::default()
     };
+    let mut origins = Vec::with_capacity(positions.len());
     for v in 0..positions.len() {
         let corners = &around[start[v]..start[v + 1]];
         let first = mesh.positions.len();
@@ -512,13 +549,20 @@ fn creased(positions: &[DVec3], indices: &[u32]) -> Mesh {
                 None => {
                     mesh.positions.push(positions[v]);
                     mesh.normals.push(n);
+                    origins.push(v as u32);
                     mesh.normals.len() - 1
                 }
             };
             mesh.indices[3 * t + k] = index as u32;
         }
     }
-    mesh
+    Creased { mesh, origins }
+}
+
+/// A mesh with split vertices and, for each of its vertices, the input vertex it came from.
+struct Creased {
+    mesh: Mesh,
+    origins: Vec<u32>,
 }
 
 /// Positions and polygons (vertex indices).
@@ -637,6 +681,8 @@ fn parse_obj(
                             .filter(|c| c.iter().all(|v| v.is_finite()))
                             .map(|c| c.map(|v| v.clamp(0.0, 1.0))),
                         placements: vec![DMat4::IDENTITY],
+                        uvs: Vec::new(),
+                        cutout: None,
                     },
                 ));
                 parts.len() - 1

@@ -3,7 +3,9 @@
 
 use std::f64::consts::{PI, TAU};
 
-use glam::{DMat4, DVec3};
+use std::sync::Arc;
+
+use glam::{DMat4, DVec2, DVec3};
 
 use crate::{SceneLayout, Shape};
 
@@ -16,6 +18,87 @@ pub struct Mesh {
     pub normals: Vec<DVec3>,
     /// Triangles, three indices each, counter-clockwise seen from outside.
     pub indices: Vec<u32>,
+    /// Texture coordinates, one per vertex where the mesh has a [`Cutout`] (else empty).
+    pub uvs: Vec<DVec2>,
+    /// Where its surface has holes: an alpha-masked material's alpha (glTF's `MASK` mode).
+    pub cutout: Option<Arc<Cutout>>,
+}
+
+/// An alpha-masked material's holes (glTF's `MASK` alpha mode): where its alpha, read at a
+/// point's texture coordinates (bilinear, wrapping as the sampler says), is below `cutoff`,
+/// the surface is not there: it casts no shadow (the depth pass discards it) and the camera
+/// sees through it. Shadow volumes and planar shadows draw the surface whole.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cutout {
+    /// Texels across.
+    pub width: u32,
+    /// Texels down.
+    pub height: u32,
+    /// Alpha per texel (0 to 255, the material's alpha factor applied), row by row from
+    /// texture coordinate v = 0.
+    pub alpha: Vec<u8>,
+    /// Alpha below this (0 to 1) is a hole.
+    pub cutoff: f32,
+    /// How u and v continue outside 0 to 1.
+    pub wrap: [Wrap; 2],
+}
+
+/// How a texture coordinate continues outside 0 to 1 (glTF's sampler wrap modes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Wrap {
+    /// The texture repeats (glTF's default).
+    #[default]
+    Repeat,
+    /// The texture repeats, every other copy mirrored.
+    MirroredRepeat,
+    /// The edge texel continues.
+    ClampToEdge,
+}
+
+impl Cutout {
+    /// Whether any texel is a hole (a cutout without one cuts nothing).
+    pub fn has_holes(&self) -> bool {
+        let cut = self.cutoff * 255.0;
+        self.alpha.iter().any(|&a| f32::from(a) < cut)
+    }
+
+    /// The alpha (0 to 1) at texture coordinates `uv`, bilinear between texel centres with
+    /// the wrap modes, as the GPU's sampler reads it.
+    pub fn alpha_at(&self, uv: DVec2) -> f64 {
+        let texel = |i: i64, j: i64| {
+            let wrap = |k: i64, n: u32, mode: Wrap| -> usize {
+                let n = i64::from(n);
+                (match mode {
+                    Wrap::Repeat => k.rem_euclid(n),
+                    Wrap::ClampToEdge => k.clamp(0, n - 1),
+                    Wrap::MirroredRepeat => {
+                        let m = k.rem_euclid(2 * n);
+                        if m < n { m } else { 2 * n - 1 - m }
+                    }
+                }) as usize
+            };
+            let (x, y) = (
+                wrap(i, self.width, self.wrap[0]),
+                wrap(j, self.height, self.wrap[1]),
+            );
+            f64::from(self.alpha[y * self.width as usize + x]) / 255.0
+        };
+        let (x, y) = (
+            uv.x * f64::from(self.width) - 0.5,
+            uv.y * f64::from(self.height) - 0.5,
+        );
+        let (i, j) = (x.floor(), y.floor());
+        let (fx, fy) = (x - i, y - j);
+        let (i, j) = (i as i64, j as i64);
+        let top = texel(i, j) * (1.0 - fx) + texel(i + 1, j) * fx;
+        let bottom = texel(i, j + 1) * (1.0 - fx) + texel(i + 1, j + 1) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+
+    /// Whether the surface is there at `uv` (its alpha at least the cutoff).
+    pub fn solid_at(&self, uv: DVec2) -> bool {
+        self.alpha_at(uv) >= f64::from(self.cutoff)
+    }
 }
 
 impl Mesh {
@@ -57,6 +140,8 @@ impl Mesh {
                 .map(|n| (normal_from_object * *n).normalize_or_zero())
                 .collect(),
             indices,
+            uvs: self.uvs.clone(),
+            cutout: self.cutout.clone(),
         }
     }
 
@@ -66,8 +151,8 @@ impl Mesh {
     }
 
     /// The mesh's connected parts: triangles that share a vertex position (vertices split at
-    /// creases count as one) belong to one part. Each part keeps its vertices, normals and
-    /// winding, in the order of its first triangle; parts are in the order of their first
+    /// creases count as one) belong to one part. Each part keeps its vertices, normals,
+    /// texture coordinates, cutout and winding, in the order of its first triangle; parts are in the order of their first
     /// triangles.
     pub fn components(&self) -> Vec<Mesh> {
         // One id per distinct position, then union-find over the triangles' positions.
@@ -104,7 +189,10 @@ impl Mesh {
             let next = parts.len();
             let part = *part_of_root.entry(r).or_insert(next);
             if part == parts.len() {
-                parts.push(Mesh::default());
+                parts.push(Mesh {
+                    cutout: self.cutout.clone(),
+                    ..Mesh::default()
+                });
             }
             let mesh = &mut parts[part];
             for &v in t {
@@ -112,6 +200,9 @@ impl Mesh {
                 if remap[v].0 != part {
                     mesh.positions.push(self.positions[v]);
                     mesh.normals.push(self.normals[v]);
+                    if let Some(uv) = self.uvs.get(v) {
+                        mesh.uvs.push(*uv);
+                    }
                     remap[v] = (part, (mesh.positions.len() - 1) as u32);
                 }
                 mesh.indices.push(remap[v].1);
