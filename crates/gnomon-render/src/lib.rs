@@ -22,6 +22,7 @@
 
 mod atlas;
 mod casters;
+mod cutouts;
 mod error;
 mod gpu;
 mod headless;

@@ -5,6 +5,7 @@
 use std::collections::HashMap;
 
 use crate::atlas::{ID_FORMAT, MAP_FORMAT, lookup_layout};
+use crate::cutouts::cutout_layout;
 use crate::scene::{INSTANCE_STRIDE, Vertex};
 
 /// The camera's depth in the main pass: reversed Z, 32-bit float.
@@ -35,11 +36,18 @@ pub(crate) struct Pipelines {
     pub frame_layout: wgpu::BindGroupLayout,
     pub lookup_layout: wgpu::BindGroupLayout,
     pub layout: wgpu::PipelineLayout,
+    /// Group 2 of the main passes and of the depth passes that read holes.
+    pub cutout_layout: wgpu::BindGroupLayout,
+    /// The main passes' layout: groups 0 and 1, and the mesh's holes.
+    main_layout: wgpu::PipelineLayout,
     /// The depth passes' group 1: the records alone (the maps are their targets).
     pub records_layout: wgpu::BindGroupLayout,
     depth_layout: wgpu::PipelineLayout,
-    /// Depth passes by the caster vertex stride and whether they write object IDs.
-    depth: HashMap<(u64, bool), wgpu::RenderPipeline>,
+    /// The depth passes' layout with the mesh's holes.
+    depth_cut_layout: wgpu::PipelineLayout,
+    /// Depth passes by the caster vertex stride, whether they write object IDs and whether
+    /// they read holes.
+    depth: HashMap<(u64, bool, bool), wgpu::RenderPipeline>,
     /// The measured main pass, by metrics and specialisation.
     measured: HashMap<(bool, MainSpec), wgpu::RenderPipeline>,
     /// The main pass into a caller's target, by format, sample count and specialisation.
@@ -63,21 +71,25 @@ pub(crate) struct MainSpec {
     pub per_pixel: bool,
     /// `GNOMON_READ_*` of lookup.wgsl.
     pub read: u32,
+    /// Whether the scene has holes (a discard, which costs early depth tests on GPUs, only
+    /// where a mesh has them).
+    pub cutout: bool,
 }
 
 impl MainSpec {
-    fn constants(&self) -> [(&'static str, f64); 3] {
+    fn constants(&self) -> [(&'static str, f64); 4] {
         [
             ("LIGHT_COUNT", self.lights as f64),
             ("PER_PIXEL", if self.per_pixel { 1.0 } else { 0.0 }),
             ("MAP_READ", self.read as f64),
+            ("CUTOUT", if self.cutout { 1.0 } else { 0.0 }),
         ]
     }
 }
 
-/// The scene's vertex streams: positions and normals, instances.
-const SCENE_ATTRIBUTES: [wgpu::VertexAttribute; 2] =
-    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+/// The scene's vertex streams: positions, normals and texture coordinates, instances.
+const SCENE_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
 const INSTANCE_ATTRIBUTES: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
     3 => Float32x4, 4 => Float32x4, 5 => Float32x4, 6 => Float32x4,
     7 => Float32x4, 8 => Float32x4, 9 => Float32x4, 10 => Float32x4
@@ -156,6 +168,25 @@ impl Pipelines {
             bind_group_layouts: &[Some(&frame_layout), Some(&records_layout)],
             immediate_size: 0,
         });
+        let cutout_layout = cutout_layout(device);
+        let main_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gnomon main"),
+            bind_group_layouts: &[
+                Some(&frame_layout),
+                Some(&lookup_layout),
+                Some(&cutout_layout),
+            ],
+            immediate_size: 0,
+        });
+        let depth_cut_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gnomon depth with holes"),
+            bind_group_layouts: &[
+                Some(&frame_layout),
+                Some(&records_layout),
+                Some(&cutout_layout),
+            ],
+            immediate_size: 0,
+        });
         let mut pipelines = Self {
             measured: HashMap::new(),
             light_view: build(
@@ -180,45 +211,69 @@ impl Pipelines {
             frame_layout,
             lookup_layout,
             layout,
+            cutout_layout,
+            main_layout,
             records_layout,
             depth_layout,
+            depth_cut_layout,
             depth: HashMap::new(),
             color: HashMap::new(),
             samples: None,
         };
-        pipelines.depth(device, std::mem::size_of::<Vertex>() as u64, false);
+        pipelines.depth(device, std::mem::size_of::<Vertex>() as u64, false, false);
         pipelines
     }
 
     /// The depth pass for casters whose positions (three f32) repeat every `stride` bytes;
-    /// with `ids`, it also writes each caster's object ID into an [`ID_FORMAT`] target.
+    /// with `ids`, it also writes each caster's object ID into an [`ID_FORMAT`] target; with
+    /// `cut`, it reads texture coordinates (two f32 after the position and normal: the
+    /// scene's [`Vertex`]) and discards the mesh's holes (group 2).
     pub fn depth(
         &mut self,
         device: &wgpu::Device,
         stride: u64,
         ids: bool,
+        cut: bool,
     ) -> &wgpu::RenderPipeline {
-        let (shader, layout) = (&self.shader, &self.depth_layout);
-        self.depth.entry((stride, ids)).or_insert_with(|| {
-            let position = [wgpu::VertexAttribute {
-                format: wgpu::VertexFormat::Float32x3,
-                offset: 0,
-                shader_location: 0,
-            }];
+        let shader = &self.shader;
+        let layout = if cut {
+            &self.depth_cut_layout
+        } else {
+            &self.depth_layout
+        };
+        self.depth.entry((stride, ids, cut)).or_insert_with(|| {
+            let attributes = [
+                wgpu::VertexAttribute {
+                    format: wgpu::VertexFormat::Float32x3,
+                    offset: 0,
+                    shader_location: 0,
+                },
+                wgpu::VertexAttribute {
+                    format: wgpu::VertexFormat::Float32x2,
+                    offset: std::mem::offset_of!(Vertex, uv) as u64,
+                    shader_location: 2,
+                },
+            ];
             let transform = &INSTANCE_ATTRIBUTES[..4];
             let id_target = [Some(ID_FORMAT.into())];
+            let fragment = match (ids, cut) {
+                (false, false) => "fs_depth",
+                (true, false) => "fs_depth_id",
+                (false, true) => "fs_depth_cut",
+                (true, true) => "fs_depth_id_cut",
+            };
             build(
                 device,
                 shader,
                 layout,
                 &PipelineSpec {
                     label: "shadow depth",
-                    vertex: "vs_depth",
+                    vertex: if cut { "vs_depth_cut" } else { "vs_depth" },
                     buffers: &[
                         wgpu::VertexBufferLayout {
                             array_stride: stride,
                             step_mode: wgpu::VertexStepMode::Vertex,
-                            attributes: &position,
+                            attributes: &attributes[..if cut { 2 } else { 1 }],
                         },
                         wgpu::VertexBufferLayout {
                             array_stride: INSTANCE_STRIDE,
@@ -226,7 +281,7 @@ impl Pipelines {
                             attributes: transform,
                         },
                     ],
-                    fragment: Some(if ids { "fs_depth_id" } else { "fs_depth" }),
+                    fragment: Some(fragment),
                     targets: if ids { &id_target } else { &[] },
                     constants: &[],
                     depth: Some(wgpu::DepthStencilState {
@@ -242,9 +297,9 @@ impl Pipelines {
         })
     }
 
-    /// The depth pass already made for `stride` and `ids`.
-    pub fn depth_for(&self, stride: u64, ids: bool) -> Option<&wgpu::RenderPipeline> {
-        self.depth.get(&(stride, ids))
+    /// The depth pass already made for `stride`, `ids` and `cut`.
+    pub fn depth_for(&self, stride: u64, ids: bool, cut: bool) -> Option<&wgpu::RenderPipeline> {
+        self.depth.get(&(stride, ids, cut))
     }
 
     /// The measured main pass already made.
@@ -260,7 +315,7 @@ impl Pipelines {
         metrics: bool,
         spec: MainSpec,
     ) -> &wgpu::RenderPipeline {
-        let (shader, layout, fragment) = (&self.shader, &self.layout, &self.fs_measured);
+        let (shader, layout, fragment) = (&self.shader, &self.main_layout, &self.fs_measured);
         self.measured.entry((metrics, spec)).or_insert_with(|| {
             let mut targets = vec![Some(COLOR_FORMAT.into()), Some(LIT_FORMAT.into())];
             if metrics {
@@ -319,7 +374,7 @@ impl Pipelines {
         samples: u32,
         spec: MainSpec,
     ) -> &wgpu::RenderPipeline {
-        let (shader, layout, fragment) = (&self.shader, &self.layout, &self.fs_color);
+        let (shader, layout, fragment) = (&self.shader, &self.main_layout, &self.fs_color);
         self.color
             .entry((format, samples, spec))
             .or_insert_with(|| {

@@ -55,6 +55,7 @@ impl Renderer {
                 .map(|(p, n)| Vertex {
                     position: view_from_world.transform_point3(*p).as_vec3().to_array(),
                     normal: view_from_world.transform_vector3(*n).as_vec3().to_array(),
+                    uv: [0.0; 2],
                 })
                 .collect();
             let probes = self.probes.as_ref().expect("made above");

@@ -315,7 +315,7 @@ impl Renderer {
         );
         let volumes = VolumePipelines::new(&gpu, &pipelines);
         let volume_casters = VolumeCasters::new(scene);
-        let gpu_scene = GpuScene::new(&resources, scene)?;
+        let gpu_scene = GpuScene::new(&resources, &gpu.queue, &pipelines.cutout_layout, scene)?;
         let timer = Timer::new(&gpu, &resources);
         let renderer = Self {
             scene: gpu_scene,
@@ -620,6 +620,7 @@ impl Renderer {
                     MapSelection::Cascades(_) | MapSelection::CubeFaces(_)
                 )
             }),
+            cutout: self.scene.cutouts.any(),
         };
         Ok(())
     }
@@ -646,8 +647,8 @@ impl Renderer {
         timed: bool,
     ) {
         let stride = std::mem::size_of::<crate::scene::Vertex>() as u64;
-        let ids = self.main_spec.read != 0;
-        self.pipelines.depth(&self.gpu.device, stride, ids);
+        let (ids, cut) = (self.main_spec.read != 0, self.main_spec.cutout);
+        self.pipelines.depth(&self.gpu.device, stride, ids, cut);
         for k in 0..self.maps.len() {
             let offset = self.slot(k as u32);
             let timestamps = if timed {
@@ -657,19 +658,27 @@ impl Renderer {
             };
             let map = &self.maps[k];
             let mut pass = begin_depth_pass(encoder, &self.atlas, map, ids, timestamps);
-            pass.set_pipeline(self.pipelines.depth_for(stride, ids).expect("made above"));
+            pass.set_pipeline(
+                self.pipelines
+                    .depth_for(stride, ids, cut)
+                    .expect("made above"),
+            );
             pass.set_bind_group(0, &self.frame_group, &[offset]);
             pass.set_bind_group(1, &self.records_group, &[]);
             self.scene.bind(&mut pass);
-            self.scene
-                .draw_instances(&mut pass, map.casters.iter().copied());
+            let casters = map.casters.iter().copied();
+            if cut {
+                self.scene.draw_instances_cut(&mut pass, casters);
+            } else {
+                self.scene.draw_instances(&mut pass, casters);
+            }
         }
     }
 
     /// Records the prepared frame's depth passes with a caller's casters (its vertex and index
     /// buffers and transforms) instead of the scene's. Call [`CasterSet::write_transforms`]
     /// after [`Renderer::prepare`] first. Where the frame reads object IDs, a caster's ID is
-    /// its draw's index + 1.
+    /// its draw's index + 1. The caller's casters are drawn whole (no alpha-masked holes).
     pub fn encode_shadow_maps_of(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
@@ -677,12 +686,12 @@ impl Renderer {
     ) {
         let ids = self.main_spec.read != 0;
         self.pipelines
-            .depth(&self.gpu.device, casters.vertex_stride, ids);
+            .depth(&self.gpu.device, casters.vertex_stride, ids, false);
         for (k, map) in self.maps.iter().enumerate() {
             let mut pass = begin_depth_pass(encoder, &self.atlas, map, ids, None);
             pass.set_pipeline(
                 self.pipelines
-                    .depth_for(casters.vertex_stride, ids)
+                    .depth_for(casters.vertex_stride, ids, false)
                     .expect("made above"),
             );
             pass.set_bind_group(0, &self.frame_group, &[self.slot(k as u32)]);
@@ -734,7 +743,7 @@ impl Renderer {
         pass.set_pipeline(pipeline);
         self.bind_frame(&mut pass);
         self.scene.bind(&mut pass);
-        self.scene.draw_all(&mut pass);
+        self.scene.draw_all_cut(&mut pass);
         Ok(())
     }
 

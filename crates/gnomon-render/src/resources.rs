@@ -82,6 +82,37 @@ impl Resources {
         })
     }
 
+    /// A 2D texture to sample (one layer, one mip level) holding `data`, row by row.
+    pub fn texture_init(
+        &self,
+        queue: &wgpu::Queue,
+        label: &str,
+        (width, height): (u32, u32),
+        format: wgpu::TextureFormat,
+        data: &[u8],
+    ) -> wgpu::Texture {
+        self.count();
+        self.device.create_texture_with_data(
+            queue,
+            &wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            data,
+        )
+    }
+
     /// A one-layer render target and its view.
     pub fn target(
         &self,

@@ -5,6 +5,7 @@ use gnomon::{Aabb, SceneBounds, SetupError};
 use gnomon_scene::{Mesh, MeshPart, SceneFile, SceneLayout, Shape};
 
 use crate::RenderError;
+use crate::cutouts::GpuCutouts;
 use crate::records::GpuInstance;
 use crate::resources::Resources;
 
@@ -233,12 +234,14 @@ fn palette(name: &str) -> [f32; 3] {
     [c(0), c(8), c(16)]
 }
 
-/// The vertex the GPU reads: object-space position and normal.
+/// The vertex the GPU reads: object-space position and normal, and texture coordinates
+/// (where its mesh has a cutout; else 0).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
+    pub uv: [f32; 2],
 }
 
 /// Where one mesh's triangles are in the scene's buffers.
@@ -281,6 +284,8 @@ pub(crate) struct GpuScene {
     mesh_bounds: Vec<Option<Aabb>>,
     /// A hierarchy over the casting instances' boxes, for each map's culling.
     casters: CasterIndex,
+    /// The meshes' holes (bind group 2 of the depth and main passes).
+    pub cutouts: GpuCutouts,
 }
 
 /// The casting instances (with bounds) in a [`gnomon::BoxIndex`], refitted on the next query
@@ -358,7 +363,12 @@ impl InstanceStream {
 }
 
 impl GpuScene {
-    pub fn new(resources: &Resources, scene: &RenderScene) -> Result<Self, RenderError> {
+    pub fn new(
+        resources: &Resources,
+        queue: &wgpu::Queue,
+        cutout_layout: &wgpu::BindGroupLayout,
+        scene: &RenderScene,
+    ) -> Result<Self, RenderError> {
         let mut vertices: Vec<Vertex> = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
         let mut meshes = Vec::new();
@@ -367,15 +377,14 @@ impl GpuScene {
             let base_vertex = i32::try_from(vertices.len()).map_err(|_| {
                 RenderError::Invalid("the scene has more than 2^31 vertices".into())
             })?;
-            vertices.extend(
-                mesh.positions
-                    .iter()
-                    .zip(&mesh.normals)
-                    .map(|(p, n)| Vertex {
-                        position: p.as_vec3().to_array(),
-                        normal: n.as_vec3().to_array(),
-                    }),
-            );
+            let uv = |k: usize| mesh.uvs.get(k).map_or([0.0; 2], |t| t.as_vec2().to_array());
+            vertices.extend(mesh.positions.iter().zip(&mesh.normals).enumerate().map(
+                |(k, (p, n))| Vertex {
+                    position: p.as_vec3().to_array(),
+                    normal: n.as_vec3().to_array(),
+                    uv: uv(k),
+                },
+            ));
             indices.extend_from_slice(&mesh.indices);
             meshes.push(MeshRange {
                 indices: first..indices.len() as u32,
@@ -430,6 +439,7 @@ impl GpuScene {
                 })
                 .collect(),
             casters: CasterIndex::new(&instances),
+            cutouts: GpuCutouts::new(resources, queue, cutout_layout, &scene.meshes)?,
             instances,
             instances_on_gpu,
         })
@@ -510,6 +520,31 @@ impl GpuScene {
     /// Draws every instance (after [`GpuScene::bind`]).
     pub fn draw_all(&self, pass: &mut wgpu::RenderPass<'_>) {
         self.draw_instances(pass, 0..self.instances.len() as u32);
+    }
+
+    /// Draws every instance with its mesh's holes (group 2), for a pipeline that reads them.
+    pub fn draw_all_cut(&self, pass: &mut wgpu::RenderPass<'_>) {
+        self.draw_instances_cut(pass, 0..self.instances.len() as u32);
+    }
+
+    /// Draws the instances of `indices` (after [`GpuScene::bind`]), each with its mesh's holes
+    /// (group 2), for a pipeline that reads them.
+    pub fn draw_instances_cut(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        indices: impl IntoIterator<Item = u32>,
+    ) {
+        let mut bound: Option<&wgpu::BindGroup> = None;
+        for k in indices {
+            let m = self.instances[k as usize].mesh;
+            let group = self.cutouts.group(m);
+            if !bound.is_some_and(|b| std::ptr::eq(b, group)) {
+                pass.set_bind_group(2, group, &[]);
+                bound = Some(group);
+            }
+            let mesh = &self.meshes[m];
+            pass.draw_indexed(mesh.indices.clone(), mesh.base_vertex, k..k + 1);
+        }
     }
 
     /// Draws the instances of `indices` (after [`GpuScene::bind`]).

@@ -17,11 +17,7 @@ const MAP: u32 = 2048;
 
 /// A concave object: a U of three cuboids in one mesh (it shadows itself).
 fn u_shape() -> gnomon_scene::Mesh {
-    let mut mesh = gnomon_scene::Mesh {
-        positions: Vec::new(),
-        normals: Vec::new(),
-        indices: Vec::new(),
-    };
+    let mut mesh = gnomon_scene::Mesh::default();
     for (half, at) in [
         (DVec3::new(2.0, 0.4, 1.0), DVec3::new(0.0, 0.4, 0.0)),
         (DVec3::new(0.3, 1.5, 1.0), DVec3::new(-1.7, 2.3, 0.0)),

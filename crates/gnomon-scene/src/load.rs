@@ -12,7 +12,8 @@
 //! other modes (points, lines, strips and fans) are skipped and named in the load's notes; a
 //! file that requires an extension gnomon does not read (`KHR_draco_mesh_compression`, ...)
 //! is refused. [`Mesh::load_parts`] keeps one part per material (glTF: its base colour
-//! factor; OBJ: its `Kd`); textures are not read.
+//! factor; OBJ: its `Kd`); colour textures are not read, but an alpha-masked glTF material's
+//! texture gives its part's holes ([`crate::Cutout`], with the texture coordinates).
 
 use std::fmt;
 use std::path::{Path, PathBuf};

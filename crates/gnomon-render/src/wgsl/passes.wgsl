@@ -56,14 +56,45 @@ struct DepthOut {
     @location(0) depth: f32,
     // The caster's object ID: its instance index + 1 (0 is "no caster").
     @location(1) @interpolate(flat) object: u32,
+    // Texture coordinates, where the mesh has holes (vs_depth_cut).
+    @location(2) uv: vec2<f32>,
 };
+
+// Group 2 of the main passes and of the depth passes with holes: the mesh's alpha (an
+// alpha-masked material's), its sampler (bilinear, the material's wrap modes) and its cutoff
+// in cutout_info.cutoff.x (0 for meshes without holes: nothing is below it).
+struct CutoutInfo {
+    cutoff: vec4<f32>,
+};
+
+@group(2) @binding(0) var cutout_alpha: texture_2d<f32>;
+@group(2) @binding(1) var cutout_sampler: sampler;
+@group(2) @binding(2) var<uniform> cutout_info: CutoutInfo;
+
+// Whether the surface has a hole at texture coordinates uv.
+fn is_hole(uv: vec2<f32>) -> bool {
+    return textureSampleLevel(cutout_alpha, cutout_sampler, uv, 0.0).r < cutout_info.cutoff.x;
+}
 
 @vertex
 fn vs_depth(@location(0) position: vec3<f32>, instance: CasterInstance, @builtin(instance_index) index: u32) -> DepthOut {
+    return depth_out(position, instance, index);
+}
+
+// The depth pass of a scene with holes: the texture coordinates go along.
+@vertex
+fn vs_depth_cut(@location(0) position: vec3<f32>, @location(2) uv: vec2<f32>, instance: CasterInstance, @builtin(instance_index) index: u32) -> DepthOut {
+    var out = depth_out(position, instance, index);
+    out.uv = uv;
+    return out;
+}
+
+fn depth_out(position: vec3<f32>, instance: CasterInstance, index: u32) -> DepthOut {
     let camera_from_object = mat4x4<f32>(instance.c0, instance.c1, instance.c2, instance.c3);
     let p = camera_from_object * vec4<f32>(position, 1.0);
     var out: DepthOut;
     out.object = index + 1u;
+    out.uv = vec2<f32>(0.0);
     let info = gnomon_shadows.maps[slot.map].info;
     out.clip = gnomon_shadows.maps[slot.map].clip_from_camera * p;
     out.depth = dot(gnomon_shadows.maps[slot.map].depth_from_camera, p);
@@ -104,6 +135,25 @@ fn fs_depth_id(in: DepthOut) -> DepthIdOut {
     return DepthIdOut(biased_depth(in), vec4<u32>(in.object, 0u, 0u, 0u));
 }
 
+// The depth passes of a scene with holes: a hole casts no shadow.
+@fragment
+fn fs_depth_cut(in: DepthOut) -> @builtin(frag_depth) f32 {
+    let depth = biased_depth(in);
+    if (is_hole(in.uv)) {
+        discard;
+    }
+    return depth;
+}
+
+@fragment
+fn fs_depth_id_cut(in: DepthOut) -> DepthIdOut {
+    let depth = biased_depth(in);
+    if (is_hole(in.uv)) {
+        discard;
+    }
+    return DepthIdOut(depth, vec4<u32>(in.object, 0u, 0u, 0u));
+}
+
 struct MainOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) camera: vec3<f32>,
@@ -115,9 +165,11 @@ struct MainOut {
     @location(3) depth: vec2<f32>,
     // The object's ID (its instance index + 1), as the depth pass writes it.
     @location(4) @interpolate(flat) object: u32,
+    // Texture coordinates (where the mesh has holes).
+    @location(5) uv: vec2<f32>,
 };
 
-fn main_out(position: vec3<f32>, normal: vec3<f32>, instance: Instance, index: u32, clip_from_camera: mat4x4<f32>) -> MainOut {
+fn main_out(position: vec3<f32>, normal: vec3<f32>, uv: vec2<f32>, instance: Instance, index: u32, clip_from_camera: mat4x4<f32>) -> MainOut {
     let camera_from_object = mat4x4<f32>(instance.c0, instance.c1, instance.c2, instance.c3);
     let normal_matrix = mat3x3<f32>(instance.n0.xyz, instance.n1.xyz, instance.n2.xyz);
     var out: MainOut;
@@ -128,17 +180,18 @@ fn main_out(position: vec3<f32>, normal: vec3<f32>, instance: Instance, index: u
     out.normal = normal_matrix * normal;
     out.color = instance.color;
     out.object = index + 1u;
+    out.uv = uv;
     return out;
 }
 
 @vertex
-fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, instance: Instance, @builtin(instance_index) index: u32) -> MainOut {
-    return main_out(position, normal, instance, index, frame.clip_from_camera);
+fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, @location(2) uv: vec2<f32>, instance: Instance, @builtin(instance_index) index: u32) -> MainOut {
+    return main_out(position, normal, uv, instance, index, frame.clip_from_camera);
 }
 
 @vertex
-fn vs_main_infinite(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, instance: Instance, @builtin(instance_index) index: u32) -> MainOut {
-    return main_out(position, normal, instance, index, frame.infinite_clip_from_camera);
+fn vs_main_infinite(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, @location(2) uv: vec2<f32>, instance: Instance, @builtin(instance_index) index: u32) -> MainOut {
+    return main_out(position, normal, uv, instance, index, frame.infinite_clip_from_camera);
 }
 
 // Pipeline specialisations: the sampling metrics (fs_measured), the number of lights (a loop
@@ -151,6 +204,8 @@ override LIGHT_COUNT: u32 = 1u;
 override PER_PIXEL: bool = false;
 // How the maps are read: GNOMON_READ_DEPTH, GNOMON_READ_OBJECT_ID or GNOMON_READ_ID_DEPTH.
 override MAP_READ: u32 = 0u;
+// Whether the scene has holes (alpha-masked meshes): the main pass discards them.
+override CUTOUT: bool = false;
 
 // A fragment's surface: geometric normal (the triangle's plane) and shading normal, both
 // turned toward the camera (at the origin of view space).
@@ -327,6 +382,13 @@ struct Measured {
     @location(2) metrics: vec4<u32>,
 };
 
+// The camera sees through a mesh's holes (scenes that have them: CUTOUT).
+fn cut(in: MainOut) {
+    if (CUTOUT && is_hole(in.uv)) {
+        discard;
+    }
+}
+
 @fragment
 fn fs_measured(in: MainOut) -> Measured {
     return measured(in);
@@ -348,6 +410,7 @@ fn fs_measured_frag_depth(in: MainOut) -> MeasuredDepth {
 fn measured(in: MainOut) -> Measured {
     let dp_dx = dpdxFine(in.camera);
     let dp_dy = dpdyFine(in.camera);
+    cut(in);
     let s = surface(in, dp_dx, dp_dy);
     let shaded = shade(s, in.color.rgb);
     var out: Measured;
@@ -362,7 +425,10 @@ fn measured(in: MainOut) -> Measured {
 }
 
 fn color(in: MainOut) -> vec4<f32> {
-    let s = surface(in, dpdx(in.camera), dpdy(in.camera));
+    let dp_dx = dpdx(in.camera);
+    let dp_dy = dpdy(in.camera);
+    cut(in);
+    let s = surface(in, dp_dx, dp_dy);
     return vec4<f32>(shade(s, in.color.rgb).color, 1.0);
 }
 

@@ -78,11 +78,14 @@ pub fn oracle(
     height: u32,
 ) -> OracleMask {
     let triangles = scene.world_triangles();
+    let holes = Holes::new(scene);
     let mut all_vertices = Vec::new();
     let mut all_indices = Vec::new();
     let mut caster_vertices = Vec::new();
     let mut caster_indices = Vec::new();
-    for (t, k) in &triangles {
+    // Each caster triangle's index among all triangles.
+    let mut caster_triangles = Vec::new();
+    for (g, (t, k)) in triangles.iter().enumerate() {
         let base = all_vertices.len() as u32;
         all_vertices.extend(t.iter().map(|p| vector(*p)));
         all_indices.push([base, base + 1, base + 2]);
@@ -90,6 +93,7 @@ pub fn oracle(
             let base = caster_vertices.len() as u32;
             caster_vertices.extend(t.iter().map(|p| vector(*p)));
             caster_indices.push([base, base + 1, base + 2]);
+            caster_triangles.push(g);
         }
     }
     let everything = TriMesh::new(all_vertices, all_indices).expect("scene mesh");
@@ -113,15 +117,15 @@ pub fn oracle(
             let y = 1.0 - (py as f64 + 0.5) / height as f64 * 2.0;
             let near = unproject(x, y, 0.0);
             let far = unproject(x, y, 1.0);
-            let ray = Ray::new(vector(near), vector(far - near));
-            let Some(hit) = everything.cast_local_ray_and_get_normal(&ray, 1.0, false) else {
+            let Some(hit) = holes.first_hit(&everything, near, far - near, 1.0, |s| s as usize)
+            else {
                 continue;
             };
             let i = (py * width + px) as usize;
             let p = near + (far - near) * hit.time_of_impact;
             points[i] = Some(p);
-            objects[i] = Some(triangles[hit.subshape as usize].1);
-            let mut normal = dvec(hit.normal).normalize();
+            objects[i] = Some(triangles[hit.subshape].1);
+            let mut normal = hit.normal.normalize();
             if normal.dot(near - p) < 0.0 {
                 normal = -normal;
             }
@@ -149,12 +153,12 @@ pub fn oracle(
                 continue;
             }
             let origin = p + normal * 1e-5 * diagonal;
-            let shadow_ray = Ray::new(vector(origin), vector(to_light));
-            mask[i] = if casters.intersects_local_ray(&shadow_ray, max_distance) {
-                MASK_UNLIT
-            } else {
-                MASK_LIT
-            };
+            let blocked = holes
+                .first_hit(&casters, origin, to_light, max_distance, |s| {
+                    caster_triangles[s as usize]
+                })
+                .is_some();
+            mask[i] = if blocked { MASK_UNLIT } else { MASK_LIT };
         }
     }
     OracleMask {
@@ -166,6 +170,93 @@ pub fn oracle(
         objects,
         in_light: reached,
     }
+}
+
+/// The holes of a scene's alpha-masked meshes ([`gnomon_scene::Cutout`]), per triangle of
+/// [`RenderScene::world_triangles`]: rays pass through a triangle where its mesh's alpha, at
+/// the texture coordinates interpolated to the hit, is below the cutoff.
+pub struct Holes<'a> {
+    scene: &'a RenderScene,
+    /// Each triangle's world corners, mesh and first index.
+    triangles: Vec<([DVec3; 3], usize, usize)>,
+}
+
+impl<'a> Holes<'a> {
+    pub fn new(scene: &'a RenderScene) -> Self {
+        let mut triangles = Vec::new();
+        for instance in &scene.instances {
+            let mesh = &scene.meshes[instance.mesh];
+            for (j, t) in mesh.indices.chunks_exact(3).enumerate() {
+                let p = |i: u32| {
+                    instance
+                        .world_from_object
+                        .transform_point3(mesh.positions[i as usize])
+                };
+                triangles.push(([p(t[0]), p(t[1]), p(t[2])], instance.mesh, 3 * j));
+            }
+        }
+        Self { scene, triangles }
+    }
+
+    /// Whether triangle `g` has a hole at `p` (a point on it).
+    pub fn hole(&self, g: usize, p: DVec3) -> bool {
+        let (corners, m, first) = self.triangles[g];
+        let mesh = &self.scene.meshes[m];
+        let Some(cutout) = mesh
+            .cutout
+            .as_ref()
+            .filter(|_| mesh.uvs.len() == mesh.positions.len())
+        else {
+            return false;
+        };
+        // Barycentric coordinates of p.
+        let [a, b, c] = corners;
+        let (e1, e2, d) = (b - a, c - a, p - a);
+        let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+        let (d1, d2) = (d.dot(e1), d.dot(e2));
+        let det = d11 * d22 - d12 * d12;
+        let v = (d22 * d1 - d12 * d2) / det;
+        let w = (d11 * d2 - d12 * d1) / det;
+        let uv = |k: usize| mesh.uvs[mesh.indices[first + k] as usize];
+        !cutout.solid_at(uv(0) * (1.0 - v - w) + uv(1) * v + uv(2) * w)
+    }
+
+    /// The first hit of the ray `origin + t direction` (t up to `max`) on `mesh` that is not
+    /// in a hole, with its time along the ray and its triangle among all (`global` maps
+    /// the mesh's triangle to it).
+    pub fn first_hit(
+        &self,
+        mesh: &TriMesh,
+        origin: DVec3,
+        direction: DVec3,
+        max: f64,
+        global: impl Fn(u32) -> usize,
+    ) -> Option<Hit> {
+        let mut start = 0.0;
+        // Past a hole: a step of a millionth of the ray's reach.
+        let step = 1e-6 * max;
+        loop {
+            let ray = Ray::new(vector(origin + direction * start), vector(direction));
+            let hit = mesh.cast_local_ray_and_get_normal(&ray, max - start, false)?;
+            let time = start + hit.time_of_impact;
+            let g = global(hit.subshape);
+            if !self.hole(g, origin + direction * time) {
+                return Some(Hit {
+                    time_of_impact: time,
+                    subshape: g,
+                    normal: dvec(hit.normal),
+                });
+            }
+            start = time + step;
+        }
+    }
+}
+
+/// A ray's first solid hit: its time along the ray, its triangle among all, its normal.
+pub struct Hit {
+    pub time_of_impact: f64,
+    pub subshape: usize,
+    pub normal: DVec3,
 }
 
 /// Where the light meets the scene's casters, per pixel of an oracle's mask (the object-ID
