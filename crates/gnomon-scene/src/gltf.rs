@@ -89,7 +89,7 @@ pub(crate) fn parts(
         .any(|m| m.pbr_metallic_roughness().base_color_texture().is_some())
     {
         out.notes.push(
-            "base colour textures give only alpha-masked materials' holes: parts take their material's base colour factor"
+            "base colour textures are not drawn (parts take their material's base colour factor); an alpha-masked material's texture gives its holes"
                 .into(),
         );
     }
