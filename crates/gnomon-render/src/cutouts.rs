@@ -109,11 +109,7 @@ impl GpuCutouts {
         };
         let mut groups = Vec::with_capacity(meshes.len());
         for (k, mesh) in meshes.iter().enumerate() {
-            let Some(cutout) = mesh
-                .cutout
-                .as_ref()
-                .filter(|_| mesh.uvs.len() == mesh.positions.len())
-            else {
+            let Some(cutout) = mesh.holes() else {
                 groups.push(None);
                 continue;
             };

@@ -401,7 +401,7 @@ impl Renderer {
             );
             self.bind_frame(&mut pass);
             self.scene.bind(&mut pass);
-            self.scene.draw_all_cut(&mut pass);
+            self.scene.draw_all(&mut pass, true);
         }
         clock.end_part(&self.gpu, Part::Main)?;
         let mut timings = clock.finish(self)?;

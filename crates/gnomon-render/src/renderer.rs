@@ -666,12 +666,8 @@ impl Renderer {
             pass.set_bind_group(0, &self.frame_group, &[offset]);
             pass.set_bind_group(1, &self.records_group, &[]);
             self.scene.bind(&mut pass);
-            let casters = map.casters.iter().copied();
-            if cut {
-                self.scene.draw_instances_cut(&mut pass, casters);
-            } else {
-                self.scene.draw_instances(&mut pass, casters);
-            }
+            self.scene
+                .draw_instances(&mut pass, map.casters.iter().copied(), cut);
         }
     }
 
@@ -743,7 +739,7 @@ impl Renderer {
         pass.set_pipeline(pipeline);
         self.bind_frame(&mut pass);
         self.scene.bind(&mut pass);
-        self.scene.draw_all_cut(&mut pass);
+        self.scene.draw_all(&mut pass, true);
         Ok(())
     }
 

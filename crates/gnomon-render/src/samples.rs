@@ -84,7 +84,7 @@ impl Renderer {
             pass.set_pipeline(self.pipelines.samples(&self.gpu.device));
             self.bind_frame(&mut pass);
             self.scene.bind(&mut pass);
-            self.scene.draw_all(&mut pass);
+            self.scene.draw_all(&mut pass, false);
         }
         self.gpu.queue.submit([encoder.finish()]);
         let targets = self.sample_targets.as_ref().expect("made above");

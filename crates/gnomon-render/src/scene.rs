@@ -517,44 +517,30 @@ impl GpuScene {
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
     }
 
-    /// Draws every instance (after [`GpuScene::bind`]).
-    pub fn draw_all(&self, pass: &mut wgpu::RenderPass<'_>) {
-        self.draw_instances(pass, 0..self.instances.len() as u32);
+    /// Draws every instance (after [`GpuScene::bind`]); see [`GpuScene::draw_instances`].
+    pub fn draw_all(&self, pass: &mut wgpu::RenderPass<'_>, with_holes: bool) {
+        self.draw_instances(pass, 0..self.instances.len() as u32, with_holes);
     }
 
-    /// Draws every instance with its mesh's holes (group 2), for a pipeline that reads them.
-    pub fn draw_all_cut(&self, pass: &mut wgpu::RenderPass<'_>) {
-        self.draw_instances_cut(pass, 0..self.instances.len() as u32);
-    }
-
-    /// Draws the instances of `indices` (after [`GpuScene::bind`]), each with its mesh's holes
-    /// (group 2), for a pipeline that reads them.
-    pub fn draw_instances_cut(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        indices: impl IntoIterator<Item = u32>,
-    ) {
-        let mut bound: Option<&wgpu::BindGroup> = None;
-        for k in indices {
-            let m = self.instances[k as usize].mesh;
-            let group = self.cutouts.group(m);
-            if !bound.is_some_and(|b| std::ptr::eq(b, group)) {
-                pass.set_bind_group(2, group, &[]);
-                bound = Some(group);
-            }
-            let mesh = &self.meshes[m];
-            pass.draw_indexed(mesh.indices.clone(), mesh.base_vertex, k..k + 1);
-        }
-    }
-
-    /// Draws the instances of `indices` (after [`GpuScene::bind`]).
+    /// Draws the instances of `indices` (after [`GpuScene::bind`]); `with_holes`, for a
+    /// pipeline that reads them: each with its mesh's holes as group 2.
     pub fn draw_instances(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         indices: impl IntoIterator<Item = u32>,
+        with_holes: bool,
     ) {
+        let mut bound: Option<&wgpu::BindGroup> = None;
         for k in indices {
-            let mesh = &self.meshes[self.instances[k as usize].mesh];
+            let m = self.instances[k as usize].mesh;
+            if with_holes {
+                let group = self.cutouts.group(m);
+                if !bound.is_some_and(|b| std::ptr::eq(b, group)) {
+                    pass.set_bind_group(2, group, &[]);
+                    bound = Some(group);
+                }
+            }
+            let mesh = &self.meshes[m];
             pass.draw_indexed(mesh.indices.clone(), mesh.base_vertex, k..k + 1);
         }
     }

@@ -748,7 +748,7 @@ impl Renderer {
             pass.set_pipeline(&self.volumes.depth_and_ambient);
             self.bind_frame(&mut pass);
             self.scene.bind(&mut pass);
-            self.scene.draw_all(&mut pass);
+            self.scene.draw_all(&mut pass, false);
         }
         clock.end_part(&self.gpu, Part::Main)?;
         for k in 0..light_count {
@@ -831,7 +831,7 @@ impl Renderer {
                 let draws = [&self.volumes.lit, &self.volumes.shadowed];
                 for pipeline in draws.iter().take(if skip_shadowed { 1 } else { 2 }) {
                     pass.set_pipeline(pipeline);
-                    self.scene.draw_all(&mut pass);
+                    self.scene.draw_all(&mut pass, false);
                 }
             }
             clock.end_part(&self.gpu, Part::Main)?;

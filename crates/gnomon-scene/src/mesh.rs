@@ -145,6 +145,13 @@ impl Mesh {
         }
     }
 
+    /// Its holes: the cutout, where every vertex has texture coordinates to read it at.
+    pub fn holes(&self) -> Option<&Cutout> {
+        self.cutout
+            .as_deref()
+            .filter(|_| self.uvs.len() == self.positions.len())
+    }
+
     /// The number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3

@@ -77,8 +77,8 @@ pub fn oracle(
     width: u32,
     height: u32,
 ) -> OracleMask {
-    let triangles = scene.world_triangles();
     let holes = Holes::new(scene);
+    let triangles = &holes.triangles;
     let mut all_vertices = Vec::new();
     let mut all_indices = Vec::new();
     let mut caster_vertices = Vec::new();
@@ -177,38 +177,28 @@ pub fn oracle(
 /// the texture coordinates interpolated to the hit, is below the cutoff.
 pub struct Holes<'a> {
     scene: &'a RenderScene,
-    /// Each triangle's world corners, mesh and first index.
-    triangles: Vec<([DVec3; 3], usize, usize)>,
+    /// [`RenderScene::world_triangles`].
+    pub triangles: Vec<([DVec3; 3], usize)>,
 }
 
 impl<'a> Holes<'a> {
     pub fn new(scene: &'a RenderScene) -> Self {
-        let mut triangles = Vec::new();
-        for instance in &scene.instances {
-            let mesh = &scene.meshes[instance.mesh];
-            for (j, t) in mesh.indices.chunks_exact(3).enumerate() {
-                let p = |i: u32| {
-                    instance
-                        .world_from_object
-                        .transform_point3(mesh.positions[i as usize])
-                };
-                triangles.push(([p(t[0]), p(t[1]), p(t[2])], instance.mesh, 3 * j));
-            }
+        Self {
+            scene,
+            triangles: scene.world_triangles(),
         }
-        Self { scene, triangles }
     }
 
     /// Whether triangle `g` has a hole at `p` (a point on it).
     pub fn hole(&self, g: usize, p: DVec3) -> bool {
-        let (corners, m, first) = self.triangles[g];
-        let mesh = &self.scene.meshes[m];
-        let Some(cutout) = mesh
-            .cutout
-            .as_ref()
-            .filter(|_| mesh.uvs.len() == mesh.positions.len())
-        else {
+        let (corners, k) = self.triangles[g];
+        let mesh = &self.scene.meshes[self.scene.instances[k].mesh];
+        let Some(cutout) = mesh.holes() else {
             return false;
         };
+        // The triangle's place in its mesh: instances' triangles follow each other.
+        let instance_start = self.triangles.partition_point(|t| t.1 < k);
+        let first = 3 * (g - instance_start);
         // Barycentric coordinates of p.
         let [a, b, c] = corners;
         let (e1, e2, d) = (b - a, c - a, p - a);
