@@ -344,7 +344,7 @@ impl DrawArgs {
 }
 
 /// The hard lights sampling an area light unless `--area-samples` says otherwise.
-pub const DEFAULT_AREA_SAMPLES: usize = 64;
+pub const DEFAULT_AREA_SAMPLES: usize = gnomon::area_light::BASE_AREA_SAMPLES;
 
 /// A bias in world units: a number from 0 to 10^4.
 fn parse_bias_world(s: &str) -> Result<f64, String> {

@@ -91,7 +91,7 @@ fn the_cluster_agrees_with_the_oracle_of_the_same_light_points() {
 }
 
 #[test]
-fn more_samples_change_the_penumbra_by_about_one_percent() {
+fn more_samples_change_the_penumbra_by_less_than_one_percent() {
     let scene = scene();
     let mut renderer = renderer(&scene);
     let camera = camera();
@@ -124,11 +124,10 @@ fn more_samples_change_the_penumbra_by_about_one_percent() {
     }
     assert!(count > 200, "{count} penumbra pixels");
     let mean = sum / count as f64;
-    // Measured here: 1.07% (the issue asks for below 1%). The error of N points on a disc cut
-    // by a shadow's edge falls like N^(-3/4) at best (Beck's bound for half-planes); Vogel's
-    // spiral did best of those tried (Hammersley through Shirley's map: 1.18%).
+    // The issue's bound. The 256 samples contain the 64 (progressive clusters, see
+    // gnomon::area_light): with two unrelated Vogel spirals this measured 1.07% here.
     assert!(
-        mean < 0.0125,
+        mean < 0.01,
         "mean difference {mean} over {count} penumbra pixels"
     );
 }
