@@ -82,7 +82,6 @@ pub(crate) fn refine(
             Some(mask) => out.cut.push((i, mask)),
         }
     }
-    out.finish();
     out
 }
 
@@ -374,6 +373,8 @@ impl VisibleScene {
                 .iter()
                 .map(|&n| tree.size(n as usize))
                 .sum::<usize>();
+        visible.cut_once.reserve(classified.cut.len());
+        visible.points.reserve(64);
         let points = &mut visible.points;
         for &(i, mask) in &classified.cut {
             if mask.count_ones() == 1 {
@@ -404,6 +405,9 @@ impl VisibleScene {
                     .push((i, mask, start as u32, points.len() as u32));
             }
         }
+        // Few receivers reach several planes (the view's edges): sorting them here is cheaper
+        // than sorting every cut receiver.
+        visible.cuts.sort_unstable_by_key(|c| c.0);
         visible
     }
 
@@ -459,7 +463,9 @@ impl VisibleScene {
     }
 
     /// The extents of the visible receiver parts under a map: `node_image` gives a subtree's
-    /// node's extents (they hold its boxes'), `box_image` a receiver's, `points_image` the
+    /// node's extents (they hold its boxes'), `box_bound` extents that hold a receiver's image
+    /// (cheap; what decides whether the receiver adds anything), `box_image` the receiver's
+    /// image given that bound (the bound itself where it is exact), `points_image` the
     /// extents of points (a cut part's vertices). The parts that several planes cut come
     /// first (they reach the borders of the view), then the wholly visible receivers, nearest
     /// the light first, then those one plane cuts. A subtree or a cut receiver whose (whole)
@@ -472,13 +478,20 @@ impl VisibleScene {
         scene: &SceneBounds,
         prune_cuts: bool,
         node_image: impl Fn(usize) -> Extents,
-        box_image: impl Fn(usize) -> Extents,
+        box_bound: impl Fn(usize) -> Extents,
+        box_image: impl Fn(usize, Extents) -> Extents,
         points_image: impl Fn(&[DVec3]) -> Extents,
     ) -> Extents {
         let tree = scene.receiver_tree();
         let mut ext = points_image(&self.points);
+        let add_box = |ext: &mut Extents, i: usize| {
+            let bound = box_bound(i);
+            if !ext.contains(&bound) {
+                *ext = ext.union(&box_image(i, bound));
+            }
+        };
         for &i in &self.boxes {
-            ext = ext.union(&box_image(i as usize));
+            add_box(&mut ext, i as usize);
         }
         let mut stack: Vec<(usize, Extents)> = self
             .nodes
@@ -491,7 +504,7 @@ impl VisibleScene {
             }
             if tree.is_leaf(node) {
                 for &i in tree.boxes_of(node) {
-                    ext = ext.union(&box_image(i as usize));
+                    add_box(&mut ext, i as usize);
                 }
             } else {
                 let [a, b] = tree.children(node).map(|c| (c, node_image(c)));
@@ -504,7 +517,7 @@ impl VisibleScene {
         }
         let mut scratch = Vec::new();
         for (i, plane) in &self.cut_once {
-            if prune_cuts && ext.contains(&box_image(*i as usize)) {
+            if prune_cuts && ext.contains(&box_bound(*i as usize)) {
                 continue;
             }
             scratch.clear();
@@ -574,6 +587,7 @@ impl VisibleScene {
                     true,
                     |n| nodes.extents(n),
                     |i| boxes.extents(i),
+                    |_, exact| exact,
                     points_image,
                 )
             }
@@ -584,6 +598,7 @@ impl VisibleScene {
                 false,
                 |n| projector.box_extents(&tree.node_box(n)),
                 |i| projector.box_extents(&scene.receivers()[i]),
+                |_, exact| exact,
                 points_image,
             ),
         }

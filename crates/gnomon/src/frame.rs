@@ -71,7 +71,6 @@ impl<'a> Frame<'a> {
                 [(0, all_planes(receiver_planes.len()))],
                 &mut receiver_codes,
             );
-            receiver_codes.finish();
         }
         Self {
             input: *input,

@@ -111,7 +111,7 @@ impl ConvexPolyhedron {
     /// A polyhedron that only touches the plane comes back empty.
     pub fn clip(&self, plane: &Plane, tolerance: f64) -> ConvexPolyhedron {
         let mut out = self.clone();
-        out.clip_in_place(plane, tolerance, &mut Scratch::default());
+        out.clip_in_place(plane, tolerance, &mut Scratch::new());
         out
     }
 
@@ -122,7 +122,7 @@ impl ConvexPolyhedron {
         tolerance: f64,
     ) -> ConvexPolyhedron {
         let mut out = self.clone();
-        let mut scratch = Scratch::default();
+        let mut scratch = Scratch::new();
         for plane in planes {
             if out.is_empty() {
                 break;
@@ -183,12 +183,24 @@ impl ConvexPolyhedron {
 }
 
 /// Buffers reused across the clips of one [`ConvexPolyhedron::clip_all`].
-#[derive(Default)]
 struct Scratch {
     distances: Vec<f64>,
     points: Vec<DVec3>,
     face_ends: Vec<usize>,
     cap: Vec<DVec3>,
+}
+
+impl Scratch {
+    /// Room for the polyhedra of the setups (a box or frustum clipped by a few planes: up
+    /// to about 12 faces of 3 to 6 vertices), so that clipping does not grow them piecewise.
+    fn new() -> Self {
+        Self {
+            distances: Vec::with_capacity(64),
+            points: Vec::with_capacity(64),
+            face_ends: Vec::with_capacity(16),
+            cap: Vec::with_capacity(16),
+        }
+    }
 }
 
 impl Aabb {

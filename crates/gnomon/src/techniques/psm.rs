@@ -373,6 +373,7 @@ fn receivers_under(
         true,
         |n| image(&tree.node_box(n)),
         |i| image(&scene.receivers()[i]),
+        |_, exact| exact,
         |points| {
             let mut e = Extents::EMPTY;
             for p in points {

@@ -156,9 +156,15 @@ impl Warp {
         self.space.light(p)
     }
 
+    /// w at light-space Y.
+    #[inline]
+    fn w(&self, y: f64) -> f64 {
+        1.0 + (y - self.y_origin) * self.inv_n
+    }
+
     /// (u, s, z) and w of light-space coordinates.
     fn warp(&self, q: DVec3) -> (DVec3, f64) {
-        let w = 1.0 + (q.y - self.y_origin) * self.inv_n;
+        let w = self.w(q.y);
         (
             DVec3::new(
                 q.x - self.x_eye,
@@ -605,6 +611,7 @@ impl WarpSpace {
                 let tree = scene.receiver_tree();
                 let arrays = scene.receiver_arrays();
                 let nodes = ParallelBoxes::new(&tree.nodes, frame);
+                let boxes = ParallelBoxes::new(arrays, frame);
                 let corners = LightCorners::new(frame);
                 visible.extents_under(
                     scene,
@@ -613,15 +620,25 @@ impl WarpSpace {
                         let light = nodes.extents(n);
                         warp.box_extents(light.min, light.max)
                     },
+                    // The warped box around a receiver's light-space box. A cut receiver's
+                    // whole box may reach behind the warp's centre, where its image bounds
+                    // nothing (a wholly visible one lies in B: w > 0); w is linear in Y, so
+                    // the box's Y range tells.
                     |i| {
-                        let c = warp.light(arrays.center_of(i));
-                        let corners = corners.corners(c, arrays.half_of(i));
-                        // A cut receiver's whole box may reach behind the warp's centre, where
-                        // its image bounds nothing (a wholly visible one lies in B: w > 0).
-                        if corners.iter().any(|q| warp.warp(*q).1 <= 0.0) {
+                        let light = boxes.extents(i);
+                        if warp.w(light.min.y) <= 0.0 || warp.w(light.max.y) <= 0.0 {
                             return Extents::ALL;
                         }
-                        warp.points_extents(&corners)
+                        warp.box_extents(light.min, light.max)
+                    },
+                    // Exact: the warped corners (the light-space box's Y range is the
+                    // corners', so none is behind the centre when the bound is finite).
+                    |i, bound| {
+                        if bound == Extents::ALL {
+                            return bound;
+                        }
+                        let c = warp.light(arrays.center_of(i));
+                        warp.points_extents(&corners.corners(c, arrays.half_of(i)))
                     },
                     |points| {
                         let mut ext = Extents::EMPTY;

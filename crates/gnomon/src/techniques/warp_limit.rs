@@ -10,7 +10,11 @@
 //! direction (the renderer's undersampling metric) of each. While the warp's is larger, the
 //! strength is halved (LiSPSM's 1 / n and XPSM's len times the strength; PSM's virtual eye
 //! and TSM's projection point moved away by its inverse), at most [`HALVINGS`] times; then
-//! the focused map is used. [`Fallback::WarpLimited`] and [`Fallback::WarpCoarserThanFocused`]
+//! the focused map is used. The halving also stops, for the focused map, where it made both
+//! figures worse: the figures move from the warp's toward the unwarped map's (close to the
+//! focused map's) as the strength falls, so once weakening stops helping, the weaker warps
+//! are not expected to beat the focused map by the margin, and building them costs a whole
+//! setup each (in the benches' city, a cascade that would try four strengths tries two). [`Fallback::WarpLimited`] and [`Fallback::WarpCoarserThanFocused`]
 //! name what happened, and [`crate::Diagnostics::warp_strength`] the strength kept.
 //!
 //! The limit is a choice of ours, not the papers': each paper's strength is optimal for its
@@ -88,24 +92,58 @@ fn limit_warp(
             .unwrap_or([f64::INFINITY; 2])
     };
     let reference = measure(focused);
-    let mut strength = 1.0;
-    for halving in 0..=HALVINGS {
-        if halving > 0 {
-            strength *= 0.5;
-            setup = build(strength)?;
-        }
-        let ours = measure(&setup);
-        if ours[0] <= reference[0] && ours[1] <= MAX_MARGIN * reference[1] {
-            if halving > 0 {
+    let mut built = Some(setup);
+    let strength = pick_strength(reference, |strength| {
+        let setup = match built.take() {
+            Some(setup) if strength == 1.0 => setup,
+            _ => build(strength)?,
+        };
+        let figures = measure(&setup);
+        built = Some(setup);
+        Ok(figures)
+    })?;
+    match (strength, built) {
+        (Some(strength), Some(mut setup)) => {
+            if strength < 1.0 {
                 setup.diagnostics.fallbacks.push(Fallback::WarpLimited);
             }
             setup.diagnostics.warp_strength = Some(strength);
-            return Ok(setup);
+            Ok(setup)
+        }
+        _ => {
+            let mut focused =
+                with_fallback(focused.clone(), technique, Fallback::WarpCoarserThanFocused);
+            focused.diagnostics.warp_strength = Some(0.0);
+            Ok(focused)
         }
     }
-    let mut focused = with_fallback(focused.clone(), technique, Fallback::WarpCoarserThanFocused);
-    focused.diagnostics.warp_strength = Some(0.0);
-    Ok(focused)
+}
+
+/// The strength the limit keeps, given the focused map's figures (`reference`: the
+/// undersampling's [`QUANTILE`] and worst sample) and a way to measure the warp's at a
+/// strength, called with 1, 1/2, ... 1/2^[`HALVINGS`] in turn: the first whose figures pass,
+/// or `None` (the focused map) when none does or a halving made both figures worse (see the
+/// module documentation); `measure` is not called again after that.
+fn pick_strength<E>(
+    reference: [f64; 2],
+    mut measure: impl FnMut(f64) -> Result<[f64; 2], E>,
+) -> Result<Option<f64>, E> {
+    let mut strength = 1.0;
+    let mut previous = [f64::INFINITY; 2];
+    for halving in 0..=HALVINGS {
+        if halving > 0 {
+            strength *= 0.5;
+        }
+        let ours = measure(strength)?;
+        if ours[0] <= reference[0] && ours[1] <= MAX_MARGIN * reference[1] {
+            return Ok(Some(strength));
+        }
+        if ours[0] >= previous[0] && ours[1] >= previous[1] {
+            break;
+        }
+        previous = ours;
+    }
+    Ok(None)
 }
 
 /// Whether a technique's setup is its warp (not the focused or uniform map it fell back to).
@@ -120,4 +158,49 @@ fn is_warp(setup: &ShadowSetup) -> bool {
                 | Fallback::SpotLightNotWarped
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The strengths `pick_strength` measures and what it keeps, when the warp's figures at
+    /// strengths 1, 1/2, ... are `figures` (the focused map's: [4.0, 4.0]).
+    fn run(figures: &[[f64; 2]]) -> (Vec<f64>, Option<f64>) {
+        let mut asked = Vec::new();
+        let kept = pick_strength::<()>([4.0, 4.0], |strength| {
+            asked.push(strength);
+            Ok(figures[asked.len() - 1])
+        })
+        .unwrap();
+        (asked, kept)
+    }
+
+    #[test]
+    fn the_strongest_warp_that_passes_is_kept() {
+        // Passing needs the quantile no coarser and the worst sample 10% finer than focused.
+        assert_eq!(run(&[[3.0, 3.5]]), (vec![1.0], Some(1.0)));
+        assert_eq!(
+            run(&[[5.0, 6.0], [4.5, 5.0], [3.9, 3.5]]),
+            (vec![1.0, 0.5, 0.25], Some(0.25))
+        );
+        // The worst sample only 5% finer at every strength: all four tried, focused kept.
+        let close = [[3.0, 3.8], [3.1, 3.7], [3.2, 3.65], [3.3, 3.62]];
+        assert_eq!(run(&close), (vec![1.0, 0.5, 0.25, 0.125], None));
+    }
+
+    #[test]
+    fn the_halving_stops_where_it_makes_both_figures_worse() {
+        // Better than focused but not by the margin, and worse at half strength: the weaker
+        // warps are not built.
+        assert_eq!(
+            run(&[[4.13, 4.37], [4.24, 4.42], [0.0, 0.0]]),
+            (vec![1.0, 0.5], None)
+        );
+        // One figure better is enough to go on.
+        assert_eq!(
+            run(&[[4.13, 4.37], [4.24, 4.30], [3.0, 3.0]]),
+            (vec![1.0, 0.5, 0.25], Some(0.25))
+        );
+    }
 }
