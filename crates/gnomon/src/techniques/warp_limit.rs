@@ -76,7 +76,7 @@ fn limit_warp(
     enabled: bool,
     build: impl Fn(f64) -> Result<ShadowSetup, SetupError>,
 ) -> Result<ShadowSetup, SetupError> {
-    let mut setup = build(1.0)?;
+    let setup = build(1.0)?;
     if !enabled || !is_warp(&setup) {
         return Ok(setup);
     }
