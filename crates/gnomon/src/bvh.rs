@@ -183,6 +183,9 @@ impl BoxTree {
         // Deep enough for a walk down a balanced hierarchy of 10^5 boxes without growing.
         let mut stack: Vec<(usize, u32)> = Vec::with_capacity(64);
         stack.extend(roots);
+        out.nodes.reserve(32);
+        out.boxes.reserve(64);
+        out.cut.reserve(64);
         while let Some((node, active)) = stack.pop() {
             let Some(mask) = straddled(
                 self.nodes.center_of(node),

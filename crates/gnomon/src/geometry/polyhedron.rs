@@ -136,6 +136,7 @@ impl ConvexPolyhedron {
         let mut max_d = f64::NEG_INFINITY;
         let mut min_d = f64::INFINITY;
         scratch.distances.clear();
+        scratch.distances.reserve(self.points.len());
         for p in &self.points {
             let d = plane.distance(*p);
             max_d = max_d.max(d);
@@ -152,6 +153,10 @@ impl ConvexPolyhedron {
         scratch.points.clear();
         scratch.face_ends.clear();
         scratch.cap.clear();
+        // The buffers swapped in from the last clip may be only as large as its polyhedron.
+        scratch.points.reserve(self.points.len() + 16);
+        scratch.face_ends.reserve(self.face_ends.len() + 2);
+        scratch.cap.reserve(16);
         let mut face_start = 0;
         for (face, &face_end) in self.faces().zip(&self.face_ends) {
             let distances = &scratch.distances[face_start..face_end];
