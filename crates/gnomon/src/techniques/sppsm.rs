@@ -66,7 +66,8 @@ use crate::frame::Frame;
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
 use crate::setup::{
-    CastersBySide, Fallback, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
+    CastersBySide, Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup,
+    ShadowTechnique,
 };
 use crate::techniques::basis::{FocusBasis, Part};
 use crate::techniques::warp_limit::LimitedWarp;
@@ -350,11 +351,36 @@ fn casters_by_side(scene: &SceneBounds, plane: DVec4) -> CastersBySide {
     counts
 }
 
-/// Whether the plane `next` is `plane` up to a millionth of `scale` (world units) in its
-/// offset and round-off in its normal.
-fn converged(plane: DVec4, next: DVec4, scale: f64) -> bool {
-    (next.truncate() - plane.truncate()).length() <= 1e-9
-        && (next.w - plane.w).abs() <= 1e-6 * scale
+/// Whether the plane `next` is `plane` up to `settle` (world units) in its offset and
+/// round-off in its normal.
+fn converged(plane: DVec4, next: DVec4, settle: f64) -> bool {
+    (next.truncate() - plane.truncate()).length() <= 1e-9 && (next.w - plane.w).abs() <= settle
+}
+
+/// How little the plane's offset must move for the refocusing to stop: a tenth of a texel of
+/// `focused` (the focused map on all of I, whose texels are the coarsest the side maps can
+/// have) where it is orthographic, else (or when the map says nothing) a millionth of
+/// `scene_scale`. Why a texel: the plane moves about a sixth as far each time, and a move of
+/// a tenth of a texel changes the maps and the side a point reads by as little; a millionth
+/// of the scene took two more refocusings of both maps in the benches' city.
+fn settle_distance(focused: &ShadowMap, scene_scale: f64) -> f64 {
+    let floor = 1e-6 * scene_scale;
+    if focused.projection != MapProjection::Orthographic {
+        return floor;
+    }
+    // Clip x and y per world unit along the map's axes; a texel is 2 / resolution of clip.
+    let rows = focused.clip_from_world;
+    let per_world = rows
+        .row(0)
+        .truncate()
+        .length()
+        .max(rows.row(1).truncate().length());
+    let texel = 2.0 / (per_world * f64::from(focused.resolution));
+    if texel.is_finite() && texel > 0.0 {
+        (0.1 * texel).max(floor)
+    } else {
+        floor
+    }
 }
 
 impl ShadowTechnique for Sppsm {
@@ -429,6 +455,7 @@ impl ShadowTechnique for Sppsm {
         // The result so far: maps and the plane that picks between them. Both maps on all of
         // I with their exact plane (the theorem) is one, and the fallback.
         let mut kept = (focused.maps[0], perspective.maps[0], plane);
+        let settle = settle_distance(&focused.maps[0], input.scene.scene_box().diagonal());
         for iteration in 2..=self.iterations {
             // Each map on its side of the current plane; if a side has no receiver or a map
             // falls back, the result so far stays.
@@ -476,9 +503,9 @@ impl ShadowTechnique for Sppsm {
             }
             match separating_plane(&focused_map, &perspective_map, input.light) {
                 // Refocusing converges geometrically (the plane's offset moves about a sixth
-                // as far each time); once it moves by less than a millionth of the scene, the
-                // next maps would be the same to far below a texel.
-                Some(next) if converged(plane, next, input.scene.scene_box().diagonal()) => {
+                // as far each time); once it moves by less than `settle`, the next maps would
+                // be the same to a small part of a texel.
+                Some(next) if converged(plane, next, settle) => {
                     break;
                 }
                 Some(next) => plane = next,
@@ -508,6 +535,30 @@ mod tests {
 
     use super::*;
     use crate::bounds::Aabb;
+
+    #[test]
+    fn refocusing_settles_at_a_tenth_of_the_focused_map_s_texel() {
+        // An orthographic map 100 m wide (clip -1 to 1) at 1000 texels: 0.1 m texels.
+        let map = |projection| ShadowMap {
+            clip_from_world: DMat4::from_scale(DVec3::new(0.02, 0.02, 0.01)),
+            depth_from_world: DVec4::Z,
+            resolution: 1000,
+            viewport_inset: 0,
+            projection,
+        };
+        let settle = settle_distance(&map(MapProjection::Orthographic), 500.0);
+        assert!((settle - 0.01).abs() < 1e-12, "{settle}");
+        // Perspective maps (spot lights) keep a millionth of the scene.
+        assert_eq!(
+            settle_distance(&map(MapProjection::Perspective), 500.0),
+            5e-4
+        );
+        let plane = DVec4::new(1.0, 0.0, 0.0, 3.0);
+        assert!(converged(plane, plane + DVec4::W * 0.009, settle));
+        assert!(!converged(plane, plane + DVec4::W * 0.011, settle));
+        let turned = DVec4::new(1.0, 1e-6, 0.0, 3.0);
+        assert!(!converged(plane, turned, settle));
+    }
 
     proptest! {
         #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
