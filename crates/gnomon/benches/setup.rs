@@ -6,62 +6,19 @@
 
 use std::hint::black_box;
 
+#[path = "common/city.rs"]
+mod city;
+
+use city::{bench_camera, city, lamp, spot, sun};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use glam::DVec3;
 use gnomon::{
-    Aabb, Camera, Cascades, Cube, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings,
-    PointLight, Psm, SceneBounds, SpotLight, Sppsm, Tsm, Uniform, ViewSamples, Xpsm, compute_setup,
-    compute_setup_with_samples,
+    Cascades, Cube, Focused, Lispsm, MapSettings, Psm, Sppsm, Tsm, Uniform, ViewSamples, Xpsm,
+    compute_setup, compute_setup_with_samples,
 };
 
-/// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, on a ground slab: casters, and also
-/// receivers when `boxes_receive`.
-fn city(n: usize, boxes_receive: bool) -> SceneBounds {
-    let side = (n as f64).sqrt().ceil() as usize;
-    let pitch = 380.0 / side as f64;
-    let mut boxes = Vec::with_capacity(n);
-    for k in 0..n {
-        let (i, j) = ((k % side) as f64, (k / side) as f64);
-        let h = 2.0 + ((k * 7919) % 38) as f64;
-        let min = DVec3::new(-190.0 + i * pitch, 0.0, -190.0 + j * pitch);
-        boxes.push(Aabb::new(min, min + DVec3::new(0.6 * pitch, h, 0.6 * pitch)).unwrap());
-    }
-    let ground = Aabb::new(
-        DVec3::new(-200.0, -1.0, -200.0),
-        DVec3::new(200.0, 0.0, 200.0),
-    )
-    .unwrap();
-    let mut receivers = if boxes_receive {
-        boxes.clone()
-    } else {
-        Vec::new()
-    };
-    receivers.push(ground);
-    SceneBounds::new(boxes, receivers, None).unwrap()
-}
-
 fn bench(c: &mut Criterion) {
-    let camera = Camera::look_at(
-        DVec3::new(-150.0, 30.0, 180.0),
-        DVec3::new(20.0, 0.0, -20.0),
-        DVec3::Y,
-        Lens::default(),
-    )
-    .unwrap();
-    let sun = Light::Directional(DirectionalLight::new(DVec3::new(0.5, -1.0, -0.3)).unwrap());
-    let spot = Light::Spot(
-        SpotLight::new(
-            DVec3::new(0.0, 120.0, 100.0),
-            DVec3::new(0.0, -1.0, -0.8),
-            45.0,
-            400.0,
-        )
-        .unwrap(),
-    );
-    // A lamp among the buildings, in the camera's view, lighting most of the city (250 m), and
-    // a street lamp's reach (40 m).
-    let lamp = Light::Point(PointLight::new(DVec3::new(-40.0, 10.0, 60.0), 250.0).unwrap());
-    let street_lamp = Light::Point(PointLight::new(DVec3::new(-40.0, 10.0, 60.0), 40.0).unwrap());
+    let (camera, sun, spot) = (bench_camera(), sun(), spot());
+    let (lamp, street_lamp) = (lamp(250.0), lamp(40.0));
     let settings = MapSettings::with_resolution(2048);
     let mut group = c.benchmark_group("setup");
     for n in [10usize, 100, 1000] {
@@ -244,8 +201,7 @@ fn bench(c: &mut Criterion) {
         });
     }
     group.finish();
-    // Scale: the real-scene issue's figures, 10^3 to 10^5 boxes that cast and receive (today
-    // linear in the boxes: no spatial index yet).
+    // Scale: the real-scene issue's figures, 10^3 to 10^5 boxes that cast and receive.
     let mut scale = c.benchmark_group("scale");
     scale.sample_size(10);
     let cascades = Cascades::default();
