@@ -129,44 +129,56 @@ pub struct SceneBounds {
     receiver_tree: BoxTree,
 }
 
-/// Boxes as centres and half extents in separate arrays: the layout the per-frame loops over
-/// thousands of boxes run fastest on. Built once with the scene bounds.
+/// Boxes as centre and half extents, side by side: a walk through a hierarchy reads a box's
+/// six numbers together, from one place. Built once with the scene bounds.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub(crate) struct BoxArrays {
-    /// Centre coordinates, one array per axis.
-    pub center: [Vec<f64>; 3],
-    /// Half extents, one array per axis.
-    pub half: [Vec<f64>; 3],
+    /// Each box's centre and half extents.
+    boxes: Vec<[DVec3; 2]>,
 }
 
 impl BoxArrays {
     /// How many boxes.
     pub fn len(&self) -> usize {
-        self.center[0].len()
+        self.boxes.len()
     }
 
     /// Box `i`'s centre.
     #[inline]
     pub fn center_of(&self, i: usize) -> DVec3 {
-        DVec3::new(self.center[0][i], self.center[1][i], self.center[2][i])
+        self.boxes[i][0]
     }
 
     /// Box `i`'s half extents.
     #[inline]
     pub fn half_of(&self, i: usize) -> DVec3 {
-        DVec3::new(self.half[0][i], self.half[1][i], self.half[2][i])
+        self.boxes[i][1]
+    }
+
+    /// Box `i`'s centre and half extents.
+    #[inline]
+    pub fn center_half(&self, i: usize) -> (DVec3, DVec3) {
+        let [c, h] = self.boxes[i];
+        (c, h)
+    }
+
+    /// Appends a box by its centre and half extents.
+    pub(crate) fn push(&mut self, center: DVec3, half: DVec3) {
+        self.boxes.push([center, half]);
+    }
+
+    /// Sets box `i`'s centre and half extents.
+    pub(crate) fn set(&mut self, i: usize, center: DVec3, half: DVec3) {
+        self.boxes[i] = [center, half];
     }
 
     pub(crate) fn new(boxes: &[Aabb]) -> Self {
-        let mut arrays = Self::default();
-        for b in boxes {
-            let (c, h) = (b.center(), b.half_extents());
-            for axis in 0..3 {
-                arrays.center[axis].push(c[axis]);
-                arrays.half[axis].push(h[axis]);
-            }
+        Self {
+            boxes: boxes
+                .iter()
+                .map(|b| [b.center(), b.half_extents()])
+                .collect(),
         }
-        arrays
     }
 }
 

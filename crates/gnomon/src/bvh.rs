@@ -92,10 +92,7 @@ impl BoxTree {
         self.left.push(0);
         self.start.push(start as u32);
         self.size.push(size as u32);
-        for axis in 0..3 {
-            self.nodes.center[axis].push(0.0);
-            self.nodes.half[axis].push(0.0);
-        }
+        self.nodes.push(DVec3::ZERO, DVec3::ZERO);
     }
 
     /// Recomputes every node's box from `boxes` (the same number of boxes the tree was built
@@ -123,10 +120,7 @@ impl BoxTree {
             let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
             // A few ulps more, so that c +- h holds a and b after rounding.
             let h = h + (c.abs() + h) * (4.0 * f64::EPSILON);
-            for axis in 0..3 {
-                self.nodes.center[axis][node] = c[axis];
-                self.nodes.half[axis][node] = h[axis];
-            }
+            self.nodes.set(node, c, h);
         }
     }
 

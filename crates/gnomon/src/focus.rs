@@ -107,8 +107,7 @@ impl<'a> ParallelBoxes<'a> {
     #[inline(always)]
     pub fn extents(&self, i: usize) -> Extents {
         let (b, a, h_axes) = (self.boxes, &self.axes, &self.abs_axes);
-        let c = DVec3::new(b.center[0][i], b.center[1][i], b.center[2][i]);
-        let h = DVec3::new(b.half[0][i], b.half[1][i], b.half[2][i]);
+        let (c, h) = b.center_half(i);
         let pc = DVec3::new(a[0].dot(c), a[1].dot(c), a[2].dot(c));
         let ph = DVec3::new(h_axes[0].dot(h), h_axes[1].dot(h), h_axes[2].dot(h));
         Extents {
@@ -893,7 +892,7 @@ pub(crate) trait CasterImages {
     }
 }
 
-/// A directional light's frame: boxes projected from the structure-of-arrays.
+/// A directional light's frame: boxes projected from their centres and half extents.
 struct ParallelImages<'a> {
     nodes: ParallelBoxes<'a>,
     boxes: ParallelBoxes<'a>,
