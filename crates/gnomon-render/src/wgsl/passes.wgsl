@@ -58,6 +58,10 @@ struct DepthOut {
     @location(1) @interpolate(flat) object: u32,
     // Texture coordinates, where the mesh has holes (vs_depth_cut).
     @location(2) uv: vec2<f32>,
+    // A paraboloid map's (see depth_out): the point in the hemisphere's frame, q, and its place
+    // in the map, both interpolated straight across the triangle's image.
+    @location(3) q: vec3<f32>,
+    @location(4) map_xy: vec2<f32>,
 };
 
 // Group 2 of the main passes and of the depth passes with holes: the mesh's alpha (an
@@ -95,27 +99,66 @@ fn depth_out(position: vec3<f32>, instance: CasterInstance, index: u32) -> Depth
     var out: DepthOut;
     out.object = index + 1u;
     out.uv = vec2<f32>(0.0);
+    out.q = vec3<f32>(0.0);
+    out.map_xy = vec2<f32>(0.0);
     let info = gnomon_shadows.maps[slot.map].info;
     out.clip = gnomon_shadows.maps[slot.map].clip_from_camera * p;
     out.depth = dot(gnomon_shadows.maps[slot.map].depth_from_camera, p);
     if ((info.y & GNOMON_MAP_PARABOLOID) != 0u) {
         // The vertex's place in the paraboloid, its distance as the depth, and a clip z that
         // cuts the hemisphere at its rim (the edges between vertices stay straight: the
-        // technique's known error).
+        // technique's known error at silhouettes). Inside the triangle the fragment shader
+        // takes the depth of its own direction (paraboloid_depth).
         let q = out.clip.xyz;
         let d = max(length(q), 1e-30);
         let xy = q.xy * (gnomon_paraboloid_scale(info) / max(d + q.z, 1e-6 * d));
         out.clip = vec4<f32>(xy, (q.z / d - GNOMON_PARABOLOID_RIM) / (1.0 - GNOMON_PARABOLOID_RIM), 1.0);
         out.depth = d;
+        out.q = q;
+        out.map_xy = xy;
     }
     return out;
 }
 
+// A paraboloid map's depth at a fragment: the distance, along the direction of the
+// fragment's place in the map, to the plane of the triangle (x), and whether that direction
+// meets the plane in front of the light within its range (y: 1, else 0). Distances
+// interpolated between the vertices are wrong inside a large triangle (a wall's two triangles
+// beside a lamp shadow in the wrong place), and a fragment whose direction does not meet the
+// plane where it can is not the triangle's (its straight edges cover places the paraboloid's
+// curved ones do not). The interpolated q lies on the triangle's plane and its screen
+// derivatives span it; where they do not (a triangle seen edge on: y is 1) the interpolated
+// distance stands.
+fn paraboloid_depth(in: DepthOut) -> vec2<f32> {
+    let dx = dpdx(in.q);
+    let dy = dpdy(in.q);
+    let n = cross(dx, dy);
+    let info = gnomon_shadows.maps[slot.map].info;
+    // The unit direction of map place f: f / k = v.xy / (1 + v.z), so with a = f / k,
+    // v = (2 a, 1 - |a|^2) / (1 + |a|^2).
+    let a = in.map_xy / gnomon_paraboloid_scale(info);
+    let aa = dot(a, a);
+    let v = vec3<f32>(2.0 * a, 1.0 - aa) / (1.0 + aa);
+    let along = dot(n, v);
+    let t = dot(n, in.q) / along;
+    let spanned = length(n) > 1e-3 * length(dx) * length(dy);
+    let meets = abs(along) > 1e-5 * length(n) && t > 0.0 && t <= 2.0;
+    return select(vec2<f32>(in.depth, 1.0), vec2<f32>(t, select(0.0, 1.0, meets)), spanned);
+}
+
+// The biased depth a depth pass writes; discards a paraboloid map's fragment that is not its
+// triangle's (see paraboloid_depth).
 fn biased_depth(in: DepthOut) -> f32 {
+    let paraboloid = (gnomon_shadows.maps[slot.map].info.y & GNOMON_MAP_PARABOLOID) != 0u;
+    let exact = select(vec2<f32>(in.depth, 1.0), paraboloid_depth(in), paraboloid);
+    let depth = exact.x;
     // Slope-scaled bias: the depth change across one texel (the pass renders texels).
     let bias = gnomon_shadows.maps[slot.map].bias;
-    let slope = max(abs(dpdx(in.depth)), abs(dpdy(in.depth)));
-    return clamp(in.depth + bias.x + min(bias.y * slope, bias.z), 0.0, 1.0);
+    let slope = max(abs(dpdx(depth)), abs(dpdy(depth)));
+    if (exact.y == 0.0) {
+        discard;
+    }
+    return clamp(depth + bias.x + min(bias.y * slope, bias.z), 0.0, 1.0);
 }
 
 @fragment
