@@ -122,7 +122,8 @@ fn depth_out(position: vec3<f32>, instance: CasterInstance, index: u32) -> Depth
 
 // A paraboloid map's depth at a fragment: the distance, along the direction of the
 // fragment's place in the map, to the plane of the triangle (x), and whether that direction
-// meets the plane in front of the light within its range (y: 1, else 0). Distances
+// meets the plane in front of the light and not far beyond its range (y: 1, else 0; depths
+// beyond the range clamp to the far end and shadow nothing). Distances
 // interpolated between the vertices are wrong inside a large triangle (a wall's two triangles
 // beside a lamp shadow in the wrong place), and a fragment whose direction does not meet the
 // plane where it can is not the triangle's (its straight edges cover places the paraboloid's
