@@ -1077,7 +1077,10 @@ pub(crate) fn walk_casters<I: CasterImages>(
                                     continue;
                                 }
                                 let e = images.bound(points_image(images, &scratch));
-                                (e, light_near_first && mask & 1 != 0)
+                                let near_cut = light_near_first
+                                    && mask & 1 != 0
+                                    && reaches_past_near(caster, cut_planes, mask, tolerance);
+                                (e, near_cut)
                             }
                         }
                     }
@@ -1108,6 +1111,15 @@ pub(crate) fn walk_casters<I: CasterImages>(
         relevant,
         near_clipped,
     }
+}
+
+/// Whether part of `caster` lies nearer to the light than its near plane (`planes[0]`, whose
+/// inside is beyond it) and inside the other planes of `mask`: the part the near plane clips
+/// away. A box that crosses the near plane only outside the light's frustum loses nothing.
+fn reaches_past_near(caster: &Aabb, planes: &[Plane], mask: u32, tolerance: f64) -> bool {
+    let mut flipped = planes.to_vec();
+    flipped[0] = planes[0].flipped();
+    box_cut_vertices(caster, &flipped, mask, tolerance, &mut Vec::new())
 }
 
 /// The extents of points under a caster walk's map.

@@ -168,6 +168,14 @@ fn caster_reaching_in_front_of_the_spot_near_plane_is_reported() {
         Camera::look_at(DVec3::new(0.0, 10.0, 30.0), DVec3::ZERO, DVec3::Y, lens()).unwrap();
     let setup = focused(&camera, &spot, &scene);
     assert_eq!(setup.diagnostics.casters_clipped_by_light_near, 1);
+    assert!(setup.diagnostics.relevant_casters >= 2);
+    // A wall beside the lamp crosses the near plane's height, but a metre from the light,
+    // where the frustum is a hair's width: nothing of it is clipped, and nothing is counted.
+    let wall = Aabb::new(DVec3::new(1.0, 0.0, -3.0), DVec3::new(1.5, 20.0, 3.0)).unwrap();
+    let scene = SceneBounds::new(vec![wall, post()], vec![ground()], None).unwrap();
+    let setup = focused(&camera, &spot, &scene);
+    assert!(setup.diagnostics.relevant_casters >= 1);
+    assert_eq!(setup.diagnostics.casters_clipped_by_light_near, 0);
 }
 
 #[test]
