@@ -627,7 +627,31 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             .unwrap_or_default(),
         args.out.display()
     );
+    for (light, setup) in lights.iter().zip(&setups) {
+        if let Some(warning) = near_clip_warning(light, &setup.diagnostics) {
+            eprintln!("warning: {warning}");
+        }
+    }
     Ok(())
+}
+
+/// What a spot or point light's maps leave out: the parts of casters nearer to the light than
+/// its near plane (a thousandth of its range), counted by
+/// `diagnostics.casters_clipped_by_light_near` (for a point light, once per cube face).
+fn near_clip_warning(light: &gnomon::Light, diagnostics: &gnomon::Diagnostics) -> Option<String> {
+    let near = match light {
+        gnomon::Light::Spot(spot) => spot.near(),
+        gnomon::Light::Point(point) => point.near(),
+        gnomon::Light::Directional(_) => return None,
+    };
+    let clipped = diagnostics.casters_clipped_by_light_near;
+    (clipped > 0).then(|| {
+        format!(
+            "{clipped} caster box(es) reach within the light's near distance ({near:.3} m, a \
+             thousandth of its range): any surface that near casts no shadow in the maps, and a \
+             light inside an object shines out through it (the exact volumes keep it)"
+        )
+    })
 }
 
 /// `gnomon render --technique volumes`.

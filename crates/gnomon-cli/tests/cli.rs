@@ -2224,6 +2224,45 @@ light_dir = [0.2, -1, -0.6]
     path
 }
 
+/// `render` warns when casters reach within a spot or point light's near distance, where the
+/// maps clip them (a lamp inside a cube shines out through the clipped faces), and says
+/// nothing for a lamp in the open.
+#[test]
+fn render_warns_of_casters_at_the_light() {
+    let dir = temp_dir("near-clip");
+    let scene = write_scene_file(&dir);
+    let out_png = dir.join("lamp.png");
+    let render = |point: &str| {
+        let out = gnomon(&[
+            "render",
+            "--scene-file",
+            scene.to_str().unwrap(),
+            "--view",
+            "sun",
+            "--point",
+            point,
+            "--technique",
+            "cube",
+            "--size",
+            "96x54",
+            "--out",
+            out_png.to_str().unwrap(),
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{stderr}");
+        stderr
+    };
+    // Inside the cube at x -3 to -1, y 0 to 2, 0.02 m below its top (the near distance is
+    // 0.05 m).
+    let inside = render("-2,1.98,1,50");
+    assert!(
+        inside.contains("warning:") && inside.contains("near distance (0.050 m"),
+        "{inside}"
+    );
+    let open = render("0,6,0,50");
+    assert!(!open.contains("near distance"), "{open}");
+}
+
 /// `--scene-file` in setup (no GPU): its named views give the camera and the light, explicit
 /// options override them, and an unknown view lists the file's.
 #[test]
