@@ -981,6 +981,9 @@ pub(crate) fn walk_casters<I: CasterImages>(
     };
     let mut relevant = 0;
     let mut near_clipped = 0;
+    // The box around the part of the scene nearer to the light than its near plane, inside
+    // the other planes (the frustum's tip), made when a caster first crosses the near plane.
+    let mut near_tip: Option<Option<(DVec3, DVec3)>> = None;
     let mut scratch = Vec::new();
     let mut stack = Vec::new();
     if !tree.is_empty() {
@@ -1077,9 +1080,15 @@ pub(crate) fn walk_casters<I: CasterImages>(
                                     continue;
                                 }
                                 let e = images.bound(points_image(images, &scratch));
-                                let near_cut = light_near_first
-                                    && mask & 1 != 0
-                                    && reaches_past_near(caster, cut_planes, mask, tolerance);
+                                let near_cut = light_near_first && mask & 1 != 0 && {
+                                    let tip = near_tip.get_or_insert_with(|| {
+                                        near_tip_box(scene, cut_planes, tolerance)
+                                    });
+                                    tip.is_some_and(|(lo, hi)| {
+                                        (caster.min() - tolerance).cmple(hi).all()
+                                            && (caster.max() + tolerance).cmpge(lo).all()
+                                    }) && reaches_past_near(caster, cut_planes, mask, tolerance)
+                                };
                                 (e, near_cut)
                             }
                         }
@@ -1111,6 +1120,27 @@ pub(crate) fn walk_casters<I: CasterImages>(
         relevant,
         near_clipped,
     }
+}
+
+/// The corners (least, greatest) of the box around the part of the scene box nearer to the
+/// light than its near plane (`planes[0]`) and inside the other `planes`: the frustum's tip,
+/// where the near plane clips casters. `None` when the tip misses the scene.
+fn near_tip_box(scene: &SceneBounds, planes: &[Plane], tolerance: f64) -> Option<(DVec3, DVec3)> {
+    let mut flipped = planes.to_vec();
+    flipped[0] = planes[0].flipped();
+    let mut corners = Vec::new();
+    if !box_cut_vertices(
+        &scene.scene_box(),
+        &flipped,
+        all_planes(flipped.len()),
+        tolerance,
+        &mut corners,
+    ) {
+        return None;
+    }
+    let lo = corners.iter().fold(DVec3::INFINITY, |a, p| a.min(*p));
+    let hi = corners.iter().fold(DVec3::NEG_INFINITY, |a, p| a.max(*p));
+    Some((lo, hi))
 }
 
 /// Whether part of `caster` lies nearer to the light than its near plane (`planes[0]`, whose
