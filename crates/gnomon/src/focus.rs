@@ -981,9 +981,8 @@ pub(crate) fn walk_casters<I: CasterImages>(
     };
     let mut relevant = 0;
     let mut near_clipped = 0;
-    // The box around the part of the scene nearer to the light than its near plane, inside
-    // the other planes (the frustum's tip), made when a caster first crosses the near plane.
-    let mut near_tip: Option<Option<(DVec3, DVec3)>> = None;
+    // The frustum's tip (see NearTip), made when a caster first crosses the near plane.
+    let mut near_tip: Option<NearTip> = None;
     let mut scratch = Vec::new();
     let mut stack = Vec::new();
     if !tree.is_empty() {
@@ -1080,15 +1079,13 @@ pub(crate) fn walk_casters<I: CasterImages>(
                                     continue;
                                 }
                                 let e = images.bound(points_image(images, &scratch));
-                                let near_cut = light_near_first && mask & 1 != 0 && {
-                                    let tip = near_tip.get_or_insert_with(|| {
-                                        near_tip_box(scene, cut_planes, tolerance)
-                                    });
-                                    tip.is_some_and(|(lo, hi)| {
-                                        (caster.min() - tolerance).cmple(hi).all()
-                                            && (caster.max() + tolerance).cmpge(lo).all()
-                                    }) && reaches_past_near(caster, cut_planes, mask, tolerance)
-                                };
+                                let near_cut = light_near_first
+                                    && mask & 1 != 0
+                                    && near_tip
+                                        .get_or_insert_with(|| {
+                                            NearTip::new(scene, cut_planes, tolerance)
+                                        })
+                                        .clips(caster, mask, tolerance);
                                 (e, near_cut)
                             }
                         }
@@ -1122,34 +1119,58 @@ pub(crate) fn walk_casters<I: CasterImages>(
     }
 }
 
-/// The corners (least, greatest) of the box around the part of the scene box nearer to the
-/// light than its near plane (`planes[0]`) and inside the other `planes`: the frustum's tip,
-/// where the near plane clips casters. `None` when the tip misses the scene.
-fn near_tip_box(scene: &SceneBounds, planes: &[Plane], tolerance: f64) -> Option<(DVec3, DVec3)> {
-    let mut flipped = planes.to_vec();
-    flipped[0] = planes[0].flipped();
-    let mut corners = Vec::new();
-    if !box_cut_vertices(
-        &scene.scene_box(),
-        &flipped,
-        all_planes(flipped.len()),
-        tolerance,
-        &mut corners,
-    ) {
-        return None;
-    }
-    let lo = corners.iter().fold(DVec3::INFINITY, |a, p| a.min(*p));
-    let hi = corners.iter().fold(DVec3::NEG_INFINITY, |a, p| a.max(*p));
-    Some((lo, hi))
+/// The tip of a spot light's frustum: the part nearer to the light than its near plane
+/// (`planes[0]` of a walk's cutting planes) and inside the others, which the near plane clips
+/// from the map.
+struct NearTip {
+    /// The cutting planes with the near plane flipped: their inside is the tip.
+    planes: Vec<Plane>,
+    /// The corners (least, greatest) of the box around the tip's part of the scene box;
+    /// `None` when the tip misses the scene.
+    bounds: Option<(DVec3, DVec3)>,
+    /// Vertices of a caster's cut.
+    scratch: Vec<DVec3>,
 }
 
-/// Whether part of `caster` lies nearer to the light than its near plane (`planes[0]`, whose
-/// inside is beyond it) and inside the other planes of `mask`: the part the near plane clips
-/// away. A box that crosses the near plane only outside the light's frustum loses nothing.
-fn reaches_past_near(caster: &Aabb, planes: &[Plane], mask: u32, tolerance: f64) -> bool {
-    let mut flipped = planes.to_vec();
-    flipped[0] = planes[0].flipped();
-    box_cut_vertices(caster, &flipped, mask, tolerance, &mut Vec::new())
+impl NearTip {
+    fn new(scene: &SceneBounds, cut_planes: &[Plane], tolerance: f64) -> Self {
+        let mut planes = cut_planes.to_vec();
+        planes[0] = cut_planes[0].flipped();
+        let mut corners = Vec::new();
+        let bounds = box_cut_vertices(
+            &scene.scene_box(),
+            &planes,
+            all_planes(planes.len()),
+            tolerance,
+            &mut corners,
+        )
+        .then(|| {
+            let lo = corners.iter().fold(DVec3::INFINITY, |a, p| a.min(*p));
+            let hi = corners.iter().fold(DVec3::NEG_INFINITY, |a, p| a.max(*p));
+            (lo, hi)
+        });
+        Self {
+            planes,
+            bounds,
+            scratch: Vec::new(),
+        }
+    }
+
+    /// Whether part of `caster` lies in the tip, inside the planes of `mask` (those the caster
+    /// crosses): the part the near plane clips away. A box that crosses the near plane only
+    /// outside the light's frustum loses nothing.
+    fn clips(&mut self, caster: &Aabb, mask: u32, tolerance: f64) -> bool {
+        let Some((lo, hi)) = self.bounds else {
+            return false;
+        };
+        if !((caster.min() - tolerance).cmple(hi).all()
+            && (caster.max() + tolerance).cmpge(lo).all())
+        {
+            return false;
+        }
+        self.scratch.clear();
+        box_cut_vertices(caster, &self.planes, mask, tolerance, &mut self.scratch)
+    }
 }
 
 /// The extents of points under a caster walk's map.

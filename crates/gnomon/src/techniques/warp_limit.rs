@@ -14,8 +14,9 @@
 //! figures worse: the figures move from the warp's toward the unwarped map's (close to the
 //! focused map's) as the strength falls, so once weakening stops helping, the weaker warps
 //! are not expected to beat the focused map by the margin, and building them costs a whole
-//! setup each (in the benches' city, a cascade that would try four strengths tries two). [`Fallback::WarpLimited`] and [`Fallback::WarpCoarserThanFocused`]
-//! name what happened, and [`crate::Diagnostics::warp_strength`] the strength kept.
+//! setup each (in the benches' city, a cascade that would try four strengths tries two).
+//! [`Fallback::WarpLimited`] and [`Fallback::WarpCoarserThanFocused`] name what happened, and
+//! [`crate::Diagnostics::warp_strength`] the strength kept.
 //!
 //! The limit is a choice of ours, not the papers': each paper's strength is optimal for its
 //! error model along the view axis (the LiSPSM paper's ideal configuration, where no limit
