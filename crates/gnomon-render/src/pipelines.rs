@@ -48,6 +48,9 @@ pub(crate) struct Pipelines {
     /// Depth passes by the caster vertex stride, whether they write object IDs and whether
     /// they read holes.
     depth: HashMap<(u64, bool, bool), wgpu::RenderPipeline>,
+    /// The exact paraboloid depth passes (see [`Paraboloids`]), where the device has storage
+    /// buffers in vertex shaders.
+    paraboloid: Option<Paraboloids>,
     /// The measured main pass, by metrics and specialisation.
     measured: HashMap<(bool, MainSpec), wgpu::RenderPipeline>,
     /// The main pass into a caller's target, by format, sample count and specialisation.
@@ -108,6 +111,21 @@ pub(crate) fn scene_buffers() -> [wgpu::VertexBufferLayout<'static>; 2] {
             attributes: &INSTANCE_ATTRIBUTES,
         },
     ]
+}
+
+/// The exact paraboloid depth passes: the vertex shader reads its triangle's three corners
+/// from the scene's buffers (group 3) and draws a triangle around the hemisphere's image of
+/// the whole triangle; the fragment shader casts its texel's ray at the triangle and keeps
+/// the distance where it hits (so the triangle's edges are the curves they are in the map,
+/// not straight lines between the corners' places).
+pub(crate) struct Paraboloids {
+    /// Group 3: the scene's vertices and indices, read-only.
+    layout: wgpu::BindGroupLayout,
+    /// Groups 0, 1 and 3, and with the mesh's holes in group 2.
+    plain: wgpu::PipelineLayout,
+    cut: wgpu::PipelineLayout,
+    /// By whether they write object IDs and whether they read holes.
+    pipelines: HashMap<(bool, bool), wgpu::RenderPipeline>,
 }
 
 /// A pipeline's parts that vary.
@@ -217,11 +235,77 @@ impl Pipelines {
             depth_layout,
             depth_cut_layout,
             depth: HashMap::new(),
+            paraboloid: None,
             color: HashMap::new(),
             samples: None,
         };
         pipelines.depth(device, std::mem::size_of::<Vertex>() as u64, false, false);
+        pipelines.paraboloid = pipelines.exact_paraboloids(device);
         pipelines
+    }
+
+    /// The exact paraboloid passes with their first pipeline made, or `None` where the device
+    /// refuses them (no storage buffers in vertex shaders: WebGL2, some GLES drivers).
+    fn exact_paraboloids(&self, device: &wgpu::Device) -> Option<Paraboloids> {
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
+        let storage = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("gnomon scene triangles"),
+            entries: &[storage(0), storage(1)],
+        });
+        let pipeline_layout = |label, cut: Option<&wgpu::BindGroupLayout>| {
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &[
+                    Some(&self.frame_layout),
+                    Some(&self.records_layout),
+                    cut,
+                    Some(&layout),
+                ],
+                immediate_size: 0,
+            })
+        };
+        let mut paraboloids = Paraboloids {
+            plain: pipeline_layout("gnomon paraboloid depth", None),
+            cut: pipeline_layout(
+                "gnomon paraboloid depth with holes",
+                Some(&self.cutout_layout),
+            ),
+            layout,
+            pipelines: HashMap::new(),
+        };
+        paraboloids.make(device, &self.shader, false, false);
+        let internal = pollster::block_on(internal.pop());
+        let validation = pollster::block_on(validation.pop());
+        (internal.is_none() && validation.is_none()).then_some(paraboloids)
+    }
+
+    /// Group 3's layout of the exact paraboloid passes, where the device has them.
+    pub fn pulled_layout(&self) -> Option<&wgpu::BindGroupLayout> {
+        self.paraboloid.as_ref().map(|p| &p.layout)
+    }
+
+    /// Makes the exact paraboloid depth pass for `ids` and `cut` (see [`Pipelines::depth`]),
+    /// where the device has them.
+    pub fn paraboloid(&mut self, device: &wgpu::Device, ids: bool, cut: bool) {
+        if let Some(p) = &mut self.paraboloid {
+            p.make(device, &self.shader, ids, cut);
+        }
+    }
+
+    /// The exact paraboloid depth pass already made for `ids` and `cut`.
+    pub fn paraboloid_for(&self, ids: bool, cut: bool) -> Option<&wgpu::RenderPipeline> {
+        self.paraboloid.as_ref()?.pipelines.get(&(ids, cut))
     }
 
     /// The depth pass for casters whose positions (three f32) repeat every `stride` bytes;
@@ -284,13 +368,7 @@ impl Pipelines {
                     fragment: Some(fragment),
                     targets: if ids { &id_target } else { &[] },
                     constants: &[],
-                    depth: Some(wgpu::DepthStencilState {
-                        format: MAP_FORMAT,
-                        depth_write_enabled: Some(true),
-                        depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                        stencil: wgpu::StencilState::default(),
-                        bias: wgpu::DepthBiasState::default(),
-                    }),
+                    depth: Some(map_depth()),
                     samples: 1,
                 },
             )
@@ -394,6 +472,51 @@ impl Pipelines {
                     },
                 )
             })
+    }
+}
+
+impl Paraboloids {
+    fn make(&mut self, device: &wgpu::Device, shader: &wgpu::ShaderModule, ids: bool, cut: bool) {
+        let layout = if cut { &self.cut } else { &self.plain };
+        self.pipelines.entry((ids, cut)).or_insert_with(|| {
+            let fragment = match (ids, cut) {
+                (false, false) => "fs_paraboloid",
+                (true, false) => "fs_paraboloid_id",
+                (false, true) => "fs_paraboloid_cut",
+                (true, true) => "fs_paraboloid_id_cut",
+            };
+            let id_target = [Some(ID_FORMAT.into())];
+            build(
+                device,
+                shader,
+                layout,
+                &PipelineSpec {
+                    label: "paraboloid depth",
+                    vertex: "vs_paraboloid",
+                    buffers: &[wgpu::VertexBufferLayout {
+                        array_stride: INSTANCE_STRIDE,
+                        step_mode: wgpu::VertexStepMode::Instance,
+                        attributes: &INSTANCE_ATTRIBUTES[..4],
+                    }],
+                    fragment: Some(fragment),
+                    targets: if ids { &id_target } else { &[] },
+                    constants: &[],
+                    depth: Some(map_depth()),
+                    samples: 1,
+                },
+            )
+        });
+    }
+}
+
+/// The shadow map's depth test: nearer is less.
+fn map_depth() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: MAP_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::LessEqual),
+        stencil: wgpu::StencilState::default(),
+        bias: wgpu::DepthBiasState::default(),
     }
 }
 

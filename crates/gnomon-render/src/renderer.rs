@@ -189,6 +189,9 @@ pub(crate) struct PreparedMap {
     pub planes: Vec<DVec4>,
     /// The scene's instances drawn into it.
     pub casters: Vec<u32>,
+    /// Whether it is a paraboloid hemisphere (drawn by the exact paraboloid pass where the
+    /// device has it).
+    pub paraboloid: bool,
 }
 
 /// Draws shadowed scenes. It keeps the pipelines, samplers, uniform buffers, the shadow maps
@@ -315,7 +318,13 @@ impl Renderer {
         );
         let volumes = VolumePipelines::new(&gpu, &pipelines);
         let volume_casters = VolumeCasters::new(scene);
-        let gpu_scene = GpuScene::new(&resources, &gpu.queue, &pipelines.cutout_layout, scene)?;
+        let gpu_scene = GpuScene::new(
+            &resources,
+            &gpu.queue,
+            &pipelines.cutout_layout,
+            pipelines.pulled_layout(),
+            scene,
+        )?;
         let timer = Timer::new(&gpu, &resources);
         let renderer = Self {
             scene: gpu_scene,
@@ -579,7 +588,8 @@ impl Renderer {
                     let sign = if i == 0 { -1.0 } else { 1.0 };
                     prepared.planes.push(sign * plane_world);
                 }
-                if map.projection == gnomon::MapProjection::Paraboloid {
+                prepared.paraboloid = map.projection == gnomon::MapProjection::Paraboloid;
+                if prepared.paraboloid {
                     // A hemisphere holds what lies on its side of the light, to its rim
                     // (q.z >= -sin(margin) |q|, and |q| <= 1 within the range).
                     let rim = gnomon::PARABOLOID_MARGIN_DEGREES.to_radians().sin();
@@ -630,6 +640,14 @@ impl Renderer {
         k * self.slot_stride
     }
 
+    /// Whether paraboloid maps are drawn exactly (each texel's ray cast at each triangle: see
+    /// the depth pass in passes.wgsl), which needs storage buffers in vertex shaders; where the
+    /// device lacks them, and for a caller's casters ([`Renderer::encode_shadow_maps_of`]),
+    /// the triangles' edges are straight in the map between their corners' places.
+    pub fn exact_paraboloids(&self) -> bool {
+        self.pipelines.pulled_layout().is_some() && self.scene.pulled.is_some()
+    }
+
     /// How many of the scene's casters each map of the prepared frame draws (those whose
     /// world box reaches the map's clip volume), in the order of the maps.
     pub fn casters_drawn(&self) -> Vec<usize> {
@@ -649,6 +667,7 @@ impl Renderer {
         let stride = std::mem::size_of::<crate::scene::Vertex>() as u64;
         let (ids, cut) = (self.main_spec.read != 0, self.main_spec.cutout);
         self.pipelines.depth(&self.gpu.device, stride, ids, cut);
+        self.pipelines.paraboloid(&self.gpu.device, ids, cut);
         for k in 0..self.maps.len() {
             let offset = self.slot(k as u32);
             let timestamps = if timed {
@@ -658,13 +677,22 @@ impl Renderer {
             };
             let map = &self.maps[k];
             let mut pass = begin_depth_pass(encoder, &self.atlas, map, ids, timestamps);
+            pass.set_bind_group(0, &self.frame_group, &[offset]);
+            pass.set_bind_group(1, &self.records_group, &[]);
+            let exact = self.pipelines.paraboloid_for(ids, cut);
+            if let Some(pipeline) = exact.filter(|_| map.paraboloid) {
+                pass.set_pipeline(pipeline);
+                if self.scene.bind_pulled(&mut pass) {
+                    self.scene
+                        .draw_pulled(&mut pass, map.casters.iter().copied(), cut);
+                    continue;
+                }
+            }
             pass.set_pipeline(
                 self.pipelines
                     .depth_for(stride, ids, cut)
                     .expect("made above"),
             );
-            pass.set_bind_group(0, &self.frame_group, &[offset]);
-            pass.set_bind_group(1, &self.records_group, &[]);
             self.scene.bind(&mut pass);
             self.scene
                 .draw_instances(&mut pass, map.casters.iter().copied(), cut);

@@ -244,11 +244,11 @@ pub(crate) struct Vertex {
     pub uv: [f32; 2],
 }
 
-/// Where one mesh's triangles are in the scene's buffers.
+/// Where one mesh's triangles are in the scene's index buffer (whose indices count from the
+/// start of the vertex buffer, so that a pass that reads the buffers itself needs no base).
 #[derive(Debug, Clone)]
 pub(crate) struct MeshRange {
     pub indices: Range<u32>,
-    pub base_vertex: i32,
 }
 
 /// One instance as the renderer keeps it: its mesh, placement, world bounds and flags.
@@ -277,6 +277,9 @@ impl SceneInstance {
 pub(crate) struct GpuScene {
     pub vertices: wgpu::Buffer,
     pub indices: wgpu::Buffer,
+    /// Both buffers as group 3 of the exact paraboloid depth passes, which read a triangle's
+    /// three corners themselves (where the device has storage buffers in vertex shaders).
+    pub pulled: Option<wgpu::BindGroup>,
     pub meshes: Vec<MeshRange>,
     pub instances: Vec<SceneInstance>,
     pub instances_on_gpu: InstanceStream,
@@ -367,6 +370,7 @@ impl GpuScene {
         resources: &Resources,
         queue: &wgpu::Queue,
         cutout_layout: &wgpu::BindGroupLayout,
+        pulled_layout: Option<&wgpu::BindGroupLayout>,
         scene: &RenderScene,
     ) -> Result<Self, RenderError> {
         let mut vertices: Vec<Vertex> = Vec::new();
@@ -374,8 +378,8 @@ impl GpuScene {
         let mut meshes = Vec::new();
         for mesh in &scene.meshes {
             let first = indices.len() as u32;
-            let base_vertex = i32::try_from(vertices.len()).map_err(|_| {
-                RenderError::Invalid("the scene has more than 2^31 vertices".into())
+            let base_vertex = u32::try_from(vertices.len()).map_err(|_| {
+                RenderError::Invalid("the scene has more than 2^32 vertices".into())
             })?;
             let uv = |k: usize| mesh.uvs.get(k).map_or([0.0; 2], |t| t.as_vec2().to_array());
             vertices.extend(mesh.positions.iter().zip(&mesh.normals).enumerate().map(
@@ -385,10 +389,9 @@ impl GpuScene {
                     uv: uv(k),
                 },
             ));
-            indices.extend_from_slice(&mesh.indices);
+            indices.extend(mesh.indices.iter().map(|i| i + base_vertex));
             meshes.push(MeshRange {
                 indices: first..indices.len() as u32,
-                base_vertex,
             });
         }
         let mut instances = Vec::new();
@@ -415,20 +418,44 @@ impl GpuScene {
             bytes.resize(bytes.len().max(16).next_multiple_of(4), 0);
             bytes
         };
+        let storage = if pulled_layout.is_some() {
+            wgpu::BufferUsages::STORAGE
+        } else {
+            wgpu::BufferUsages::empty()
+        };
         let vertex_buffer = resources.buffer_init(
             "scene vertices",
             &pad(bytemuck::cast_slice(&vertices).to_vec()),
-            wgpu::BufferUsages::VERTEX,
+            wgpu::BufferUsages::VERTEX | storage,
         );
         let index_buffer = resources.buffer_init(
             "scene indices",
             &pad(bytemuck::cast_slice(&indices).to_vec()),
-            wgpu::BufferUsages::INDEX,
+            wgpu::BufferUsages::INDEX | storage,
         );
+        let pulled = pulled_layout.map(|layout| {
+            resources
+                .device
+                .create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("scene triangles"),
+                    layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: vertex_buffer.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: index_buffer.as_entire_binding(),
+                        },
+                    ],
+                })
+        });
         let instances_on_gpu = InstanceStream::new(resources, "scene instances", instances.len());
         Ok(Self {
             vertices: vertex_buffer,
             indices: index_buffer,
+            pulled,
             meshes,
             mesh_bounds: scene
                 .meshes
@@ -541,8 +568,43 @@ impl GpuScene {
                 }
             }
             let mesh = &self.meshes[m];
-            pass.draw_indexed(mesh.indices.clone(), mesh.base_vertex, k..k + 1);
+            pass.draw_indexed(mesh.indices.clone(), 0, k..k + 1);
         }
+    }
+
+    /// Draws the instances of `indices` for the exact paraboloid depth pass (after
+    /// [`GpuScene::bind_pulled`]): one vertex per index, which the vertex shader reads with
+    /// its triangle's other corners from group 3.
+    pub fn draw_pulled(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        indices: impl IntoIterator<Item = u32>,
+        with_holes: bool,
+    ) {
+        let mut bound: Option<&wgpu::BindGroup> = None;
+        for k in indices {
+            let m = self.instances[k as usize].mesh;
+            if with_holes {
+                let group = self.cutouts.group(m);
+                if !bound.is_some_and(|b| std::ptr::eq(b, group)) {
+                    pass.set_bind_group(2, group, &[]);
+                    bound = Some(group);
+                }
+            }
+            pass.draw(self.meshes[m].indices.clone(), k..k + 1);
+        }
+    }
+
+    /// Binds the instances and the triangles (group 3) for [`GpuScene::draw_pulled`]; false
+    /// where the scene has no triangles to read (the device lacks storage buffers in vertex
+    /// shaders).
+    pub fn bind_pulled(&self, pass: &mut wgpu::RenderPass<'_>) -> bool {
+        let Some(pulled) = &self.pulled else {
+            return false;
+        };
+        pass.set_vertex_buffer(0, self.instances_on_gpu.buffer.slice(..));
+        pass.set_bind_group(3, pulled, &[]);
+        true
     }
 }
 

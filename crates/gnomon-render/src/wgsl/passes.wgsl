@@ -198,6 +198,278 @@ fn fs_depth_id_cut(in: DepthOut) -> DepthIdOut {
     return DepthIdOut(depth, vec4<u32>(in.object, 0u, 0u, 0u));
 }
 
+// The exact paraboloid depth pass (vs_paraboloid / fs_paraboloid*): where the device has
+// storage buffers in vertex shaders, a paraboloid map's triangles are not drawn between their
+// corners' places. Each vertex reads its triangle's three corners (group 3: the scene's
+// vertices, eight f32 each with the position first and the texture coordinates last, and its
+// indices, counted from the first vertex), and the three vertices draw one triangle that
+// covers the hemisphere's image of the whole triangle; each texel of it casts its own ray from
+// the light at the triangle and keeps the distance where it hits (Moller and Trumbore's
+// test). The edges are then the curves they are in the map, a triangle that crosses the rim
+// is drawn on both sides of it, and the depth is the texel's own.
+@group(3) @binding(0) var<storage, read> scene_vertices: array<f32>;
+@group(3) @binding(1) var<storage, read> scene_indices: array<u32>;
+
+// Floats per vertex in scene_vertices (gnomon-render's Vertex: position, normal, uv).
+const VERTEX_FLOATS: u32 = 8u;
+
+struct ParaboloidOut {
+    @builtin(position) clip: vec4<f32>,
+    // The place in the map (normalised device coordinates), linear across the covering
+    // triangle.
+    @location(0) map_xy: vec2<f32>,
+    // The triangle's corners in the hemisphere's frame (q, in units of the light's range).
+    @location(1) @interpolate(flat) q0: vec3<f32>,
+    @location(2) @interpolate(flat) q1: vec3<f32>,
+    @location(3) @interpolate(flat) q2: vec3<f32>,
+    @location(4) @interpolate(flat) object: u32,
+    // The corners' texture coordinates (uv0, uv1; uv2), for holes.
+    @location(5) @interpolate(flat) uv01: vec4<f32>,
+    @location(6) @interpolate(flat) uv2: vec2<f32>,
+};
+
+// Corner `c` (0, 1, 2) of a triangle that covers the map's image of the triangle whose corners
+// are q[0..3] (in normalised device coordinates); all three at one place where the triangle
+// lies wholly behind the rim (nothing to draw). The map is a stereographic projection, which
+// takes circles to circles, so the image is bounded by three circular arcs: the smaller of
+// two covers is drawn, the triangle of the corners' places with each edge moved out by its
+// arc's bulge (tight for small triangles), or the triangle around the disc that is the image
+// of a spherical cap holding the triangle's directions (for triangles wide or reaching behind
+// the rim); else the whole map.
+fn paraboloid_cover(q: array<vec3<f32>, 3>, k: f32, c: u32) -> vec2<f32> {
+    var n: array<vec3<f32>, 3>;
+    var behind = true;
+    var in_front = true;
+    var tiny = false;
+    for (var i = 0u; i < 3u; i++) {
+        let d = length(q[i]);
+        tiny = tiny || d < 1e-6;
+        n[i] = q[i] / max(d, 1e-30);
+        behind = behind && n[i].z < GNOMON_PARABOLOID_RIM;
+        in_front = in_front && n[i].z > GNOMON_PARABOLOID_RIM;
+    }
+    // Directions wholly behind the rim stay behind it between the corners (a cap smaller than
+    // a hemisphere is convex on the sphere).
+    if (tiny) {
+        return box_cover(vec2<f32>(-1.0), vec2<f32>(1.0), c);
+    }
+    if (behind) {
+        return vec2<f32>(4.0);
+    }
+    // The whole map's cover, then the cap's, then the grown triangle's, each kept where it is
+    // smaller (area: twice the triangle's).
+    var best = box_cover(vec2<f32>(-1.0), vec2<f32>(1.0), c);
+    var best_area = 16.0;
+    let cap = cap_cover(n, k, c);
+    if (cap.w < best_area) {
+        best = cap.xy;
+        best_area = cap.w;
+    }
+    if (in_front) {
+        let grown = grown_cover(n, k, c);
+        if (grown.w < best_area) {
+            best = grown.xy;
+        }
+    }
+    return best;
+}
+
+// The cap cover (see paraboloid_cover): corner `c` in xy, twice its area in w (infinite where
+// the cap is too wide or reaches around to the far pole). A cap of centre m and angular
+// radius rho, at angle theta from the hemisphere's axis, spans tan((theta - rho) / 2) to
+// tan((theta + rho) / 2) along m's azimuth.
+fn cap_cover(n: array<vec3<f32>, 3>, k: f32, c: u32) -> vec4<f32> {
+    let sum = n[0] + n[1] + n[2];
+    let centre = sum / max(length(sum), 1e-30);
+    // The cap's radius from the longest chord (exact for small caps, where acos of a cosine
+    // near 1 is not), grown a little for rounding.
+    let chord = max(max(length(n[0] - centre), length(n[1] - centre)), length(n[2] - centre));
+    let rho = 2.0 * asin(min(0.5 * chord, 1.0)) + 1e-5;
+    let theta = atan2(length(centre.xy), centre.z);
+    if (length(sum) <= 1e-3 || rho >= 1.5 || theta + rho >= 2.9) {
+        return vec4<f32>(0.0, 0.0, 0.0, 1e30);
+    }
+    let r0 = tan(0.5 * (theta - rho));
+    let r1 = tan(0.5 * (theta + rho));
+    let along = centre.xy / max(length(centre.xy), 1e-30);
+    let mid = k * 0.5 * (r0 + r1) * along;
+    // Grown by a thousandth and a tenth of a texel of the largest map.
+    let radius = k * 0.5 * (r1 - r0) * 1.001 + 1e-4;
+    if (all(abs(mid) + radius <= vec2<f32>(1.0))) {
+        // Inside the map: the equilateral triangle around the disc (its corners at twice the
+        // radius).
+        let angle = 2.0943951 * f32(c) + 1.5707963;
+        return vec4<f32>(mid + 2.0 * radius * vec2<f32>(cos(angle), sin(angle)), 0.0, 10.392305 * radius * radius);
+    }
+    let lo = max(mid - vec2<f32>(radius), vec2<f32>(-1.0));
+    let hi = min(mid + vec2<f32>(radius), vec2<f32>(1.0));
+    let size = max(hi - lo, vec2<f32>(0.0));
+    return vec4<f32>(box_cover(lo, hi, c), 0.0, 4.0 * size.x * size.y);
+}
+
+// The grown cover (see paraboloid_cover) of a triangle whose corners lie inside the rim:
+// corner `c` in xy, twice its area in w (infinite where an edge's arc is more than half its
+// circle, or the grown triangle is degenerate). The great circle through directions a and b,
+// of normal m = a x b, lands on the circle of centre m.xy / m.z and radius |m| / |m.z|; an
+// arc less than half of it lies within its sagitta (h^2 / (R + sqrt(R^2 - h^2)), h half the
+// chord) of the chord, on the side away from the centre.
+fn grown_cover(n: array<vec3<f32>, 3>, k: f32, c: u32) -> vec4<f32> {
+    let none = vec4<f32>(0.0, 0.0, 0.0, 1e30);
+    var p: array<vec2<f32>, 3>;
+    for (var i = 0u; i < 3u; i++) {
+        p[i] = k * n[i].xy / (1.0 + n[i].z);
+    }
+    let area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+    if (abs(area) <= 1e-12) {
+        return none;
+    }
+    // Each edge's line as (outward normal, offset): inside where dot(normal, x) <= offset.
+    var lines: array<vec3<f32>, 3>;
+    for (var i = 0u; i < 3u; i++) {
+        let j = (i + 1u) % 3u;
+        let a = p[i];
+        let e = p[j] - a;
+        let length_e = length(e);
+        if (length_e <= 0.0) {
+            return none;
+        }
+        let o = sign(area) * vec2<f32>(e.y, -e.x) / length_e;
+        // The arc's side (its geodesic midpoint's place) and its centre's.
+        let h = normalize(n[i] + n[j]);
+        let side = dot(o, k * h.xy / (1.0 + h.z) - a);
+        let m = cross(n[i], n[j]);
+        var grow = max(side, 0.0);
+        if (abs(m.z) > 1e-6 * length(m)) {
+            let centre = dot(o, k * m.xy / m.z - a);
+            if (centre * side > 0.0) {
+                // The arc and its circle's centre on one side: more than half the circle.
+                return none;
+            }
+            if (side > 0.0) {
+                let radius = k * length(m) / abs(m.z);
+                let half = 0.5 * length_e;
+                grow = max(grow, half * half / (radius + sqrt(max(radius * radius - half * half, 0.0))));
+            }
+        }
+        lines[i] = vec3<f32>(o, dot(o, a) + grow * 1.001 + 1e-4);
+    }
+    // Corner i meets edges i - 1 and i.
+    var corner: array<vec2<f32>, 3>;
+    for (var i = 0u; i < 3u; i++) {
+        let l0 = lines[(i + 2u) % 3u];
+        let l1 = lines[i];
+        let det = l0.x * l1.y - l0.y * l1.x;
+        if (abs(det) <= 1e-6) {
+            return none;
+        }
+        corner[i] = vec2<f32>(l0.z * l1.y - l1.z * l0.y, l0.x * l1.z - l1.x * l0.z) / det;
+    }
+    let grown = abs((corner[1].x - corner[0].x) * (corner[2].y - corner[0].y) - (corner[1].y - corner[0].y) * (corner[2].x - corner[0].x));
+    return vec4<f32>(corner[c], 0.0, grown);
+}
+
+// Corner `c` of a right triangle with legs twice the box's sides, which holds the box.
+fn box_cover(lo: vec2<f32>, hi: vec2<f32>, c: u32) -> vec2<f32> {
+    let size = max(hi - lo, vec2<f32>(0.0));
+    return select(select(lo, lo + vec2<f32>(2.0 * size.x, 0.0), c == 1u), lo + vec2<f32>(0.0, 2.0 * size.y), c == 2u);
+}
+
+@vertex
+fn vs_paraboloid(@builtin(vertex_index) vertex: u32, instance: CasterInstance, @builtin(instance_index) index: u32) -> ParaboloidOut {
+    let camera_from_object = mat4x4<f32>(instance.c0, instance.c1, instance.c2, instance.c3);
+    let map = gnomon_shadows.maps[slot.map];
+    let first = vertex - vertex % 3u;
+    var q: array<vec3<f32>, 3>;
+    var uv: array<vec2<f32>, 3>;
+    for (var i = 0u; i < 3u; i++) {
+        let at = VERTEX_FLOATS * scene_indices[first + i];
+        let position = vec3<f32>(scene_vertices[at], scene_vertices[at + 1u], scene_vertices[at + 2u]);
+        q[i] = (map.clip_from_camera * (camera_from_object * vec4<f32>(position, 1.0))).xyz;
+        uv[i] = vec2<f32>(scene_vertices[at + 6u], scene_vertices[at + 7u]);
+    }
+    let xy = paraboloid_cover(q, gnomon_paraboloid_scale(map.info), vertex % 3u);
+    var out: ParaboloidOut;
+    out.clip = vec4<f32>(xy, 0.5, 1.0);
+    out.map_xy = xy;
+    out.q0 = q[0];
+    out.q1 = q[1];
+    out.q2 = q[2];
+    out.object = index + 1u;
+    out.uv01 = vec4<f32>(uv[0], uv[1]);
+    out.uv2 = uv[2];
+    return out;
+}
+
+// Where the texel's ray meets the triangle: (distance from the light in units of its range,
+// barycentric weights of corners 1 and 2); w is 1 where the ray hits the triangle (edges
+// grown by a ten-thousandth, so that neighbours leave no crack), else 0. The distance is to
+// the triangle's plane wherever the ray meets it, so that its screen derivatives (the slope
+// bias) are the plane's at the triangle's edges too.
+fn paraboloid_hit(in: ParaboloidOut) -> vec4<f32> {
+    let a = in.map_xy / gnomon_paraboloid_scale(gnomon_shadows.maps[slot.map].info);
+    let aa = dot(a, a);
+    let v = vec3<f32>(2.0 * a, 1.0 - aa) / (1.0 + aa);
+    let e1 = in.q1 - in.q0;
+    let e2 = in.q2 - in.q0;
+    let p = cross(v, e2);
+    let det = dot(e1, p);
+    let inv = 1.0 / select(det, 1e-30, det == 0.0);
+    let s = -in.q0;
+    let b1 = dot(s, p) * inv;
+    let r = cross(s, e1);
+    let b2 = dot(v, r) * inv;
+    let t = dot(e2, r) * inv;
+    let slack = 1e-4;
+    let hit = abs(det) > 1e-12 * length(e1) * length(e2) && t > 0.0 && b1 >= -slack
+        && b2 >= -slack && b1 + b2 <= 1.0 + slack;
+    return vec4<f32>(t, b1, b2, select(0.0, 1.0, hit));
+}
+
+// The biased depth of the texel's hit (x) and the hit's barycentric weights of corners 1 and 2
+// (y, z); discards a texel whose ray misses the triangle.
+fn paraboloid_texel(in: ParaboloidOut) -> vec3<f32> {
+    let hit = paraboloid_hit(in);
+    let bias = gnomon_shadows.maps[slot.map].bias;
+    let slope = max(abs(dpdx(hit.x)), abs(dpdy(hit.x)));
+    if (hit.w == 0.0) {
+        discard;
+    }
+    return vec3<f32>(clamp(hit.x + bias.x + min(bias.y * slope, bias.z), 0.0, 1.0), hit.yz);
+}
+
+// Whether the hit (barycentric weights of corners 1 and 2) is in a hole of the mesh.
+fn paraboloid_hole(in: ParaboloidOut, b: vec2<f32>) -> bool {
+    return is_hole((1.0 - b.x - b.y) * in.uv01.xy + b.x * in.uv01.zw + b.y * in.uv2);
+}
+
+@fragment
+fn fs_paraboloid(in: ParaboloidOut) -> @builtin(frag_depth) f32 {
+    return paraboloid_texel(in).x;
+}
+
+@fragment
+fn fs_paraboloid_id(in: ParaboloidOut) -> DepthIdOut {
+    return DepthIdOut(paraboloid_texel(in).x, vec4<u32>(in.object, 0u, 0u, 0u));
+}
+
+@fragment
+fn fs_paraboloid_cut(in: ParaboloidOut) -> @builtin(frag_depth) f32 {
+    let hit = paraboloid_texel(in);
+    if (paraboloid_hole(in, hit.yz)) {
+        discard;
+    }
+    return hit.x;
+}
+
+@fragment
+fn fs_paraboloid_id_cut(in: ParaboloidOut) -> DepthIdOut {
+    let hit = paraboloid_texel(in);
+    if (paraboloid_hole(in, hit.yz)) {
+        discard;
+    }
+    return DepthIdOut(hit.x, vec4<u32>(in.object, 0u, 0u, 0u));
+}
+
 struct MainOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) camera: vec3<f32>,

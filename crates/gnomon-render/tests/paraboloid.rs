@@ -1,0 +1,136 @@
+//! Dual paraboloid maps are drawn exactly: each texel of a hemisphere holds the distance along
+//! its own direction to the nearest triangle that direction meets (the depth pass casts the
+//! texel's ray at its triangle), not a triangle drawn with straight edges between its
+//! corners' places in the map. A lamp 3 m beside an overhanging block 40 m wide, whose
+//! underside lies half a metre below the lamp, shadows the ground behind a row of posts. The
+//! underside's two large triangles have their corners near the lower hemisphere's rim: drawn
+//! with straight edges between them they cover the directions toward the ground, where the
+//! underside's plane lies nearer than the ground, and shadow the whole street (a block of
+//! this kind was wrong on half the pixels of a random scene).
+
+mod common;
+
+use glam::{DMat4, DVec3};
+use gnomon::{Camera, Cube, DualParaboloid, Lens, Light, PointLight};
+use gnomon_render::{RenderScene, RenderSettings};
+use gnomon_scene::{SceneLayout, SceneObject, Shape};
+
+const LAMP: DVec3 = DVec3::new(0.0, 2.5, 3.0);
+
+fn street() -> SceneLayout {
+    let cuboid = |name: &str, half: DVec3, at: DVec3, casts: bool| SceneObject {
+        name: name.into(),
+        shape: Shape::Cuboid { half_extents: half },
+        world_from_object: DMat4::from_translation(at),
+        casts,
+        receives: true,
+    };
+    let mut objects = vec![
+        cuboid(
+            "ground",
+            DVec3::new(60.0, 0.25, 60.0),
+            DVec3::new(0.0, -0.25, 0.0),
+            false,
+        ),
+        // The block: its face toward the lamp at z = 0, its underside at y = 2.
+        cuboid(
+            "block",
+            DVec3::new(20.0, 10.0, 4.0),
+            DVec3::new(0.0, 12.0, -4.0),
+            true,
+        ),
+    ];
+    // Posts between the lamp and the open street, and one leaning on the wall.
+    for (k, x) in [-6.0, -2.5, 1.5, 5.0].into_iter().enumerate() {
+        objects.push(cuboid(
+            &format!("post_{k}"),
+            DVec3::new(0.3, 1.5, 0.3),
+            DVec3::new(x, 1.5, 7.0 + 0.5 * k as f64),
+            true,
+        ));
+    }
+    objects.push(cuboid(
+        "crate",
+        DVec3::new(0.8, 0.6, 0.8),
+        DVec3::new(-3.0, 0.6, 1.0),
+        true,
+    ));
+    SceneLayout {
+        name: "wall street".into(),
+        objects,
+    }
+}
+
+#[test]
+fn paraboloid_maps_beside_an_overhang_agree_with_exact_shadows() {
+    let scene = RenderScene::from_layout(&street());
+    let mut renderer = common::renderer(&scene);
+    assert!(
+        renderer.exact_paraboloids(),
+        "lavapipe and llvmpipe have storage buffers in vertex shaders: the exact pass must run"
+    );
+    let (width, height) = (320, 240);
+    let settings = RenderSettings {
+        width,
+        height,
+        ..RenderSettings::default()
+    };
+    let light = Light::Point(PointLight::new(LAMP, 80.0).unwrap());
+    let lens = Lens {
+        fov_y_degrees: 70.0,
+        aspect: width as f64 / height as f64,
+        near: 0.5,
+        far: 200.0,
+    };
+    // From the street toward the wall, and along the wall (the crate's shadow on it).
+    let cameras = [
+        (DVec3::new(3.0, 9.0, 22.0), DVec3::new(-1.0, 0.0, 3.0)),
+        (DVec3::new(14.0, 4.0, 6.0), DVec3::new(-4.0, 1.0, 1.0)),
+    ];
+    for (eye, target) in cameras {
+        let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+        let oracle = common::oracle(&scene, &camera, &light, width, height);
+        for (name, technique) in [
+            (
+                "paraboloid",
+                &DualParaboloid as &dyn gnomon::ShadowTechnique,
+            ),
+            ("cube", &Cube),
+        ] {
+            let (_, frame) = common::render(
+                &mut renderer,
+                &scene,
+                technique,
+                &camera,
+                &light,
+                1024,
+                &settings,
+            );
+            let a = common::agreement(&frame, &oracle, 0.1);
+            println!(
+                "eye {eye}: {name} {:.3}% of {} pixels agree ({} shadowed, {} found)",
+                100.0 * a.fraction(),
+                a.compared,
+                a.shadowed,
+                a.shadowed_agreeing
+            );
+            assert!(
+                a.compared > 10_000,
+                "too few pixels judged ({})",
+                a.compared
+            );
+            assert!(
+                a.shadowed > 500,
+                "too little shadow judged ({})",
+                a.shadowed
+            );
+            assert!(
+                a.fraction() >= 0.995 && a.shadow_recall() >= 0.95,
+                "eye {eye}: {name} agrees on {:.3}% ({} of {} shadowed pixels found)",
+                100.0 * a.fraction(),
+                a.shadowed_agreeing,
+                a.shadowed
+            );
+        }
+    }
+}
