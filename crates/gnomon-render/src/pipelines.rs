@@ -1,6 +1,7 @@
 //! Every pipeline, made once (or once per target format and sample count, on first use) and
-//! kept. One pipeline layout: group 0 the frame and a per-pass slot (dynamic offset), group 1
-//! the lookup module's shadows.
+//! kept. Group 0 is the frame and a per-pass slot (dynamic offset), group 1 the lookup
+//! module's shadows (the records alone in depth passes), group 2 a mesh's holes, group 3 the
+//! scene's triangles (the exact paraboloid depth passes).
 
 use std::collections::HashMap;
 

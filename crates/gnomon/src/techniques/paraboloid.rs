@@ -6,9 +6,10 @@
 //! omnidirectional light sources" (2002), its use for shadows. A direction at angle theta
 //! from the hemisphere's axis lands at radius tan(theta / 2): the whole hemisphere in one
 //! disc, sampled within a factor of two everywhere, with two maps instead of the cube's six.
-//! The mapping is not projective: a straight edge between two vertices maps to a curve, but
-//! the rasteriser draws it straight, so casters made of large triangles shadow in slightly the
-//! wrong place (measured by `compare`, not hidden). Each hemisphere reaches
+//! The mapping is not projective: a straight edge between two vertices maps to a curve (an arc
+//! of a circle), which a rasteriser drawing between the mapped vertices draws straight, so
+//! that large triangles cover the wrong texels; gnomon-render's depth pass casts each texel's
+//! ray at the triangle instead where the device allows (`compare` measures both). Each hemisphere reaches
 //! [`crate::PARABOLOID_MARGIN_DEGREES`] past 90 degrees, so that filtering near the rim reads the
 //! casters. The maps are not focused: they hold the whole sphere of directions.
 
