@@ -418,6 +418,12 @@ impl GpuScene {
             bytes.resize(bytes.len().max(16).next_multiple_of(4), 0);
             bytes
         };
+        // The exact paraboloid pass binds both buffers whole: where one is larger than a
+        // storage binding may be, the straight-edged pass draws the scene.
+        let vertex_bytes = (std::mem::size_of_val(vertices.as_slice()) as u64).max(16);
+        let index_bytes = (std::mem::size_of_val(indices.as_slice()) as u64).max(16);
+        let largest = resources.device.limits().max_storage_buffer_binding_size;
+        let pulled_layout = pulled_layout.filter(|_| vertex_bytes.max(index_bytes) <= largest);
         let storage = if pulled_layout.is_some() {
             wgpu::BufferUsages::STORAGE
         } else {
