@@ -563,29 +563,33 @@ impl GpuScene {
         indices: impl IntoIterator<Item = u32>,
         with_holes: bool,
     ) {
-        let mut bound: Option<&wgpu::BindGroup> = None;
-        for k in indices {
-            let m = self.instances[k as usize].mesh;
-            if with_holes {
-                let group = self.cutouts.group(m);
-                if !bound.is_some_and(|b| std::ptr::eq(b, group)) {
-                    pass.set_bind_group(2, group, &[]);
-                    bound = Some(group);
-                }
-            }
-            let mesh = &self.meshes[m];
+        self.for_each_draw(pass, indices, with_holes, |pass, mesh, k| {
             pass.draw_indexed(mesh.indices.clone(), 0, k..k + 1);
-        }
+        });
     }
 
     /// Draws the instances of `indices` for the exact paraboloid depth pass (after
-    /// [`GpuScene::bind_pulled`]): one vertex per index, which the vertex shader reads with
-    /// its triangle's other corners from group 3.
+    /// [`GpuScene::bind_pulled`]), as [`GpuScene::draw_instances`] does: one vertex per
+    /// index, which the vertex shader reads with its triangle's other corners from group 3.
     pub fn draw_pulled(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         indices: impl IntoIterator<Item = u32>,
         with_holes: bool,
+    ) {
+        self.for_each_draw(pass, indices, with_holes, |pass, mesh, k| {
+            pass.draw(mesh.indices.clone(), k..k + 1);
+        });
+    }
+
+    /// Calls `draw` with each instance of `indices` and its mesh, its mesh's holes bound as
+    /// group 2 first where `with_holes` (once per run of instances sharing them).
+    fn for_each_draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        indices: impl IntoIterator<Item = u32>,
+        with_holes: bool,
+        draw: impl Fn(&mut wgpu::RenderPass<'_>, &MeshRange, u32),
     ) {
         let mut bound: Option<&wgpu::BindGroup> = None;
         for k in indices {
@@ -597,7 +601,7 @@ impl GpuScene {
                     bound = Some(group);
                 }
             }
-            pass.draw(self.meshes[m].indices.clone(), k..k + 1);
+            draw(pass, &self.meshes[m], k);
         }
     }
 
