@@ -10,7 +10,10 @@ use std::sync::Arc;
 
 use common::{agreement, cuboid, oracle, placed, renderer, square_camera};
 use glam::{DVec2, DVec3};
-use gnomon::{DirectionalLight, Focused, Light, MapSettings, PointLight, compute_setup};
+use gnomon::{
+    DirectionalLight, DualParaboloid, Focused, Light, MapSettings, PointLight, ShadowTechnique,
+    compute_setup,
+};
 use gnomon_render::RenderScene;
 use gnomon_scene::{Cutout, Mesh, Wrap};
 
@@ -55,10 +58,10 @@ fn scene(holes: bool) -> RenderScene {
     }
 }
 
-/// The lit mask of the focused map for `light` (the card with holes, or drawn whole), its
+/// The lit mask of `technique`'s maps for `light` (the card with holes, or drawn whole), its
 /// agreement with the oracle of the card with holes, and the share of the oracle's pixels
 /// that see the ground.
-fn agreement_with_holes(light: &Light, holes: bool) -> (f64, f64) {
+fn agreement_with_holes(technique: &dyn ShadowTechnique, light: &Light, holes: bool) -> (f64, f64) {
     let truth = scene(true);
     let drawn = scene(holes);
     let camera = square_camera(
@@ -68,7 +71,7 @@ fn agreement_with_holes(light: &Light, holes: bool) -> (f64, f64) {
         100.0,
     );
     let setup = compute_setup(
-        &Focused,
+        technique,
         &camera,
         light,
         &drawn.bounds().unwrap(),
@@ -85,19 +88,21 @@ fn agreement_with_holes(light: &Light, holes: bool) -> (f64, f64) {
 
 #[test]
 fn alpha_masked_casters_let_light_and_the_camera_through_their_holes() {
-    let lights = [
+    let lamp = Light::Point(PointLight::new(DVec3::new(-1.0, 7.0, 1.5), 40.0).unwrap());
+    // The lamp's cube faces, and its paraboloid maps (whose exact depth pass finds the hole
+    // at the texel ray's hit on the triangle).
+    let lights: [(&str, &dyn ShadowTechnique, Light); 3] = [
         (
             "sun",
+            &Focused,
             Light::Directional(DirectionalLight::new(DVec3::new(0.5, -1.0, -0.3)).unwrap()),
         ),
-        (
-            "lamp",
-            Light::Point(PointLight::new(DVec3::new(-1.0, 7.0, 1.5), 40.0).unwrap()),
-        ),
+        ("lamp", &Focused, lamp),
+        ("lamp, paraboloid", &DualParaboloid, lamp),
     ];
-    for (name, light) in &lights {
-        let (with_holes, through) = agreement_with_holes(light, true);
-        let (whole, _) = agreement_with_holes(light, false);
+    for (name, technique, light) in &lights {
+        let (with_holes, through) = agreement_with_holes(*technique, light, true);
+        let (whole, _) = agreement_with_holes(*technique, light, false);
         println!(
             "{name}: {:.3}% of pixels agree with holes, {:.3}% drawn whole; {:.1}% of pixels see the ground",
             100.0 * with_holes,
