@@ -213,19 +213,30 @@ fn fs_depth_id_cut(in: DepthOut) -> DepthIdOut {
 // Floats per vertex in scene_vertices (gnomon-render's Vertex: position, normal, uv).
 const VERTEX_FLOATS: u32 = 8u;
 
+// The ray test (Moller and Trumbore's, from the light at the origin of the hemisphere's frame)
+// against corners q0, q1, q2 (in units of the light's range) along direction v: with
+// e1 = q1 - q0, e2 = q2 - q0 and s = -q0, det = v . (e2 x e1), the barycentric weights of
+// corners 1 and 2 are v . (e2 x s) / det and v . (s x e1) / det, and the distance is
+// e2 . (s x e1) / det. Everything but v is the triangle's, computed once by its vertices. The
+// weights are the same for any length of v, so the fragment takes v = (2 a, 1 - |a|^2) (of
+// length 1 + |a|^2) and scales the distance back.
 struct ParaboloidOut {
     @builtin(position) clip: vec4<f32>,
-    // The place in the map (normalised device coordinates), linear across the covering
-    // triangle.
-    @location(0) map_xy: vec2<f32>,
-    // The triangle's corners in the hemisphere's frame (q, in units of the light's range).
-    @location(1) @interpolate(flat) q0: vec3<f32>,
-    @location(2) @interpolate(flat) q1: vec3<f32>,
-    @location(3) @interpolate(flat) q2: vec3<f32>,
+    // The place in the map divided by the map's scale (a: the direction is
+    // (2 a, 1 - |a|^2) / (1 + |a|^2)), linear across the covering triangle.
+    @location(0) a: vec2<f32>,
+    // e2 x e1, and its length.
+    @location(1) @interpolate(flat) normal: vec4<f32>,
+    // e2 x s, and e2 . (s x e1).
+    @location(2) @interpolate(flat) weight_1: vec4<f32>,
+    // s x e1.
+    @location(3) @interpolate(flat) weight_2: vec3<f32>,
     @location(4) @interpolate(flat) object: u32,
     // The corners' texture coordinates (uv0, uv1; uv2), for holes.
     @location(5) @interpolate(flat) uv01: vec4<f32>,
     @location(6) @interpolate(flat) uv2: vec2<f32>,
+    // The map's bias (its record's, read once per vertex rather than per texel).
+    @location(7) @interpolate(flat) bias: vec3<f32>,
 };
 
 // Corner `c` (0, 1, 2) of a triangle that covers the map's image of the triangle whose corners
@@ -387,14 +398,20 @@ fn vs_paraboloid(@builtin(vertex_index) vertex: u32, instance: CasterInstance, @
         q[i] = (map.clip_from_camera * (camera_from_object * vec4<f32>(position, 1.0))).xyz;
         uv[i] = vec2<f32>(scene_vertices[at + 6u], scene_vertices[at + 7u]);
     }
-    let xy = paraboloid_cover(q, gnomon_paraboloid_scale(map.info), vertex % 3u);
+    let k = gnomon_paraboloid_scale(map.info);
+    let xy = paraboloid_cover(q, k, vertex % 3u);
     var out: ParaboloidOut;
     out.clip = vec4<f32>(xy, 0.5, 1.0);
-    out.map_xy = xy;
-    out.q0 = q[0];
-    out.q1 = q[1];
-    out.q2 = q[2];
+    out.a = xy / k;
+    let e1 = q[1] - q[0];
+    let e2 = q[2] - q[0];
+    let normal = cross(e2, e1);
+    let across = cross(-q[0], e1);
+    out.normal = vec4<f32>(normal, length(normal));
+    out.weight_1 = vec4<f32>(cross(e2, -q[0]), dot(e2, across));
+    out.weight_2 = across;
     out.object = index + 1u;
+    out.bias = map.bias.xyz;
     out.uv01 = vec4<f32>(uv[0], uv[1]);
     out.uv2 = uv[2];
     return out;
@@ -406,21 +423,15 @@ fn vs_paraboloid(@builtin(vertex_index) vertex: u32, instance: CasterInstance, @
 // the triangle's plane wherever the ray meets it, so that its screen derivatives (the slope
 // bias) are the plane's at the triangle's edges too.
 fn paraboloid_hit(in: ParaboloidOut) -> vec4<f32> {
-    let a = in.map_xy / gnomon_paraboloid_scale(gnomon_shadows.maps[slot.map].info);
-    let aa = dot(a, a);
-    let v = vec3<f32>(2.0 * a, 1.0 - aa) / (1.0 + aa);
-    let e1 = in.q1 - in.q0;
-    let e2 = in.q2 - in.q0;
-    let p = cross(v, e2);
-    let det = dot(e1, p);
+    let aa = dot(in.a, in.a);
+    let v = vec3<f32>(2.0 * in.a, 1.0 - aa);
+    let det = dot(v, in.normal.xyz);
     let inv = 1.0 / select(det, 1e-30, det == 0.0);
-    let s = -in.q0;
-    let b1 = dot(s, p) * inv;
-    let r = cross(s, e1);
-    let b2 = dot(v, r) * inv;
-    let t = dot(e2, r) * inv;
+    let b1 = dot(v, in.weight_1.xyz) * inv;
+    let b2 = dot(v, in.weight_2) * inv;
+    let t = in.weight_1.w * (1.0 + aa) * inv;
     let slack = 1e-4;
-    let hit = abs(det) > 1e-12 * length(e1) * length(e2) && t > 0.0 && b1 >= -slack
+    let hit = abs(det) > 1e-12 * in.normal.w * (1.0 + aa) && t > 0.0 && b1 >= -slack
         && b2 >= -slack && b1 + b2 <= 1.0 + slack;
     return vec4<f32>(t, b1, b2, select(0.0, 1.0, hit));
 }
@@ -429,7 +440,7 @@ fn paraboloid_hit(in: ParaboloidOut) -> vec4<f32> {
 // (y, z); discards a texel whose ray misses the triangle.
 fn paraboloid_texel(in: ParaboloidOut) -> vec3<f32> {
     let hit = paraboloid_hit(in);
-    let bias = gnomon_shadows.maps[slot.map].bias;
+    let bias = in.bias;
     let slope = max(abs(dpdx(hit.x)), abs(dpdy(hit.x)));
     if (hit.w == 0.0) {
         discard;
