@@ -9,7 +9,10 @@ mod common;
 
 use common::{cuboid, light_first, oracle, placed, renderer, square_camera};
 use glam::{DMat4, DVec3};
-use gnomon::{DirectionalLight, Focused, Light, MapSettings, PointLight, SpotLight, compute_setup};
+use gnomon::{
+    DirectionalLight, DualParaboloid, Focused, Light, MapSettings, PointLight, ShadowTechnique,
+    SpotLight, compute_setup,
+};
 use gnomon_render::{DepthBias, MASK_EMPTY, MASK_LIT, MASK_UNLIT, MapRead, RenderScene};
 
 const SIZE: u32 = 256;
@@ -89,9 +92,10 @@ fn camera() -> gnomon::Camera {
     )
 }
 
-/// The frame of `read` on the focused maps (one per face for the lamp) with `bias`, its
-/// setup, and the oracle.
+/// The frame of `read` on `technique`'s maps (the focused maps: one per face for the lamp)
+/// with `bias`, its setup, and the oracle.
 fn frame(
+    technique: &dyn ShadowTechnique,
     light: &Light,
     read: MapRead,
     bias: DepthBias,
@@ -104,7 +108,7 @@ fn frame(
     let camera = camera();
     let mut renderer = renderer(&scene);
     let setup = compute_setup(
-        &Focused,
+        technique,
         &camera,
         light,
         &scene.bounds().unwrap(),
@@ -144,7 +148,7 @@ fn interior(o: &common::OracleMask, i: usize) -> bool {
 fn object_ids_agree_with_the_oracle_between_distinct_objects() {
     let scene = scene();
     for (name, light) in lights() {
-        let (frame, setup, exact) = frame(&light, MapRead::ObjectId, NO_BIAS);
+        let (frame, setup, exact) = frame(&Focused, &light, MapRead::ObjectId, NO_BIAS);
         // Outlines within two texels of the finest map (a point light's faces share a size).
         let first = light_first(&scene, &light, &exact, &setup.maps[0], 2.0);
         let (mut compared, mut agreeing, mut shadowed) = (0usize, 0usize, 0usize);
@@ -200,7 +204,7 @@ fn object_ids_agree_with_the_oracle_between_distinct_objects() {
 fn ids_and_depth_agree_with_the_oracle_everywhere() {
     let scene = scene();
     for (name, light) in lights() {
-        let (frame, setup, exact) = frame(&light, MapRead::IdDepth, DepthBias::default());
+        let (frame, setup, exact) = frame(&Focused, &light, MapRead::IdDepth, DepthBias::default());
         let agreement = common::agreement(&frame, &exact, 0.1);
         let first = light_first(&scene, &light, &exact, &setup.maps[0], 2.0);
         // The U's shadows on itself are found (the depth within one object).
@@ -232,5 +236,29 @@ fn ids_and_depth_agree_with_the_oracle_everywhere() {
             self_shadowed > 50 && found * 10 >= self_shadowed * 9,
             "{name}: {found} of {self_shadowed}"
         );
+    }
+}
+
+/// The lamp's dual paraboloid maps write IDs too (the exact paraboloid pass's ID entry points):
+/// IDs and depth agree with the oracle as the cube faces do.
+#[test]
+fn paraboloid_maps_write_ids_and_depth() {
+    let lamp = &lights()[2].1;
+    for read in [MapRead::IdDepth, MapRead::ObjectId] {
+        let (frame, _, exact) = frame(&DualParaboloid, lamp, read, DepthBias::default());
+        let agreement = common::agreement(&frame, &exact, 0.1);
+        println!(
+            "lamp, paraboloid, {read:?}: {:.3}% of {} pixels agree ({} shadowed)",
+            100.0 * agreement.fraction(),
+            agreement.compared,
+            agreement.shadowed
+        );
+        assert!(
+            agreement.compared > 10_000 && agreement.shadowed > 300,
+            "{read:?}: {agreement:?}"
+        );
+        // (Object IDs alone miss the U's shadow on itself, the limit the other tests assert:
+        // 206 pixels here.)
+        assert!(agreement.fraction() >= 0.99, "{read:?}: {agreement:?}");
     }
 }
