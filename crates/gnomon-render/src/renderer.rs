@@ -645,7 +645,8 @@ impl Renderer {
     /// device lacks them, and for a caller's casters ([`Renderer::encode_shadow_maps_of`]),
     /// the triangles' edges are straight in the map between their corners' places.
     pub fn exact_paraboloids(&self) -> bool {
-        self.pipelines.pulled_layout().is_some() && self.scene.pulled.is_some()
+        // The scene's triangles are bound only where the pipelines were made.
+        self.scene.pulled.is_some()
     }
 
     /// How many of the scene's casters each map of the prepared frame draws (those whose

@@ -159,13 +159,18 @@ fn paraboloid_depth(in: DepthOut) -> vec2<f32> {
 fn biased_depth(in: DepthOut) -> f32 {
     let paraboloid = in.paraboloid_scale > 0.0;
     let exact = select(vec2<f32>(in.depth, 1.0), paraboloid_depth(in), paraboloid);
-    let depth = exact.x;
-    // Slope-scaled bias: the depth change across one texel (the pass renders texels).
-    let bias = in.bias;
-    let slope = max(abs(dpdx(depth)), abs(dpdy(depth)));
+    let depth = with_bias(exact.x, in.bias);
     if (exact.y == 0.0) {
         discard;
     }
+    return depth;
+}
+
+// `depth` with the map's bias (x: constant, y: slope scale, z: slope clamp): the slope is the
+// depth change across one texel (the pass renders texels). Call it before any discard (it
+// takes screen derivatives).
+fn with_bias(depth: f32, bias: vec3<f32>) -> f32 {
+    let slope = max(abs(dpdx(depth)), abs(dpdy(depth)));
     return clamp(depth + bias.x + min(bias.y * slope, bias.z), 0.0, 1.0);
 }
 
@@ -266,11 +271,12 @@ fn paraboloid_cover(q: array<vec3<f32>, 3>, k: f32, c: u32) -> vec2<f32> {
         behind = behind && n[i].z < GNOMON_PARABOLOID_RIM;
         in_front = in_front && n[i].z > GNOMON_PARABOLOID_RIM;
     }
-    // Directions wholly behind the rim stay behind it between the corners (a cap smaller than
-    // a hemisphere is convex on the sphere).
+    // A corner at the light has no direction: the whole map.
     if (tiny) {
         return box_cover(vec2<f32>(-1.0), vec2<f32>(1.0), c);
     }
+    // Directions wholly behind the rim stay behind it between the corners (a cap smaller than
+    // a hemisphere is convex on the sphere).
     if (behind) {
         return vec2<f32>(4.0);
     }
@@ -447,12 +453,11 @@ fn paraboloid_hit(in: ParaboloidOut) -> vec4<f32> {
 // (y, z); discards a texel whose ray misses the triangle.
 fn paraboloid_texel(in: ParaboloidOut) -> vec3<f32> {
     let hit = paraboloid_hit(in);
-    let bias = in.bias;
-    let slope = max(abs(dpdx(hit.x)), abs(dpdy(hit.x)));
+    let depth = with_bias(hit.x, in.bias);
     if (hit.w == 0.0) {
         discard;
     }
-    return vec3<f32>(clamp(hit.x + bias.x + min(bias.y * slope, bias.z), 0.0, 1.0), hit.yz);
+    return vec3<f32>(depth, hit.yz);
 }
 
 // Whether the hit (barycentric weights of corners 1 and 2) is in a hole of the mesh.
