@@ -636,20 +636,21 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
 }
 
 /// What a spot or point light's maps leave out: the parts of casters nearer to the light than
-/// its near plane (a thousandth of its range), counted by
+/// its near plane (a thousandth of a spot light's range, a millionth of a point light's),
+/// counted by
 /// `diagnostics.casters_clipped_by_light_near` (for a point light, once per cube face).
 fn near_clip_warning(light: &gnomon::Light, diagnostics: &gnomon::Diagnostics) -> Option<String> {
-    let near = match light {
-        gnomon::Light::Spot(spot) => spot.near(),
-        gnomon::Light::Point(point) => point.near(),
+    let (near, share) = match light {
+        gnomon::Light::Spot(spot) => (spot.near(), "a thousandth"),
+        gnomon::Light::Point(point) => (point.near(), "a millionth"),
         gnomon::Light::Directional(_) => return None,
     };
     let clipped = diagnostics.casters_clipped_by_light_near;
     (clipped > 0).then(|| {
         format!(
-            "{clipped} caster box(es) reach within the light's near distance ({near:.3} m, a \
-             thousandth of its range): any surface that near casts no shadow in the maps, and a \
-             light inside an object shines out through it (the exact volumes keep it)"
+            "{clipped} caster box(es) reach within the light's near distance ({near:.3e} m, \
+             {share} of its range): any surface that near casts no shadow in the maps (the \
+             exact volumes keep it)"
         )
     })
 }

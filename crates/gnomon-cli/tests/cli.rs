@@ -2253,10 +2253,10 @@ fn render_warns_of_casters_at_the_light() {
         stderr
     };
     // Inside the cube at x -3 to -1, y 0 to 2, 0.02 m below its top (the near distance is
-    // 0.05 m).
+    // a millionth of the range, 5e-5 m; the cube's box holds the light, so it counts).
     let inside = render("-2,1.98,1,50");
     assert!(
-        inside.contains("warning:") && inside.contains("near distance (0.050 m"),
+        inside.contains("warning:") && inside.contains("near distance (5.000e-5 m"),
         "{inside}"
     );
     let open = render("0,6,0,50");

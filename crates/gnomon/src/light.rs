@@ -10,6 +10,13 @@ use crate::geometry::Plane;
 /// counts them.
 pub const SPOT_NEAR_FRACTION: f64 = 1e-3;
 
+/// The fraction of a point light's range at which its cube faces' near planes lie: far
+/// smaller than a spot light's, because a lamp often hangs within a hand's breadth of a wall
+/// or inside a shade (a caster nearer than the near plane would cast no shadow, and the
+/// light would leak through it). The depth compared in the maps is linear along the light,
+/// so a near plane this close costs no depth precision.
+pub const POINT_NEAR_FRACTION: f64 = 1e-6;
+
 /// A light at infinity: parallel rays travelling along one direction (the sun).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DirectionalLight {
@@ -37,6 +44,7 @@ pub struct SpotLight {
     direction: DVec3,
     half_angle: f64,
     range: f64,
+    near: f64,
 }
 
 impl SpotLight {
@@ -69,6 +77,7 @@ impl SpotLight {
             direction,
             half_angle: half_angle_degrees.to_radians(),
             range,
+            near: range * SPOT_NEAR_FRACTION,
         })
     }
 
@@ -92,9 +101,11 @@ impl SpotLight {
         self.range
     }
 
-    /// The distance of the light frustum's near plane ([`SPOT_NEAR_FRACTION`] of the range).
+    /// The distance of the light frustum's near plane ([`SPOT_NEAR_FRACTION`] of the range;
+    /// [`POINT_NEAR_FRACTION`] for a point light's cube face): nearer points are not lit, and
+    /// nearer casters are clipped.
     pub fn near(&self) -> f64 {
-        self.range * SPOT_NEAR_FRACTION
+        self.near
     }
 
     /// The light frustum's planes, normals inward: a square pyramid around the cone (the cone
@@ -150,9 +161,10 @@ impl PointLight {
         self.range
     }
 
-    /// The distance of each face frustum's near plane ([`SPOT_NEAR_FRACTION`] of the range).
+    /// The distance of each face frustum's near plane ([`POINT_NEAR_FRACTION`] of the
+    /// range): nearer points are not lit, and nearer casters are clipped.
     pub fn near(&self) -> f64 {
-        self.range * SPOT_NEAR_FRACTION
+        self.range * POINT_NEAR_FRACTION
     }
 
     /// The cube face that the direction `d` (from the light) falls in: its major axis, the
@@ -190,6 +202,7 @@ impl PointLight {
             direction: face.axis(),
             half_angle: t.atan(),
             range: self.range,
+            near: self.near(),
         }
     }
 }
