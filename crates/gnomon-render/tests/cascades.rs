@@ -1,5 +1,6 @@
 //! Cascades in the renderer: shadows end at the shadow distance (nothing beyond it is
-//! shadowed; before its last 10% the mask agrees with the oracle), and each pixel reads the
+//! shadowed; before it the one-tap mask agrees with the oracle, in the last 10% too, where
+//! only the picture fades), and each pixel reads the
 //! map of its slice (the tinted image changes colour at the slices' view depths).
 
 mod common;
@@ -72,6 +73,7 @@ fn nothing_is_shadowed_beyond_the_shadow_distance() {
     // Each ground pixel's view depth, from the ray through its centre.
     let tan_y = (25.0f64).to_radians().tan();
     let (mut near_shadowed, mut near_agree, mut far_shadowed, mut far_lit) = (0, 0, 0, 0);
+    let (mut band_shadowed, mut band_agree) = (0, 0);
     for y in 0..height {
         for x in 0..width {
             let i = (y * width + x) as usize;
@@ -90,6 +92,9 @@ fn nothing_is_shadowed_beyond_the_shadow_distance() {
             if t < 0.85 * distance {
                 near_shadowed += 1;
                 near_agree += usize::from(frame.mask[i] == MASK_UNLIT);
+            } else if (0.91 * distance..0.99 * distance).contains(&t) {
+                band_shadowed += 1;
+                band_agree += usize::from(frame.mask[i] == MASK_UNLIT);
             } else if t > 1.02 * distance {
                 far_shadowed += 1;
                 far_lit += usize::from(frame.mask[i] == MASK_LIT);
@@ -97,11 +102,16 @@ fn nothing_is_shadowed_beyond_the_shadow_distance() {
         }
     }
     println!(
-        "near: {near_agree} of {near_shadowed} shadowed; far: {far_lit} of {far_shadowed} lit"
+        "near: {near_agree} of {near_shadowed} shadowed; fade band: {band_agree} of \
+         {band_shadowed} shadowed; far: {far_lit} of {far_shadowed} lit"
     );
     assert!(
-        near_shadowed > 200 && far_shadowed > 50,
-        "{near_shadowed} {far_shadowed}"
+        near_shadowed > 200 && band_shadowed > 20 && far_shadowed > 50,
+        "{near_shadowed} {band_shadowed} {far_shadowed}"
+    );
+    assert!(
+        band_agree * 100 >= band_shadowed * 97,
+        "{band_agree} of {band_shadowed}"
     );
     assert!(
         near_agree * 100 >= near_shadowed * 97,

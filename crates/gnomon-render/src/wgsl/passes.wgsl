@@ -648,9 +648,10 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
                 shadow = gnomon_lookup_ids(at.view, s.p, s.object, MAP_READ, gnomon_shadows.info.y);
             }
             if (PER_PIXEL) {
-                // Shadows fade toward the shadow distance.
+                // Shadows fade toward the shadow distance in the picture; the one-tap mask
+                // says what the maps hold, which they do out to that distance.
                 shadow = mix(shadow, 1.0, fade);
-                if (fade > 0.5) {
+                if (fade >= 1.0) {
                     one_tap = 1.0;
                 }
             }
@@ -989,7 +990,7 @@ fn fs_probe(in: ProbeOut) -> @location(0) vec4<u32> {
     let n_dot_l = dot(n, incidence.to_light);
     let selected = gnomon_select(0u, p);
     var lit = 1u;
-    if (selected.fade <= 0.5) {
+    if (selected.fade < 1.0) {
         let read = gnomon_read_surface(0u, selected.map, p, n, n_dot_l, GNOMON_FILTER_ONE_TAP);
         lit = select(0u, 1u, read > 0.5);
     }
