@@ -636,20 +636,19 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
 }
 
 /// What a spot or point light's maps leave out: the parts of casters nearer to the light than
-/// its near plane (a thousandth of a spot light's range, a millionth of a point light's),
-/// counted by
+/// its near plane (a millionth of its range, `gnomon::SPOT_NEAR_FRACTION`), counted by
 /// `diagnostics.casters_clipped_by_light_near` (for a point light, once per cube face).
 fn near_clip_warning(light: &gnomon::Light, diagnostics: &gnomon::Diagnostics) -> Option<String> {
-    let (near, share) = match light {
-        gnomon::Light::Spot(spot) => (spot.near(), "a thousandth"),
-        gnomon::Light::Point(point) => (point.near(), "a millionth"),
+    let near = match light {
+        gnomon::Light::Spot(spot) => spot.near(),
+        gnomon::Light::Point(point) => point.near(),
         gnomon::Light::Directional(_) => return None,
     };
     let clipped = diagnostics.casters_clipped_by_light_near;
     (clipped > 0).then(|| {
         format!(
             "{clipped} caster box(es) reach within the light's near distance ({near:.3e} m, \
-             {share} of its range): any surface that near casts no shadow in the maps (the \
+             a millionth of its range): any surface that near casts no shadow in the maps (the \
              exact volumes keep it)"
         )
     })

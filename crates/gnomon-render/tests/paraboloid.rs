@@ -12,7 +12,10 @@
 mod common;
 
 use glam::{DMat4, DVec3};
-use gnomon::{Camera, Cube, DualParaboloid, Lens, Light, PointLight};
+use gnomon::{
+    Camera, Cube, DualParaboloid, Focused, Lens, Light, Lispsm, PointLight, ShadowTechnique,
+    SpotLight,
+};
 use gnomon_render::{RenderScene, RenderSettings};
 use gnomon_scene::{SceneLayout, SceneObject, Shape};
 
@@ -76,14 +79,15 @@ fn paraboloid_maps_beside_an_overhang_agree_with_exact_shadows() {
         (DVec3::new(3.0, 9.0, 22.0), DVec3::new(-1.0, 0.0, 3.0)),
         (DVec3::new(14.0, 4.0, 6.0), DVec3::new(-4.0, 1.0, 1.0)),
     ];
-    judge(&scene, &mut renderer, &light, &cameras, 500);
+    judge(&scene, &mut renderer, &light, &cameras, POINT_MAPS, 500);
 }
 
 /// A lamp inside a closed lantern, 5 cm from its wall, with a range of 80 m: the wall is
 /// nearer than a thousandth of the range, where the cube faces' near planes lay until they
-/// were moved to a millionth (`POINT_NEAR_FRACTION`), so the maps clipped it and the light
+/// were moved to a millionth (`SPOT_NEAR_FRACTION`), so the maps clipped it and the light
 /// leaked through it onto the ground (a random scene's lamp inside a block was wrong on 8% of
-/// its pixels). Everything outside the lantern is in shadow.
+/// its pixels). Everything outside the lantern is in shadow. A spot light there, shining at
+/// the wall, has the same near plane and must not leak either.
 #[test]
 fn a_lamp_by_its_lantern_s_wall_does_not_shine_through_it() {
     let half = DVec3::splat(0.5);
@@ -107,8 +111,23 @@ fn a_lamp_by_its_lantern_s_wall_does_not_shine_through_it() {
         (DVec3::new(2.0, 4.0, 6.0), DVec3::new(0.0, 0.0, -6.0)),
         (DVec3::new(-7.0, 3.0, -7.0), DVec3::new(0.0, 0.0, -2.0)),
     ];
-    judge(&scene, &mut renderer, &light, &cameras, 5_000);
+    judge(&scene, &mut renderer, &light, &cameras, POINT_MAPS, 5_000);
+    let spot = Light::Spot(SpotLight::new(lamp, DVec3::new(0.2, -0.5, -1.0), 60.0, 80.0).unwrap());
+    let spot_maps: &[(&str, &dyn ShadowTechnique)] =
+        &[("focused", &Focused), ("lispsm", &Lispsm::default())];
+    judge(
+        &scene,
+        &mut renderer,
+        &spot,
+        &cameras[..1],
+        spot_maps,
+        5_000,
+    );
 }
+
+/// The point-light techniques `judge` compares by default.
+const POINT_MAPS: &[(&str, &dyn ShadowTechnique)] =
+    &[("paraboloid", &DualParaboloid), ("cube", &Cube)];
 
 fn light_near(light: &Light) -> f64 {
     match light {
@@ -117,14 +136,15 @@ fn light_near(light: &Light) -> f64 {
     }
 }
 
-/// Renders `scene` under the point `light` from each camera (eye, target) with paraboloid and
-/// cube maps and requires 99.5% agreement with the oracle and 95% of its shadow found, over
-/// at least `min_shadowed` shadowed pixels.
+/// Renders `scene` under `light` from each camera (eye, target) with each of `techniques`
+/// and requires 99.5% agreement with the oracle and 95% of its shadow found, over at least
+/// `min_shadowed` shadowed pixels.
 fn judge(
     scene: &RenderScene,
     renderer: &mut gnomon_render::Renderer,
     light: &Light,
     cameras: &[(DVec3, DVec3)],
+    techniques: &[(&str, &dyn ShadowTechnique)],
     min_shadowed: usize,
 ) {
     let (width, height) = (320, 240);
@@ -142,13 +162,7 @@ fn judge(
     for &(eye, target) in cameras {
         let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
         let oracle = common::oracle(scene, &camera, light, width, height);
-        for (name, technique) in [
-            (
-                "paraboloid",
-                &DualParaboloid as &dyn gnomon::ShadowTechnique,
-            ),
-            ("cube", &Cube),
-        ] {
+        for &(name, technique) in techniques {
             let (_, frame) =
                 common::render(renderer, scene, technique, &camera, light, 1024, &settings);
             let a = common::agreement(&frame, &oracle, 0.1);

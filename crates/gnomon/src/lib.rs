@@ -62,8 +62,8 @@ pub use bvh::BoxIndex;
 pub use camera::{Camera, Lens};
 pub use error::SetupError;
 pub use light::{
-    CUBE_FACE_BORDER_TEXELS, CubeFace, DirectionalLight, Light, POINT_NEAR_FRACTION, PointLight,
-    SPOT_NEAR_FRACTION, SpotLight, cube_face_tangent,
+    CUBE_FACE_BORDER_TEXELS, CubeFace, DirectionalLight, Light, PointLight, SPOT_NEAR_FRACTION,
+    SpotLight, cube_face_tangent,
 };
 pub use samples::{ViewSample, ViewSamples, undersampling};
 pub use setup::{

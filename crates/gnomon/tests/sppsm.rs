@@ -116,12 +116,17 @@ fn screen_det_j(map: &ShadowMap, camera: &Camera, s: f64, t: f64, q: f64) -> Opt
     Some((ds.x * dt.y - ds.y * dt.x).abs())
 }
 
-/// Whether the light's maps cover `p`: beyond a spot light's near plane (nearer, its
-/// projection is singular and no map holds the point); anywhere for a sun.
+/// Whether the light's maps cover `p`: inside a spot light's cone beyond its near plane
+/// (nearer, or far to the side, its projection is singular or ill-conditioned, and no map
+/// holds the point); anywhere for a sun.
 fn lit_region(light: &Light, p: DVec3) -> bool {
     match light {
         Light::Directional(_) => true,
-        Light::Spot(s) => s.direction().dot(p - s.position()) >= s.near(),
+        Light::Spot(s) => {
+            let q = p - s.position();
+            let along = s.direction().dot(q);
+            along >= s.near() && along >= q.length() * s.half_angle().cos()
+        }
         Light::Point(_) => unreachable!("SPPSM refuses point lights"),
     }
 }
