@@ -118,9 +118,10 @@ pub struct DrawArgs {
     pub stencil: Option<StencilArg>,
     #[command(flatten)]
     pub soft: SoftArgs,
-    /// Constant depth bias in world units, 0 to 10^4.
-    #[arg(long, default_value_t = DepthBias::default().constant_world, value_parser = parse_bias_world, allow_hyphen_values = true)]
-    pub bias_constant: f64,
+    /// Constant depth bias in world units, 0 to 10^4 (default: 3.5e-5 of the scene box's
+    /// diagonal, 2 cm in the demo scene, so that the scene's units do not matter).
+    #[arg(long, value_parser = parse_bias_world, allow_hyphen_values = true)]
+    pub bias_constant: Option<f64>,
     /// Slope-scaled depth bias, in texels of depth slope, 0 to 64.
     #[arg(long, default_value_t = DepthBias::default().slope_texels, value_parser = parse_texels, allow_hyphen_values = true)]
     pub bias_slope: f64,
@@ -255,8 +256,8 @@ impl DrawArgs {
     pub fn non_default_flags(&self) -> String {
         let mut flags = self.soft.non_default_flags();
         let defaults = DepthBias::default();
-        if self.bias_constant != defaults.constant_world {
-            flags += &format!(" --bias-constant {}", self.bias_constant);
+        if let Some(bias) = self.bias_constant {
+            flags += &format!(" --bias-constant {bias}");
         }
         if self.bias_slope != defaults.slope_texels {
             flags += &format!(" --bias-slope {}", self.bias_slope);

@@ -150,8 +150,10 @@ pub(crate) fn map_record(
     world_from_camera: DMat4,
     slot: MapSlot,
     bias: &DepthBias,
+    scene_diagonal: f64,
 ) -> GpuMap {
     let depth_per_world = map.depth_from_world.truncate().length();
+    let (constant_world, max_slope_world) = bias.world(scene_diagonal);
     let scale = map.resolution as f64 / slot.layer_size as f64;
     GpuMap {
         clip_from_camera: mat(map.clip_from_world * world_from_camera),
@@ -160,9 +162,9 @@ pub(crate) fn map_record(
             .to_array(),
         rect: [0.0, 0.0, scale as f32, scale as f32],
         bias: [
-            (bias.constant_world * depth_per_world) as f32,
+            (constant_world * depth_per_world) as f32,
             bias.slope_texels as f32,
-            (bias.max_slope_world * depth_per_world) as f32,
+            (max_slope_world * depth_per_world) as f32,
             bias.normal_offset_texels as f32,
         ],
         info: [

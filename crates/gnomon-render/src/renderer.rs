@@ -40,26 +40,53 @@ pub enum Filter {
 }
 
 /// Depth bias against shadow acne.
+///
+/// The world-unit parts default to shares of the scene's size (the diagonal of its box when
+/// the renderer was made), so that a scene modelled in millimetres or kilometres gets the
+/// bias it gets in metres: 2 cm and 1 m in the demo scene, whose diagonal is 569 m. A 2 cm
+/// bias lit everything in a random scene scaled to a tenth of a metre, and a 1 m cap on the
+/// slope bias let a kilometre-scale scene's shadows acne.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DepthBias {
-    /// Constant bias in world units along the light.
-    pub constant_world: f64,
+    /// Constant bias in world units along the light (`None`:
+    /// [`DepthBias::CONSTANT_PER_DIAGONAL`] of the scene's diagonal).
+    pub constant_world: Option<f64>,
     /// Slope-scaled bias: this many texels' worth of the surface's depth slope.
     pub slope_texels: f64,
-    /// Upper limit of the slope-scaled bias, in world units.
-    pub max_slope_world: f64,
+    /// Upper limit of the slope-scaled bias, in world units (`None`:
+    /// [`DepthBias::MAX_SLOPE_PER_DIAGONAL`] of the scene's diagonal).
+    pub max_slope_world: Option<f64>,
     /// Normal offset: the lookup moves this many texels along the geometric normal (scaled
     /// by 1 - N.L, so surfaces facing the light move little).
     pub normal_offset_texels: f64,
 }
 
+impl DepthBias {
+    /// The default constant bias as a share of the scene's diagonal (2 cm in the demo's 569 m).
+    pub const CONSTANT_PER_DIAGONAL: f64 = 3.5e-5;
+    /// The default cap of the slope bias as a share of the scene's diagonal (1 m in the
+    /// demo's 569 m).
+    pub const MAX_SLOPE_PER_DIAGONAL: f64 = 1.75e-3;
+
+    /// The constant bias and the slope bias's cap in world units, for a scene of `diagonal`.
+    pub fn world(&self, diagonal: f64) -> (f64, f64) {
+        (
+            self.constant_world
+                .unwrap_or(Self::CONSTANT_PER_DIAGONAL * diagonal),
+            self.max_slope_world
+                .unwrap_or(Self::MAX_SLOPE_PER_DIAGONAL * diagonal),
+        )
+    }
+}
+
 impl Default for DepthBias {
-    /// 2 cm constant, 2 texels of slope (at most 1 m), a 1-texel normal offset.
+    /// The constant bias and the slope's cap scaled to the scene, 2 texels of slope, a
+    /// 1-texel normal offset.
     fn default() -> Self {
         Self {
-            constant_world: 0.02,
+            constant_world: None,
             slope_texels: 2.0,
-            max_slope_world: 1.0,
+            max_slope_world: None,
             normal_offset_texels: 1.0,
         }
     }
@@ -232,6 +259,9 @@ pub struct Renderer {
     pub(crate) sample_targets: Option<crate::samples::SampleTargets>,
     /// The probe pass (made on first use).
     pub(crate) probes: Option<crate::probes::Probes>,
+    /// The diagonal of the scene's box when the renderer was made: the scale of the default
+    /// depth bias ([`DepthBias`]).
+    scene_diagonal: f64,
 }
 
 impl Renderer {
@@ -326,7 +356,7 @@ impl Renderer {
             scene,
         )?;
         let timer = Timer::new(&gpu, &resources);
-        let renderer = Self {
+        let mut renderer = Self {
             scene: gpu_scene,
             pipelines,
             compare_sampler,
@@ -352,9 +382,13 @@ impl Renderer {
             headless: None,
             sample_targets: None,
             probes: None,
+            scene_diagonal: 1.0,
             resources,
             gpu,
         };
+        renderer.scene_diagonal = renderer
+            .scene_bounds()
+            .map_or(1.0, |bounds| bounds.scene_box().diagonal());
         scopes.pop()?;
         Ok(renderer)
     }
@@ -566,6 +600,7 @@ impl Renderer {
                         layer_size: self.atlas.layer_size,
                     },
                     &settings.bias,
+                    self.scene_diagonal,
                 );
                 if settings.read == MapRead::Coverage {
                     // Every point at depth 1/2 and every caster written at 0 (the bias): a

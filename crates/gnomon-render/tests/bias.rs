@@ -1,6 +1,6 @@
 //! The default bias: no acne (a plane with no other caster under a grazing light is at most
 //! 0.1% shadowed) and no peter-panning (the shadow of a box standing on the plane touches its
-//! base).
+//! base), in whatever units the scene is modelled.
 
 mod common;
 
@@ -24,29 +24,91 @@ fn instance(name: &str, mesh: usize, at: DVec3) -> Instance {
 
 /// A 100 m plane (a 0.2 m slab whose top is at y = 0), and optionally a 4 m box on it.
 fn scene(with_box: bool) -> RenderScene {
+    scaled_scene(with_box, 1.0)
+}
+
+/// [`scene`] in other units: every length times `unit`.
+fn scaled_scene(with_box: bool, unit: f64) -> RenderScene {
     let mut scene = RenderScene {
         meshes: vec![
             Shape::Cuboid {
-                half_extents: DVec3::new(50.0, 0.1, 50.0),
+                half_extents: DVec3::new(50.0, 0.1, 50.0) * unit,
             }
             .mesh(),
             Shape::Cuboid {
-                half_extents: DVec3::splat(2.0),
+                half_extents: DVec3::splat(2.0) * unit,
             }
             .mesh(),
         ],
-        instances: vec![instance("ground", 0, DVec3::new(0.0, -0.1, 0.0))],
+        instances: vec![instance("ground", 0, DVec3::new(0.0, -0.1, 0.0) * unit)],
     };
     if with_box {
         scene
             .instances
-            .push(instance("box", 1, DVec3::new(0.0, 2.0, 0.0)));
+            .push(instance("box", 1, DVec3::new(0.0, 2.0, 0.0) * unit));
     }
     scene
 }
 
 fn camera(eye: DVec3, target: DVec3) -> Camera {
     common::square_camera(eye, target, 0.5, 300.0)
+}
+
+/// The default bias is a share of the scene's size, not a length in world units: the box on
+/// the plane modelled in millimetres and in kilometres (a thousand times smaller and larger)
+/// casts the same shadow as in metres, against the exact shadows, with no acne under a 3
+/// degree sun. (A 2 cm bias lit the millimetre scene's shadows away; a 1 m cap on the slope
+/// bias let the kilometre scene acne.)
+#[test]
+fn the_default_bias_does_not_depend_on_the_scene_s_units() {
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    for unit in [1e-3, 1e3] {
+        let scene = scaled_scene(true, unit);
+        let mut renderer = common::renderer(&scene);
+        let cam = common::square_camera(
+            DVec3::new(14.0, 9.0, 10.0) * unit,
+            DVec3::new(3.0, 0.0, 0.0) * unit,
+            0.5 * unit,
+            300.0 * unit,
+        );
+        for elevation in [3.0f64, 45.0] {
+            let e = elevation.to_radians();
+            let light = Light::Directional(
+                DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), 0.3)).unwrap(),
+            );
+            let (_, frame) = common::render(
+                &mut renderer,
+                &scene,
+                &Focused,
+                &cam,
+                &light,
+                1024,
+                &settings,
+            );
+            let oracle = common::oracle(&scene, &cam, &light, SIZE, SIZE);
+            let a = common::agreement(&frame, &oracle, 0.0);
+            println!(
+                "unit {unit}, sun at {elevation} deg: {:.3}% of {} pixels agree ({} of {} \
+                 shadowed found)",
+                100.0 * a.fraction(),
+                a.compared,
+                a.shadowed_agreeing,
+                a.shadowed
+            );
+            assert!(a.compared > 20_000 && a.shadowed > 2_000, "{a:?}");
+            assert!(
+                a.fraction() >= 0.995 && a.shadow_recall() >= 0.98,
+                "unit {unit}, sun at {elevation} deg: {:.3}% agree, {} of {} shadowed found",
+                100.0 * a.fraction(),
+                a.shadowed_agreeing,
+                a.shadowed
+            );
+        }
+    }
 }
 
 #[test]

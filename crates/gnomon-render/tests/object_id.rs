@@ -126,9 +126,9 @@ fn frame(
 
 /// No bias of any kind: object IDs compare no depth between objects.
 const NO_BIAS: DepthBias = DepthBias {
-    constant_world: 0.0,
+    constant_world: Some(0.0),
     slope_texels: 0.0,
-    max_slope_world: 0.0,
+    max_slope_world: Some(0.0),
     normal_offset_texels: 0.0,
 };
 
