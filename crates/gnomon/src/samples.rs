@@ -57,6 +57,9 @@ impl ViewSamples {
     pub const RAYS: usize = 384;
     /// The footprints are those of a pixel of an image this many rows tall.
     pub const REFERENCE_ROWS: f64 = 1000.0;
+    /// Below this many lit points (N.L > 0.1) the samples take every point the light reaches
+    /// (see [`ViewSamples::from_surface_points`]); the warp limit judges from this many on.
+    pub const MIN_LIT: usize = 16;
 
     /// The grid of rays for an image of `aspect` (width over height): (columns, rows), about
     /// [`ViewSamples::RAYS`] cells.
@@ -157,20 +160,39 @@ impl ViewSamples {
 
     /// The samples from surface points that pixels see: (position, unit normal), world space,
     /// one per pixel of an image of `camera`'s aspect, about [`ViewSamples::RAYS`] of them
-    /// (fewer or more only weight the statistics differently). Points the light does not reach,
-    /// or outside the view's depth range, are left out; normals are turned toward the camera.
+    /// (fewer or more only weight the statistics differently). Points the light does not reach
+    /// (N.L > 0.1), or outside the view's depth range, are left out; normals are turned
+    /// toward the camera. Where fewer than [`ViewSamples::MIN_LIT`] points pass, under a
+    /// grazing light, every point the light reaches at all (N.L > 0) is a sample, so that the
+    /// frame still judges the maps (a TSM map twenty times coarser than the focused one was
+    /// kept under a 5 degree sun, where 3 of 384 pixels saw N.L > 0.1).
     pub fn from_surface_points(
         camera: &Camera,
         light: &Light,
         points: impl IntoIterator<Item = (DVec3, DVec3)>,
     ) -> Self {
+        let points: Vec<(DVec3, DVec3)> = points.into_iter().collect();
+        let lit = Self::facing(camera, light, &points, LIT_N_DOT_L);
+        if lit.len() >= Self::MIN_LIT {
+            return lit;
+        }
+        let reached = Self::facing(camera, light, &points, 0.0);
+        if reached.len() > lit.len() {
+            reached
+        } else {
+            lit
+        }
+    }
+
+    /// [`ViewSamples::from_surface_points`] with N.L above `min_n_dot_l`.
+    fn facing(camera: &Camera, light: &Light, points: &[(DVec3, DVec3)], min_n_dot_l: f64) -> Self {
         let lens = camera.lens();
         let (eye, forward) = (camera.eye(), camera.forward());
         let pixel = 2.0 * (0.5 * lens.fov_y_degrees.to_radians()).tan() / Self::REFERENCE_ROWS;
         let (step_x, step_y) = (camera.right() * pixel, camera.up() * pixel);
         let samples = points
-            .into_iter()
-            .filter_map(|(p, normal)| {
+            .iter()
+            .filter_map(|&(p, normal)| {
                 let t = (p - eye).dot(forward);
                 if !(t >= lens.near && t <= lens.far && normal.is_finite()) {
                     return None;
@@ -179,7 +201,7 @@ impl ViewSamples {
                 let d = (p - eye) / t;
                 let normal = if normal.dot(d) > 0.0 { -normal } else { normal };
                 let n_dot_d = normal.dot(d);
-                if !lit_facing(light, p, normal) || n_dot_d >= 0.0 {
+                if !lit_facing(light, p, normal, min_n_dot_l) || n_dot_d >= 0.0 {
                     return None;
                 }
                 // p(d) = e + d (n . (p0 - e)) / (n . d): dp = t (dd - d (n . dd) / (n . d)).
@@ -356,22 +378,27 @@ pub fn undersampling(map: &ShadowMap, sample: &ViewSample) -> f64 {
     Texels::new(map).undersampling(sample)
 }
 
-/// Whether the light reaches a surface at `p` with normal `n` (N.L > 0.1; a spot light also
-/// needs `p` inside its cone and range, a point light within its range).
-fn lit_facing(light: &Light, p: DVec3, n: DVec3) -> bool {
+/// The N.L above which a surface counts as lit, as the renderer's metrics count.
+const LIT_N_DOT_L: f64 = 0.1;
+
+/// Whether the light reaches a surface at `p` with normal `n` (N.L > `min_n_dot_l`; a spot
+/// light also needs `p` inside its cone and range, a point light within its range).
+fn lit_facing(light: &Light, p: DVec3, n: DVec3, min_n_dot_l: f64) -> bool {
     match light {
         Light::Point(l) => {
             let to_light = l.position() - p;
             let distance = to_light.length();
-            distance >= l.near() && distance <= l.range() && n.dot(to_light / distance) > 0.1
+            distance >= l.near()
+                && distance <= l.range()
+                && n.dot(to_light / distance) > min_n_dot_l
         }
-        Light::Directional(l) => n.dot(-l.direction()) > 0.1,
+        Light::Directional(l) => n.dot(-l.direction()) > min_n_dot_l,
         Light::Spot(s) => {
             let to_light = s.position() - p;
             let distance = to_light.length();
             let along = -to_light.dot(s.direction());
             distance > 0.0
-                && n.dot(to_light / distance) > 0.1
+                && n.dot(to_light / distance) > min_n_dot_l
                 && along >= s.near()
                 && distance <= s.range()
                 && along >= distance * s.half_angle().cos()
@@ -542,6 +569,16 @@ mod tests {
                 .iter()
                 .all(|s| (10.0..=30.0).contains(&s.view_depth))
         );
+        // A sun 3 degrees over the horizon (N.L 0.05 on the ground): no pixel sees N.L > 0.1,
+        // so every pixel that sees the ground lit at all is a sample; a sun 3 degrees under
+        // the horizon still gives none.
+        let grazing = |elevation: f64| {
+            let e = elevation.to_radians();
+            Light::Directional(DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), 0.0)).unwrap())
+        };
+        let low = ViewSamples::new(&camera, &grazing(3.0), &ground_scene());
+        assert_eq!(low.len(), samples.len());
+        assert!(ViewSamples::new(&camera, &grazing(-3.0), &ground_scene()).is_empty());
     }
 
     #[test]

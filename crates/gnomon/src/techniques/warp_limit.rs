@@ -35,7 +35,7 @@ pub(crate) const MAX_MARGIN: f64 = 0.9;
 /// How many times the strength may be halved before the focused map is used.
 pub(crate) const HALVINGS: u32 = 3;
 /// Below this many samples the frame says too little to judge, and the warp is kept.
-pub(crate) const MIN_SAMPLES: usize = 16;
+pub(crate) const MIN_SAMPLES: usize = crate::samples::ViewSamples::MIN_LIT;
 
 /// A perspective warp that the limit weakens (PSM, LiSPSM, TSM, XPSM): its parameters' check,
 /// whether the limit is on, and its setup at a strength (1: the paper's).
