@@ -2225,8 +2225,8 @@ light_dir = [0.2, -1, -0.6]
 }
 
 /// `render` warns when casters reach within a spot or point light's near distance, where the
-/// maps clip them (a lamp inside a cube shines out through the clipped faces), and says
-/// nothing for a lamp in the open.
+/// maps clip them (a lamp at a cube's wall shines out through the clipped face), and says
+/// nothing for a lamp in the open or well inside a box.
 #[test]
 fn render_warns_of_casters_at_the_light() {
     let dir = temp_dir("near-clip");
@@ -2252,13 +2252,17 @@ fn render_warns_of_casters_at_the_light() {
         assert!(out.status.success(), "{stderr}");
         stderr
     };
-    // Inside the cube at x -3 to -1, y 0 to 2, 0.02 m below its top (the near distance is
-    // a millionth of the range, 5e-5 m; the cube's box holds the light, so it counts).
-    let inside = render("-2,1.98,1,50");
+    // Inside the cube at x -3 to -1, y 0 to 2, 0.02 mm below its top: nearer than the near
+    // distance (a millionth of the range, 5e-5 m), so the top is clipped.
+    let at_the_wall = render("-2,1.99998,1,50");
     assert!(
-        inside.contains("warning:") && inside.contains("near distance (5.000e-5 m"),
-        "{inside}"
+        at_the_wall.contains("warning:") && at_the_wall.contains("near distance (5.000e-5 m"),
+        "{at_the_wall}"
     );
+    // 2 cm below its top: the cube's box holds the light, but its walls lie beyond the near
+    // plane and lose nothing.
+    let inside = render("-2,1.98,1,50");
+    assert!(!inside.contains("near distance"), "{inside}");
     let open = render("0,6,0,50");
     assert!(!open.contains("near distance"), "{open}");
 }

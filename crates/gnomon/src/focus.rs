@@ -1128,6 +1128,8 @@ struct NearTip {
     /// The corners (least, greatest) of the box around the tip's part of the scene box;
     /// `None` when the tip misses the scene.
     bounds: Option<(DVec3, DVec3)>,
+    /// The vertices of the tip's part of the scene box.
+    corners: Vec<DVec3>,
     /// Vertices of a caster's cut.
     scratch: Vec<DVec3>,
 }
@@ -1152,19 +1154,29 @@ impl NearTip {
         Self {
             planes,
             bounds,
+            corners,
             scratch: Vec::new(),
         }
     }
 
-    /// Whether part of `caster` lies in the tip, inside the planes of `mask` (those the caster
-    /// crosses): the part the near plane clips away. A box that crosses the near plane only
-    /// outside the light's frustum loses nothing.
+    /// Whether part of `caster`'s surface lies in the tip, inside the planes of `mask` (those
+    /// the caster crosses): the part the near plane clips away. A box that crosses the near
+    /// plane only outside the light's frustum loses nothing, and nor does one that holds the
+    /// whole tip (a lamp inside a box: its walls lie beyond the near plane).
     fn clips(&mut self, caster: &Aabb, mask: u32, tolerance: f64) -> bool {
         let Some((lo, hi)) = self.bounds else {
             return false;
         };
         if !((caster.min() - tolerance).cmple(hi).all()
             && (caster.max() + tolerance).cmpge(lo).all())
+        {
+            return false;
+        }
+        let (inner_lo, inner_hi) = (caster.min() + tolerance, caster.max() - tolerance);
+        if self
+            .corners
+            .iter()
+            .all(|p| p.cmpgt(inner_lo).all() && p.cmplt(inner_hi).all())
         {
             return false;
         }

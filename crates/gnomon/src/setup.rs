@@ -469,9 +469,11 @@ pub struct Diagnostics {
     /// Caster boxes culled: outside the light frustum, beside the visible receivers as seen
     /// from the light, or behind them all.
     pub culled_casters: usize,
-    /// Relevant casters whose boxes reach in front of a spot light's near plane inside its
-    /// frustum, where the map clips them (their part within [`crate::SPOT_NEAR_FRACTION`] of
-    /// the range casts no shadow); a point light counts them once per cube face.
+    /// Relevant casters whose boxes' surfaces reach in front of a spot light's near plane
+    /// inside its frustum, where the map clips them (their part within
+    /// [`crate::SPOT_NEAR_FRACTION`] of the range casts no shadow; a box that holds all of
+    /// that space, with the light inside it, loses nothing and is not counted); a point light
+    /// counts them once per cube face.
     pub casters_clipped_by_light_near: usize,
     /// Number of vertices of the convex body B (0 when not computed or empty).
     pub focus_body_vertices: usize,

@@ -159,8 +159,10 @@ fn spot_light_that_misses_the_scene_covers_its_cone() {
 
 #[test]
 fn caster_reaching_in_front_of_the_spot_near_plane_is_reported() {
-    // A lamp post whose top holds the spot light: the post crosses the light's near plane.
-    let lamp = Aabb::new(DVec3::new(-0.2, 0.0, -0.2), DVec3::new(0.2, 10.5, 0.2)).unwrap();
+    // A lamp post whose top holds the spot light 0.01 mm above it: the post crosses the
+    // light's near plane (3e-5 m below the light, a millionth of its range).
+    let top = 10.0 - 1e-5;
+    let lamp = Aabb::new(DVec3::new(-0.2, 0.0, -0.2), DVec3::new(0.2, top, 0.2)).unwrap();
     let scene = SceneBounds::new(vec![lamp, post()], vec![ground()], None).unwrap();
     let spot =
         Light::Spot(SpotLight::new(DVec3::new(0.0, 10.0, 0.0), -DVec3::Y, 60.0, 30.0).unwrap());
@@ -175,6 +177,12 @@ fn caster_reaching_in_front_of_the_spot_near_plane_is_reported() {
     let scene = SceneBounds::new(vec![wall, post()], vec![ground()], None).unwrap();
     let setup = focused(&camera, &spot, &scene);
     assert!(setup.diagnostics.relevant_casters >= 1);
+    assert_eq!(setup.diagnostics.casters_clipped_by_light_near, 0);
+    // The light inside the post, half a metre below its top: the post's box holds the whole
+    // space the near plane cuts off, and its walls lie beyond it; nothing is counted.
+    let lamp = Aabb::new(DVec3::new(-0.2, 0.0, -0.2), DVec3::new(0.2, 10.5, 0.2)).unwrap();
+    let scene = SceneBounds::new(vec![lamp, post()], vec![ground()], None).unwrap();
+    let setup = focused(&camera, &spot, &scene);
     assert_eq!(setup.diagnostics.casters_clipped_by_light_near, 0);
 }
 
