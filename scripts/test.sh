@@ -48,11 +48,11 @@ echo "test.sh: cargo test (GPU tests on Vulkan)"
 cargo test --workspace --locked
 # The GPU tests again on GL (llvmpipe through EGL): what a machine without a Vulkan driver
 # gets. They fail, never skip, without an adapter.
-# The renderer's tests run one at a time there: each opens its own EGL context, and Mesa's
+# The tests run one at a time there: each renderer test opens its own EGL context, and Mesa's
 # EGL (through libglvnd) can crash when threads that used contexts come and go at once (a
 # SIGSEGV in the renderer's frames test on CI, once in many runs, not reproduced here in 40;
-# wgpu's own CI saw the same, gfx-rs/wgpu#4285). One at a time costs about 40 s. The CLI's
-# tests run the gnomon binary in processes of their own and stay parallel.
+# wgpu's own CI saw the same, gfx-rs/wgpu#4285). One cargo invocation for both packages: the
+# renderer alone would resolve other features and rebuild wgpu. One at a time costs about a
+# minute.
 echo "test.sh: cargo test, GPU tests on GL (WGPU_BACKEND=gl)"
-WGPU_BACKEND=gl cargo test --locked -p gnomon-render -- --test-threads=1
-WGPU_BACKEND=gl cargo test --locked -p gnomon-cli
+WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli -- --test-threads=1
