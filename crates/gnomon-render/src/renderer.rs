@@ -67,6 +67,9 @@ impl DepthBias {
     /// The default cap of the slope bias as a share of the scene's diagonal (1 m in the
     /// demo's 569 m).
     pub const MAX_SLOPE_PER_DIAGONAL: f64 = 1.75e-3;
+    /// The diagonal taken for a renderer whose scene has no bounds (an engine that hands over
+    /// its casters each frame): the defaults are then 2 cm and 1 m (metres assumed).
+    pub const DIAGONAL_WITHOUT_SCENE: f64 = 0.02 / Self::CONSTANT_PER_DIAGONAL;
 
     /// The constant bias and the slope bias's cap in world units, for a scene of `diagonal`.
     pub fn world(&self, diagonal: f64) -> (f64, f64) {
@@ -259,8 +262,8 @@ pub struct Renderer {
     pub(crate) sample_targets: Option<crate::samples::SampleTargets>,
     /// The probe pass (made on first use).
     pub(crate) probes: Option<crate::probes::Probes>,
-    /// The diagonal of the scene's box when the renderer was made: the scale of the default
-    /// depth bias ([`DepthBias`]).
+    /// The diagonal of the scene's box when the renderer was made (or
+    /// [`DepthBias::DIAGONAL_WITHOUT_SCENE`]): the scale of the default depth bias.
     scene_diagonal: f64,
 }
 
@@ -382,13 +385,15 @@ impl Renderer {
             headless: None,
             sample_targets: None,
             probes: None,
-            scene_diagonal: 1.0,
+            scene_diagonal: DepthBias::DIAGONAL_WITHOUT_SCENE,
             resources,
             gpu,
         };
         renderer.scene_diagonal = renderer
             .scene_bounds()
-            .map_or(1.0, |bounds| bounds.scene_box().diagonal());
+            .map_or(DepthBias::DIAGONAL_WITHOUT_SCENE, |bounds| {
+                bounds.scene_box().diagonal()
+            });
         scopes.pop()?;
         Ok(renderer)
     }
