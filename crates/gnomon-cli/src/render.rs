@@ -118,8 +118,9 @@ pub struct DrawArgs {
     pub stencil: Option<StencilArg>,
     #[command(flatten)]
     pub soft: SoftArgs,
-    /// Constant depth bias in world units, 0 to 10^4 (default: 3.5e-5 of the scene box's
-    /// diagonal, 2 cm in the demo scene, so that the scene's units do not matter).
+    /// Constant depth bias in world units, 0 to 10^4 (default: 2 cm, scaled down in scenes
+    /// whose box is under 10 m across, so that a tabletop or a scene in millimetres keeps its
+    /// shadows).
     #[arg(long, value_parser = parse_bias_world, allow_hyphen_values = true)]
     pub bias_constant: Option<f64>,
     /// Slope-scaled depth bias, in texels of depth slope, 0 to 64.

@@ -41,20 +41,19 @@ pub enum Filter {
 
 /// Depth bias against shadow acne.
 ///
-/// The world-unit parts default to shares of the scene's size (the diagonal of its box when
-/// the renderer was made), so that a scene modelled in millimetres or kilometres gets the
-/// bias it gets in metres: 2 cm and 1 m in the demo scene, whose diagonal is 569 m. A 2 cm
-/// bias lit everything in a random scene scaled to a tenth of a metre, and a 1 m cap on the
-/// slope bias let a kilometre-scale scene's shadows acne.
+/// The world-unit parts default to 2 cm and 1 m, scaled down with the scene in scenes smaller
+/// than [`DepthBias::FULL_SIZE_DIAGONAL`] across (the diagonal of the scene's box when the
+/// renderer was made), so that a tabletop, or a scene modelled in millimetres, is not lit
+/// through its shadows: a 2 cm bias lit most of a random scene scaled to a fifth of a metre.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DepthBias {
-    /// Constant bias in world units along the light (`None`:
-    /// [`DepthBias::CONSTANT_PER_DIAGONAL`] of the scene's diagonal).
+    /// Constant bias in world units along the light (`None`: [`DepthBias::CONSTANT_WORLD`],
+    /// scaled in small scenes).
     pub constant_world: Option<f64>,
     /// Slope-scaled bias: this many texels' worth of the surface's depth slope.
     pub slope_texels: f64,
     /// Upper limit of the slope-scaled bias, in world units (`None`:
-    /// [`DepthBias::MAX_SLOPE_PER_DIAGONAL`] of the scene's diagonal).
+    /// [`DepthBias::MAX_SLOPE_WORLD`], scaled in small scenes).
     pub max_slope_world: Option<f64>,
     /// Normal offset: the lookup moves this many texels along the geometric normal (scaled
     /// by 1 - N.L, so surfaces facing the light move little).
@@ -62,29 +61,28 @@ pub struct DepthBias {
 }
 
 impl DepthBias {
-    /// The default constant bias as a share of the scene's diagonal (2 cm in the demo's 569 m).
-    pub const CONSTANT_PER_DIAGONAL: f64 = 3.5e-5;
-    /// The default cap of the slope bias as a share of the scene's diagonal (1 m in the
-    /// demo's 569 m).
-    pub const MAX_SLOPE_PER_DIAGONAL: f64 = 1.75e-3;
-    /// The diagonal taken for a renderer whose scene has no bounds (an engine that hands over
-    /// its casters each frame): the defaults are then 2 cm and 1 m (metres assumed).
-    pub const DIAGONAL_WITHOUT_SCENE: f64 = 0.02 / Self::CONSTANT_PER_DIAGONAL;
+    /// The default constant bias in a scene at least [`DepthBias::FULL_SIZE_DIAGONAL`] across.
+    pub const CONSTANT_WORLD: f64 = 0.02;
+    /// The default cap of the slope bias in such a scene.
+    pub const MAX_SLOPE_WORLD: f64 = 1.0;
+    /// Scenes whose box's diagonal is shorter than this have the defaults scaled by their
+    /// diagonal over it.
+    pub const FULL_SIZE_DIAGONAL: f64 = 10.0;
 
     /// The constant bias and the slope bias's cap in world units, for a scene of `diagonal`.
     pub fn world(&self, diagonal: f64) -> (f64, f64) {
+        let scale = (diagonal / Self::FULL_SIZE_DIAGONAL).clamp(f64::MIN_POSITIVE, 1.0);
         (
-            self.constant_world
-                .unwrap_or(Self::CONSTANT_PER_DIAGONAL * diagonal),
+            self.constant_world.unwrap_or(Self::CONSTANT_WORLD * scale),
             self.max_slope_world
-                .unwrap_or(Self::MAX_SLOPE_PER_DIAGONAL * diagonal),
+                .unwrap_or(Self::MAX_SLOPE_WORLD * scale),
         )
     }
 }
 
 impl Default for DepthBias {
-    /// The constant bias and the slope's cap scaled to the scene, 2 texels of slope, a
-    /// 1-texel normal offset.
+    /// 2 cm constant, 2 texels of slope (at most 1 m), a 1-texel normal offset; the world
+    /// parts scaled down in scenes under 10 m across.
     fn default() -> Self {
         Self {
             constant_world: None,
@@ -263,7 +261,8 @@ pub struct Renderer {
     /// The probe pass (made on first use).
     pub(crate) probes: Option<crate::probes::Probes>,
     /// The diagonal of the scene's box when the renderer was made (or
-    /// [`DepthBias::DIAGONAL_WITHOUT_SCENE`]): the scale of the default depth bias.
+    /// [`DepthBias::FULL_SIZE_DIAGONAL`] without bounds): the scale of the default depth bias
+    /// in small scenes.
     scene_diagonal: f64,
 }
 
@@ -385,13 +384,13 @@ impl Renderer {
             headless: None,
             sample_targets: None,
             probes: None,
-            scene_diagonal: DepthBias::DIAGONAL_WITHOUT_SCENE,
+            scene_diagonal: DepthBias::FULL_SIZE_DIAGONAL,
             resources,
             gpu,
         };
         renderer.scene_diagonal = renderer
             .scene_bounds()
-            .map_or(DepthBias::DIAGONAL_WITHOUT_SCENE, |bounds| {
+            .map_or(DepthBias::FULL_SIZE_DIAGONAL, |bounds| {
                 bounds.scene_box().diagonal()
             });
         scopes.pop()?;
