@@ -54,6 +54,24 @@ fn camera(eye: DVec3, target: DVec3) -> Camera {
     common::square_camera(eye, target, 0.5, 300.0)
 }
 
+/// A sun `elevation` degrees above the horizon, travelling along +x (and `z`).
+fn sun(elevation: f64, z: f64) -> Light {
+    let e = elevation.to_radians();
+    Light::Directional(DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), z)).unwrap())
+}
+
+/// The focused map's frame of `scene` (1024 maps) and the oracle's mask.
+fn focused_with_oracle(
+    renderer: &mut gnomon_render::Renderer,
+    scene: &RenderScene,
+    cam: &Camera,
+    light: &Light,
+    settings: &RenderSettings,
+) -> (gnomon_render::Frame, common::OracleMask) {
+    let (_, frame) = common::render(renderer, scene, &Focused, cam, light, 1024, settings);
+    (frame, common::oracle(scene, cam, light, SIZE, SIZE))
+}
+
 /// The default bias shrinks with a small scene: the box on the plane modelled in millimetres
 /// (every length a thousandth) casts the same shadow as in metres, against the exact shadows,
 /// under a 3 and a 45 degree sun. (A 2 cm bias lit the millimetre scene's shadows away.)
@@ -74,20 +92,9 @@ fn the_default_bias_shrinks_with_a_small_scene() {
             300.0 * unit,
         );
         for elevation in [3.0f64, 45.0] {
-            let e = elevation.to_radians();
-            let light = Light::Directional(
-                DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), 0.3)).unwrap(),
-            );
-            let (_, frame) = common::render(
-                &mut renderer,
-                &scene,
-                &Focused,
-                &cam,
-                &light,
-                1024,
-                &settings,
-            );
-            let oracle = common::oracle(&scene, &cam, &light, SIZE, SIZE);
+            let light = sun(elevation, 0.3);
+            let (frame, oracle) =
+                focused_with_oracle(&mut renderer, &scene, &cam, &light, &settings);
             let a = common::agreement(&frame, &oracle, 0.0);
             println!(
                 "unit {unit}, sun at {elevation} deg: {:.3}% of {} pixels agree ({} of {} \
@@ -191,18 +198,8 @@ fn shadow_of_a_box_touches_its_base() {
     // The camera looks at the box's +x side, where the shadow of a light travelling +x falls.
     let cam = camera(DVec3::new(14.0, 9.0, 10.0), DVec3::new(3.0, 0.0, 0.0));
     for elevation in [20.0f64, 45.0, 70.0] {
-        let e = elevation.to_radians();
-        let light =
-            Light::Directional(DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), 0.0)).unwrap());
-        let (_, frame) = common::render(
-            &mut renderer,
-            &scene,
-            &Focused,
-            &cam,
-            &light,
-            1024,
-            &settings,
-        );
+        let light = sun(elevation, 0.0);
+        let (frame, oracle) = focused_with_oracle(&mut renderer, &scene, &cam, &light, &settings);
         // Ground points a few centimetres beside the base, on the shadow side: in shadow.
         let clip_from_world = cam.clip_from_world();
         let mut checked = 0;
@@ -224,7 +221,6 @@ fn shadow_of_a_box_touches_its_base() {
             }
         }
         // And the whole frame agrees with the exact shadows.
-        let oracle = common::oracle(&scene, &cam, &light, SIZE, SIZE);
         let a = common::agreement(&frame, &oracle, 0.1);
         println!(
             "sun at {elevation} deg: {checked} base points shadowed; {:.3}% of {} pixels agree",
@@ -270,19 +266,8 @@ fn tilted_and_curved_receivers_need_no_normal_offset() {
     };
     let cam = camera(DVec3::new(0.0, 30.0, 40.0), DVec3::new(0.0, 0.0, 0.0));
     for elevation in [25.0f64, 50.0] {
-        let e = elevation.to_radians();
-        let light =
-            Light::Directional(DirectionalLight::new(DVec3::new(e.cos(), -e.sin(), -0.2)).unwrap());
-        let (_, frame) = common::render(
-            &mut renderer,
-            &scene,
-            &Focused,
-            &cam,
-            &light,
-            1024,
-            &settings,
-        );
-        let oracle = common::oracle(&scene, &cam, &light, SIZE, SIZE);
+        let light = sun(elevation, -0.2);
+        let (frame, oracle) = focused_with_oracle(&mut renderer, &scene, &cam, &light, &settings);
         let judged: Vec<usize> = (0..frame.mask.len())
             .filter(|&i| oracle.mask[i] == gnomon_render::MASK_LIT && oracle.n_dot_l[i] > 0.3)
             .collect();
