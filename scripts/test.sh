@@ -50,7 +50,7 @@ cargo test --workspace --locked
 # gets. They fail, never skip, without an adapter.
 # The tests run one at a time there: each renderer test opens its own EGL context, and Mesa's
 # EGL (through libglvnd) can crash when threads that used contexts come and go at once (a
-# SIGSEGV in the renderer's frames test on CI, once in many runs, not reproduced here in 40;
+# SIGSEGV in the renderer's frames test on CI, once in many runs, not reproduced here in 36;
 # wgpu's own CI saw the same, gfx-rs/wgpu#4285). One cargo invocation for both packages: the
 # renderer alone would resolve other features and rebuild wgpu. One at a time costs about a
 # minute.
