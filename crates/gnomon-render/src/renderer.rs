@@ -388,11 +388,15 @@ impl Renderer {
             resources,
             gpu,
         };
-        renderer.scene_diagonal = renderer
-            .scene_bounds()
-            .map_or(DepthBias::FULL_SIZE_DIAGONAL, |bounds| {
-                bounds.scene_box().diagonal()
-            });
+        // The union of the casters' and receivers' boxes (the scene box `scene_bounds` would
+        // give), without building its hierarchies.
+        let corners = (renderer.scene.instances.iter())
+            .filter(|i| i.casts || i.receives)
+            .filter_map(|i| i.bounds);
+        renderer.scene_diagonal = corners
+            .map(|b| (b.min(), b.max()))
+            .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+            .map_or(DepthBias::FULL_SIZE_DIAGONAL, |(lo, hi)| (hi - lo).length());
         scopes.pop()?;
         Ok(renderer)
     }
