@@ -15,7 +15,7 @@ use crate::setup::{
     Diagnostics, Fallback, LightFrameKind, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
 };
 use crate::techniques::basis::FocusBasis;
-use crate::techniques::uniform::uniform_map;
+use crate::techniques::uniform::{uniform_map, within_cone};
 use crate::techniques::{ANGULAR_PADDING, on_whole_frame};
 
 /// Focused shadow map (FSM): the light's projection (orthographic for a directional light,
@@ -108,7 +108,10 @@ pub(crate) fn focus(
     let body = &basis.body;
     diagnostics.focus_body_vertices = body.len();
     let projector = choose_frame(input, body, basis.frame.fixed, diagnostics);
-    let receivers = visible.receiver_extents(input.scene, &projector);
+    let mut receivers = visible.receiver_extents(input.scene, &projector);
+    if let Light::Spot(spot) = input.light {
+        receivers = within_cone(receivers, spot);
+    }
     let body_extents = usable_body_extents(body, &projector, &receivers, tolerance);
     if body_extents.is_none() {
         diagnostics.fallbacks.push(Fallback::DegenerateFocusBody);

@@ -98,11 +98,24 @@ pub(crate) fn uniform_map(
                 for p in lit.vertices(tolerance) {
                     ext.add(projector.project(p));
                 }
-                ext
+                within_cone(ext, spot)
             };
             build_map(&projector, &region, settings, ANGULAR_PADDING, tolerance)
         }
     }
+}
+
+/// `ext` (a spot light's projector's) cut to the light's square in x and y. The clips keep
+/// points up to the tolerance outside the frustum's sides, which project outside it by the
+/// tolerance over their depth: near the light (a lamp inside a box) up to a thousandth of the
+/// square (see [`crate::techniques::tolerance`]). `ext` itself where the cut leaves nothing.
+pub(crate) fn within_cone(ext: Extents, spot: &SpotLight) -> Extents {
+    let t = spot.half_angle().tan();
+    let cut = Extents {
+        min: ext.min.max(DVec3::new(-t, -t, f64::NEG_INFINITY)),
+        max: ext.max.min(DVec3::new(t, t, f64::INFINITY)),
+    };
+    if cut.is_empty() { ext } else { cut }
 }
 
 /// The extents of a spot light's whole frustum (tangent units, depth from near to range).
