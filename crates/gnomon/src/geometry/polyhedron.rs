@@ -3,18 +3,21 @@ use glam::DVec3;
 use super::Plane;
 use crate::bounds::Aabb;
 
-/// A convex polyhedron stored as its faces (polygons of world-space points).
+/// A convex polyhedron: its distinct vertices and its faces (polygons of vertex indices).
 ///
 /// Built from a box or a frustum's eight corners and then clipped by planes; the vertices are
 /// what the shadow setups use (extents in light space). Face winding is not relied on: face
 /// planes are oriented with the polyhedron's centroid. All comparisons use a tolerance given
 /// by the caller in world units, so that a point on a clipping plane is kept exactly once.
 ///
-/// Storage is flat (all face points in one buffer, faces as end offsets) so that a clip
-/// allocates two buffers, not one per face.
+/// Faces index one vertex list, so that a clip measures each vertex's distance once and
+/// makes each crossing edge's point once (the two faces that share the edge read the same
+/// point); storage is flat (faces as end offsets into one index buffer), so that a clip
+/// allocates nothing once its scratch buffers have grown.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ConvexPolyhedron {
-    points: Vec<DVec3>,
+    vertices: Vec<DVec3>,
+    indices: Vec<u32>,
     face_ends: Vec<usize>,
 }
 
@@ -32,7 +35,7 @@ impl ConvexPolyhedron {
     /// A hexahedron from eight corners: the first four and the last four each a quad (in the
     /// same rotational order), as [`crate::Camera::frustum_corners`] returns them.
     pub fn from_hexahedron(c: &[DVec3; 8]) -> Self {
-        const FACES: [[usize; 4]; 6] = [
+        const FACES: [[u32; 4]; 6] = [
             [0, 1, 2, 3],
             [4, 7, 6, 5],
             [0, 4, 5, 1],
@@ -40,9 +43,9 @@ impl ConvexPolyhedron {
             [2, 6, 7, 3],
             [3, 7, 4, 0],
         ];
-        let points = FACES.iter().flatten().map(|&i| c[i]).collect();
         Self {
-            points,
+            vertices: c.to_vec(),
+            indices: FACES.iter().flatten().copied().collect(),
             face_ends: vec![4, 8, 12, 16, 20, 24],
         }
     }
@@ -52,11 +55,17 @@ impl ConvexPolyhedron {
         self.face_ends.is_empty()
     }
 
-    /// The faces, each a polygon.
-    pub fn faces(&self) -> impl Iterator<Item = &[DVec3]> + '_ {
+    /// The corner points: every vertex, each once (points that a clip made closer than its
+    /// tolerance may both be there; [`Self::vertices`] merges them).
+    pub fn points(&self) -> &[DVec3] {
+        if self.is_empty() { &[] } else { &self.vertices }
+    }
+
+    /// The faces, each the indices of its vertices in [`Self::points`] in order.
+    fn face_indices(&self) -> impl Iterator<Item = &[u32]> + '_ {
         let mut start = 0;
         self.face_ends.iter().map(move |&end| {
-            let face = &self.points[start..end];
+            let face = &self.indices[start..end];
             start = end;
             face
         })
@@ -64,8 +73,8 @@ impl ConvexPolyhedron {
 
     /// The distinct vertices (points closer than `tolerance` are merged).
     pub fn vertices(&self, tolerance: f64) -> Vec<DVec3> {
-        let mut out: Vec<DVec3> = Vec::with_capacity(self.points.len() / 2);
-        for p in &self.points {
+        let mut out: Vec<DVec3> = Vec::with_capacity(self.points().len());
+        for p in self.points() {
             if !out
                 .iter()
                 .any(|q| q.distance_squared(*p) <= tolerance * tolerance)
@@ -80,11 +89,12 @@ impl ConvexPolyhedron {
     /// polyhedron is the intersection of their insides. `centroid`: a point inside.
     pub fn bounding_planes(&self, centroid: DVec3, tolerance: f64) -> Vec<Plane> {
         let mut planes = Vec::with_capacity(self.face_ends.len());
-        for face in self.faces() {
+        let v = &self.vertices;
+        for face in self.face_indices() {
             // Newell's method: robust for nearly degenerate polygons.
             let mut normal = DVec3::ZERO;
-            for (i, a) in face.iter().enumerate() {
-                let b = face[(i + 1) % face.len()];
+            for (i, &a) in face.iter().enumerate() {
+                let (a, b) = (v[a as usize], v[face[(i + 1) % face.len()] as usize]);
                 normal += DVec3::new(
                     (a.y - b.y) * (a.z + b.z),
                     (a.z - b.z) * (a.x + b.x),
@@ -93,12 +103,17 @@ impl ConvexPolyhedron {
             }
             // |normal| is twice the area; skip faces thinner than the tolerance.
             let area2 = normal.length();
-            let extent = face.iter().map(|p| p.distance(face[0])).fold(0.0, f64::max);
+            let first = v[face[0] as usize];
+            let extent = face
+                .iter()
+                .map(|&i| v[i as usize].distance(first))
+                .fold(0.0, f64::max);
             if area2 <= 2.0 * tolerance * extent.max(tolerance) {
                 continue;
             }
             let mut normal = normal / area2;
-            let face_center = face.iter().copied().sum::<DVec3>() / face.len() as f64;
+            let face_center =
+                face.iter().map(|&i| v[i as usize]).sum::<DVec3>() / face.len() as f64;
             if normal.dot(face_center - centroid) < 0.0 {
                 normal = -normal;
             }
@@ -133,54 +148,92 @@ impl ConvexPolyhedron {
     }
 
     fn clip_in_place(&mut self, plane: &Plane, tolerance: f64, scratch: &mut Scratch) {
+        if self.is_empty() {
+            return;
+        }
         let mut max_d = f64::NEG_INFINITY;
         let mut min_d = f64::INFINITY;
-        scratch.distances.clear();
-        scratch.distances.reserve(self.points.len());
-        for p in &self.points {
+        let distances = &mut scratch.distances;
+        distances.clear();
+        for p in &self.vertices {
             let d = plane.distance(*p);
             max_d = max_d.max(d);
             min_d = min_d.min(d);
-            scratch.distances.push(d);
+            distances.push(d);
         }
-        if self.is_empty() || max_d <= tolerance {
+        if max_d <= tolerance {
             *self = Self::empty();
             return;
         }
         if min_d >= -tolerance {
             return;
         }
-        scratch.points.clear();
-        scratch.face_ends.clear();
-        scratch.cap.clear();
-        // The buffers swapped in from the last clip may be only as large as its polyhedron.
-        scratch.points.reserve(self.points.len() + 16);
-        scratch.face_ends.reserve(self.face_ends.len() + 2);
-        scratch.cap.reserve(16);
-        let mut face_start = 0;
-        for (face, &face_end) in self.faces().zip(&self.face_ends) {
-            let distances = &scratch.distances[face_start..face_end];
-            face_start = face_end;
-            let start = scratch.points.len();
-            clip_polygon(
-                face,
-                distances,
-                tolerance,
-                &mut scratch.points,
-                &mut scratch.cap,
-            );
-            if scratch.points.len() - start >= 3 {
-                scratch.face_ends.push(scratch.points.len());
+        // The kept vertices, renumbered; those on the plane start the cap.
+        let (vertices, remap, cap) = (&mut scratch.vertices, &mut scratch.remap, &mut scratch.cap);
+        vertices.clear();
+        remap.clear();
+        cap.clear();
+        for (p, &d) in self.vertices.iter().zip(distances.iter()) {
+            if d >= -tolerance {
+                if d <= tolerance {
+                    cap.push(vertices.len() as u32);
+                }
+                remap.push(vertices.len() as u32);
+                vertices.push(*p);
             } else {
-                scratch.points.truncate(start);
+                remap.push(u32::MAX);
             }
         }
-        if order_cap(&mut scratch.cap, plane, tolerance) {
-            scratch.points.extend_from_slice(&scratch.cap);
-            scratch.face_ends.push(scratch.points.len());
+        // Each crossing edge's point, made once: (lower index, higher index, point's index).
+        let crossings = &mut scratch.crossings;
+        crossings.clear();
+        let (indices, face_ends) = (&mut scratch.indices, &mut scratch.face_ends);
+        indices.clear();
+        face_ends.clear();
+        let mut face_start = 0;
+        for &face_end in &self.face_ends {
+            let face = &self.indices[face_start..face_end];
+            face_start = face_end;
+            let start = indices.len();
+            let n = face.len();
+            for k in 0..n {
+                let (a, b) = (face[k] as usize, face[(k + 1) % n] as usize);
+                let (da, db) = (distances[a], distances[b]);
+                if da >= -tolerance {
+                    indices.push(remap[a]);
+                }
+                if (da < -tolerance && db > tolerance) || (da > tolerance && db < -tolerance) {
+                    let key = (a.min(b) as u32, a.max(b) as u32);
+                    let index = match crossings.iter().find(|c| (c.0, c.1) == key) {
+                        Some(c) => c.2,
+                        None => {
+                            let (p, q) = (key.0 as usize, key.1 as usize);
+                            let (dp, dq) = (distances[p], distances[q]);
+                            let t = dp / (dp - dq);
+                            let (vp, vq) = (self.vertices[p], self.vertices[q]);
+                            let index = vertices.len() as u32;
+                            vertices.push(vp + (vq - vp) * t);
+                            crossings.push((key.0, key.1, index));
+                            cap.push(index);
+                            index
+                        }
+                    };
+                    indices.push(index);
+                }
+            }
+            if indices.len() - start >= 3 {
+                face_ends.push(indices.len());
+            } else {
+                indices.truncate(start);
+            }
         }
-        std::mem::swap(&mut self.points, &mut scratch.points);
-        std::mem::swap(&mut self.face_ends, &mut scratch.face_ends);
+        if order_cap(cap, vertices, plane, tolerance, &mut scratch.keyed) {
+            indices.extend_from_slice(cap);
+            face_ends.push(indices.len());
+        }
+        std::mem::swap(&mut self.vertices, vertices);
+        std::mem::swap(&mut self.indices, indices);
+        std::mem::swap(&mut self.face_ends, face_ends);
         if self.face_ends.len() < 2 {
             *self = Self::empty();
         }
@@ -190,9 +243,13 @@ impl ConvexPolyhedron {
 /// Buffers reused across the clips of one [`ConvexPolyhedron::clip_all`].
 struct Scratch {
     distances: Vec<f64>,
-    points: Vec<DVec3>,
+    remap: Vec<u32>,
+    vertices: Vec<DVec3>,
+    indices: Vec<u32>,
     face_ends: Vec<usize>,
-    cap: Vec<DVec3>,
+    crossings: Vec<(u32, u32, u32)>,
+    cap: Vec<u32>,
+    keyed: Vec<(f64, u32)>,
 }
 
 impl Scratch {
@@ -200,10 +257,14 @@ impl Scratch {
     /// to about 12 faces of 3 to 6 vertices), so that clipping does not grow them piecewise.
     fn new() -> Self {
         Self {
-            distances: Vec::with_capacity(64),
-            points: Vec::with_capacity(64),
+            distances: Vec::with_capacity(32),
+            remap: Vec::with_capacity(32),
+            vertices: Vec::with_capacity(32),
+            indices: Vec::with_capacity(64),
             face_ends: Vec::with_capacity(16),
+            crossings: Vec::with_capacity(16),
             cap: Vec::with_capacity(16),
+            keyed: Vec::with_capacity(16),
         }
     }
 }
@@ -216,78 +277,46 @@ impl Aabb {
     }
 }
 
-/// Sutherland-Hodgman against one plane, given each point's signed distance to it; the kept
-/// polygon is appended to `out`, points on the plane (and new intersection points) to `cap`.
-fn clip_polygon(
-    face: &[DVec3],
-    distances: &[f64],
+/// Orders the cap's vertices (indices into `vertices`, on the clipping plane) into a
+/// polygon, in place, leaving out any closer than `tolerance` to one kept before it; `false`
+/// when fewer than three remain.
+fn order_cap(
+    cap: &mut Vec<u32>,
+    vertices: &[DVec3],
+    plane: &Plane,
     tolerance: f64,
-    out: &mut Vec<DVec3>,
-    cap: &mut Vec<DVec3>,
-) {
-    let n = face.len();
-    for i in 0..n {
-        let a = face[i];
-        let b = face[(i + 1) % n];
-        let da = distances[i];
-        let db = distances[(i + 1) % n];
-        if da >= -tolerance {
-            out.push(a);
-            if da <= tolerance {
-                cap.push(a);
-            }
-        }
-        if (da < -tolerance && db > tolerance) || (da > tolerance && db < -tolerance) {
-            // Compute from a canonical endpoint order so that the two faces sharing this edge
-            // produce the identical point.
-            let (p, q, dp, dq) = if (a.x, a.y, a.z) < (b.x, b.y, b.z) {
-                (a, b, da, db)
-            } else {
-                (b, a, db, da)
-            };
-            let t = dp / (dp - dq);
-            let x = p + (q - p) * t;
-            out.push(x);
-            cap.push(x);
-        }
-    }
-}
-
-/// Orders the points where the polyhedron meets the clipping plane into a polygon, in place;
-/// `false` when fewer than three distinct points remain.
-fn order_cap(points: &mut Vec<DVec3>, plane: &Plane, tolerance: f64) -> bool {
+    keyed: &mut Vec<(f64, u32)>,
+) -> bool {
     let mut n = 0;
-    for i in 0..points.len() {
-        let p = points[i];
-        if !points[..n]
+    for i in 0..cap.len() {
+        let p = vertices[cap[i] as usize];
+        if !cap[..n]
             .iter()
-            .any(|q| q.distance_squared(p) <= tolerance * tolerance)
+            .any(|&q| vertices[q as usize].distance_squared(p) <= tolerance * tolerance)
         {
-            points[n] = p;
+            cap[n] = cap[i];
             n += 1;
         }
     }
-    points.truncate(n);
+    cap.truncate(n);
     if n < 3 {
         return false;
     }
-    let center = points.iter().copied().sum::<DVec3>() / n as f64;
+    let center = cap.iter().map(|&i| vertices[i as usize]).sum::<DVec3>() / n as f64;
     let (u, v) = plane.normal.any_orthonormal_pair();
     // A pseudo-angle: monotone in the angle around the centre, cheaper than atan2.
     let pseudo_angle = |x: f64, y: f64| {
         let t = x / (x.abs() + y.abs()).max(f64::MIN_POSITIVE);
         if y >= 0.0 { 1.0 - t } else { 3.0 + t }
     };
-    let mut keyed: Vec<(f64, DVec3)> = points
-        .iter()
-        .map(|p| {
-            let d = *p - center;
-            (pseudo_angle(d.dot(u), d.dot(v)), *p)
-        })
-        .collect();
+    keyed.clear();
+    keyed.extend(cap.iter().map(|&i| {
+        let d = vertices[i as usize] - center;
+        (pseudo_angle(d.dot(u), d.dot(v)), i)
+    }));
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
-    points.clear();
-    points.extend(keyed.into_iter().map(|(_, p)| p));
+    cap.clear();
+    cap.extend(keyed.iter().map(|&(_, i)| i));
     true
 }
 
@@ -320,7 +349,7 @@ mod tests {
         // Four corners below the plane plus six edge midpoints.
         assert_eq!(vertices.len(), 4 + 6);
         assert!(vertices.iter().all(|p| p.element_sum() <= 1.5 + 1e-12));
-        assert!(cut.faces().any(|f| f.len() == 6));
+        assert!(cut.face_indices().any(|f| f.len() == 6));
     }
 
     #[test]

@@ -235,8 +235,8 @@ impl Cascades {
         let distance = self.shadow_distance.unwrap_or(lens.far).min(lens.far);
         let (eye, forward) = (camera.eye(), camera.forward());
         let (p0, p1) = view_body
-            .faces()
-            .flatten()
+            .points()
+            .iter()
             .map(|p| (*p - eye).dot(forward))
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
                 (a.min(d), b.max(d))

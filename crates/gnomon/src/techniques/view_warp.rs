@@ -491,8 +491,8 @@ impl WarpSpace {
         };
         let near_depth = visible
             .view_body
-            .faces()
-            .flatten()
+            .points()
+            .iter()
             .map(|p| view.dot(*p - eye))
             .fold(f64::INFINITY, f64::min);
         let near = input.camera.lens().near;
