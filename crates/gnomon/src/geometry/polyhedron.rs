@@ -195,9 +195,13 @@ impl ConvexPolyhedron {
             let face = &self.indices[face_start..face_end];
             face_start = face_end;
             let start = indices.len();
-            let n = face.len();
-            for k in 0..n {
-                let (a, b) = (face[k] as usize, face[(k + 1) % n] as usize);
+            let Some(&last) = face.last() else {
+                continue;
+            };
+            // Each edge (a, b) of the face in order, the closing one first.
+            let mut a = last as usize;
+            for &b in face {
+                let b = b as usize;
                 let (da, db) = (distances[a], distances[b]);
                 if da >= -tolerance {
                     indices.push(remap[a]);
@@ -220,6 +224,7 @@ impl ConvexPolyhedron {
                     };
                     indices.push(index);
                 }
+                a = b;
             }
             if indices.len() - start >= 3 {
                 face_ends.push(indices.len());
