@@ -10,6 +10,8 @@
 //!   receiver nearer than every caster compares below 0 and comes out lit;
 //! - far = the receivers' maximum depth: every visible receiver compares inside [0, 1].
 
+use std::cell::OnceCell;
+
 use glam::DVec3;
 
 use crate::bounds::{Aabb, BoxArrays, SceneBounds};
@@ -327,6 +329,9 @@ pub(crate) struct VisibleScene {
     cut_once: Vec<(u32, Plane)>,
     /// The tolerance the cuts are made with.
     tolerance: f64,
+    /// The visible part of each receiver in `cuts`, as a polyhedron, each made on first
+    /// use: a point light's faces cut it further by their frusta, each from the same part.
+    cut_bodies: OnceCell<Vec<OnceCell<ConvexPolyhedron>>>,
 }
 
 /// A frame's cut receivers that a part of it may take instead of cutting them again: the
@@ -359,6 +364,7 @@ impl VisibleScene {
             cuts: Vec::new(),
             cut_once: Vec::new(),
             tolerance,
+            cut_bodies: OnceCell::new(),
         };
         if visible.view_body.is_empty() {
             return visible;
@@ -689,13 +695,27 @@ impl VisibleScene {
         let against_frustum =
             |c: DVec3, h: DVec3| straddled(c, h, &frustum.planes, all_planes(6), tolerance);
         let mut scratch = Vec::new();
+        // The part of `cuts[k]`'s receiver that several view planes cut, as a polyhedron,
+        // shared by every face.
+        let cut_body = |k: usize| {
+            self.cut_bodies
+                .get_or_init(|| vec![OnceCell::new(); self.cuts.len()])[k]
+                .get_or_init(|| {
+                    let (i, view_mask, _, _) = self.cuts[k];
+                    let cut = (0..view_planes.len())
+                        .filter(|j| view_mask & (1 << j) != 0)
+                        .map(|j| &view_planes[j]);
+                    ConvexPolyhedron::from_box(&receivers[i as usize]).clip_all(cut, tolerance)
+                })
+        };
         // Adds receiver `i`'s part inside the view planes `view.0` (or `view.1`, the plane
-        // that alone cuts it) and the frustum planes `frustum_mask` that cross it, given an
-        // image `bound` that holds its part's where the part lies in front of the light (and
-        // is the image of its part inside the view planes where `view.1` is `None`).
+        // that alone cuts it; or `view.2`, the `cuts` entry whose part that is) and the
+        // frustum planes `frustum_mask` that cross it, given an image `bound` that holds its
+        // part's where the part lies in front of the light (and is the image of its part
+        // inside the view planes where `view.1` is `None`).
         let mut add = |ext: &mut Extents,
                        i: usize,
-                       view: (u32, Option<&Plane>),
+                       view: (u32, Option<&Plane>, Option<usize>),
                        frustum_mask: u32,
                        bound: Option<Extents>| {
             if let Some(b) = bound.map(|b| frustum.clamp(b)) {
@@ -709,14 +729,22 @@ impl VisibleScene {
             }
             scratch.clear();
             let kept = match view {
-                (view_mask, None) => box_cut_vertices(
+                (_, None, Some(k)) => {
+                    let cut = (0..6)
+                        .filter(|j| frustum_mask & (1 << j) != 0)
+                        .map(|j| &frustum.planes[j]);
+                    let part = cut_body(k).clip_all(cut, tolerance);
+                    scratch.extend_from_slice(part.points());
+                    !part.is_empty()
+                }
+                (view_mask, None, None) => box_cut_vertices(
                     &receivers[i],
                     &planes,
                     view_mask | frustum_mask << shift,
                     tolerance,
                     &mut scratch,
                 ),
-                (_, Some(plane)) => {
+                (_, Some(plane), _) => {
                     let mut cut = [*plane; 7];
                     cut[1..].copy_from_slice(&frustum.planes);
                     box_cut_vertices(
@@ -733,19 +761,19 @@ impl VisibleScene {
             }
         };
         let mut ext = Extents::EMPTY;
-        for &(i, view_mask, start, end) in &self.cuts {
+        for (k, &(i, view_mask, start, end)) in self.cuts.iter().enumerate() {
             let i = i as usize;
             if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
                 let bound = (m & SpotFrustum::NEAR_FAR == 0)
                     .then(|| image(&self.points[start as usize..end as usize]));
-                add(&mut ext, i, (view_mask, None), m, bound);
+                add(&mut ext, i, (view_mask, None, Some(k)), m, bound);
             }
         }
         let whole_box = |add: &mut AddPart<'_>, ext: &mut Extents, i: usize| {
             if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
                 let bound =
                     (m & SpotFrustum::NEAR_FAR == 0).then(|| projector.box_extents(&receivers[i]));
-                add(ext, i, (0, None), m, bound);
+                add(ext, i, (0, None, None), m, bound);
             }
         };
         for &i in &self.boxes {
@@ -778,7 +806,7 @@ impl VisibleScene {
                 // The whole box's image holds its part's.
                 let bound =
                     (m & SpotFrustum::NEAR_FAR == 0).then(|| projector.box_extents(&receivers[i]));
-                add(&mut ext, i, (0, Some(plane)), m, bound);
+                add(&mut ext, i, (0, Some(plane), None), m, bound);
             }
         }
         ext
@@ -788,7 +816,8 @@ impl VisibleScene {
 /// How [`VisibleScene::extents_in_frustum`] adds a receiver's part: the extents, the
 /// receiver, the view planes that cut it, the frustum planes that cross it, and an image
 /// that holds its part's.
-type AddPart<'a> = dyn FnMut(&mut Extents, usize, (u32, Option<&Plane>), u32, Option<Extents>) + 'a;
+type AddPart<'a> =
+    dyn FnMut(&mut Extents, usize, (u32, Option<&Plane>, Option<usize>), u32, Option<Extents>) + 'a;
 
 /// The six planes of a box, normals inward.
 pub(crate) fn box_planes(b: &Aabb) -> [Plane; 6] {
