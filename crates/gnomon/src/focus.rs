@@ -690,8 +690,6 @@ impl VisibleScene {
             scene.receivers(),
         );
         let image = |points: &[DVec3]| projector.points_extents(points);
-        let planes: Vec<Plane> = view_planes.iter().chain(&frustum.planes).copied().collect();
-        let shift = view_planes.len();
         let against_frustum =
             |c: DVec3, h: DVec3| straddled(c, h, &frustum.planes, all_planes(6), tolerance);
         let mut scratch = Vec::new();
@@ -708,28 +706,26 @@ impl VisibleScene {
                     ConvexPolyhedron::from_box(&receivers[i as usize]).clip_all(cut, tolerance)
                 })
         };
-        // Adds receiver `i`'s part inside the view planes `view.0` (or `view.1`, the plane
-        // that alone cuts it; or `view.2`, the `cuts` entry whose part that is) and the
-        // frustum planes `frustum_mask` that cross it, given an image `bound` that holds its
-        // part's where the part lies in front of the light (and is the image of its part
-        // inside the view planes where `view.1` is `None`).
+        // Adds receiver `i`'s visible part (`view`) inside the frustum planes `frustum_mask`
+        // that cross it, given an image `bound` that holds its part's where the part lies in
+        // front of the light (and is the image of its visible part unless one plane cuts it).
         let mut add = |ext: &mut Extents,
                        i: usize,
-                       view: (u32, Option<&Plane>, Option<usize>),
+                       view: ViewPart<'_>,
                        frustum_mask: u32,
                        bound: Option<Extents>| {
             if let Some(b) = bound.map(|b| frustum.clamp(b)) {
                 if b.is_empty() || ext.contains(&b) {
                     return;
                 }
-                if frustum_mask == 0 && view.1.is_none() {
+                if frustum_mask == 0 && !matches!(view, ViewPart::CutOnce(_)) {
                     *ext = ext.union(&b);
                     return;
                 }
             }
             scratch.clear();
             let kept = match view {
-                (_, None, Some(k)) => {
+                ViewPart::Cut(k) => {
                     let cut = (0..6)
                         .filter(|j| frustum_mask & (1 << j) != 0)
                         .map(|j| &frustum.planes[j]);
@@ -737,14 +733,14 @@ impl VisibleScene {
                     scratch.extend_from_slice(part.points());
                     !part.is_empty()
                 }
-                (view_mask, None, None) => box_cut_vertices(
+                ViewPart::Whole => box_cut_vertices(
                     &receivers[i],
-                    &planes,
-                    view_mask | frustum_mask << shift,
+                    &frustum.planes,
+                    frustum_mask,
                     tolerance,
                     &mut scratch,
                 ),
-                (_, Some(plane), _) => {
+                ViewPart::CutOnce(plane) => {
                     let mut cut = [*plane; 7];
                     cut[1..].copy_from_slice(&frustum.planes);
                     box_cut_vertices(
@@ -761,19 +757,19 @@ impl VisibleScene {
             }
         };
         let mut ext = Extents::EMPTY;
-        for (k, &(i, view_mask, start, end)) in self.cuts.iter().enumerate() {
+        for (k, &(i, _, start, end)) in self.cuts.iter().enumerate() {
             let i = i as usize;
             if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
                 let bound = (m & SpotFrustum::NEAR_FAR == 0)
                     .then(|| image(&self.points[start as usize..end as usize]));
-                add(&mut ext, i, (view_mask, None, Some(k)), m, bound);
+                add(&mut ext, i, ViewPart::Cut(k), m, bound);
             }
         }
         let whole_box = |add: &mut AddPart<'_>, ext: &mut Extents, i: usize| {
             if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
                 let bound =
                     (m & SpotFrustum::NEAR_FAR == 0).then(|| projector.box_extents(&receivers[i]));
-                add(ext, i, (0, None, None), m, bound);
+                add(ext, i, ViewPart::Whole, m, bound);
             }
         };
         for &i in &self.boxes {
@@ -806,7 +802,7 @@ impl VisibleScene {
                 // The whole box's image holds its part's.
                 let bound =
                     (m & SpotFrustum::NEAR_FAR == 0).then(|| projector.box_extents(&receivers[i]));
-                add(&mut ext, i, (0, Some(plane), None), m, bound);
+                add(&mut ext, i, ViewPart::CutOnce(plane), m, bound);
             }
         }
         ext
@@ -814,10 +810,20 @@ impl VisibleScene {
 }
 
 /// How [`VisibleScene::extents_in_frustum`] adds a receiver's part: the extents, the
-/// receiver, the view planes that cut it, the frustum planes that cross it, and an image
+/// receiver, which part of it the view sees, the frustum planes that cross it, and an image
 /// that holds its part's.
-type AddPart<'a> =
-    dyn FnMut(&mut Extents, usize, (u32, Option<&Plane>, Option<usize>), u32, Option<Extents>) + 'a;
+type AddPart<'a> = dyn FnMut(&mut Extents, usize, ViewPart<'_>, u32, Option<Extents>) + 'a;
+
+/// Which part of a receiver the view sees, for [`VisibleScene::extents_in_frustum`].
+#[derive(Clone, Copy)]
+enum ViewPart<'p> {
+    /// The whole box.
+    Whole,
+    /// The box inside one plane.
+    CutOnce(&'p Plane),
+    /// The part of the receiver of `cuts[k]`, which several planes cut.
+    Cut(usize),
+}
 
 /// The six planes of a box, normals inward.
 pub(crate) fn box_planes(b: &Aabb) -> [Plane; 6] {
