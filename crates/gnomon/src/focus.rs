@@ -630,11 +630,7 @@ impl SpotFrustum {
 
     /// `e` clamped to the square in x and y, or empty where it misses it.
     pub fn clamp(&self, e: Extents) -> Extents {
-        let t = self.tangent;
-        let c = Extents {
-            min: e.min.max(DVec3::new(-t, -t, f64::NEG_INFINITY)),
-            max: e.max.min(DVec3::new(t, t, f64::INFINITY)),
-        };
+        let c = e.within_square(self.tangent);
         if c.is_empty() { Extents::EMPTY } else { c }
     }
 }

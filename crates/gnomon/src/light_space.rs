@@ -94,7 +94,10 @@ impl Projector {
                     max: c + h,
                 }
             }
-            Projector::Point { .. } => {
+            Projector::Point { frame, position } => {
+                if let Some(ext) = axis_box_extents(frame, *position, aabb) {
+                    return ext;
+                }
                 let mut ext = Extents::EMPTY;
                 for c in aabb.corners() {
                     ext.add(self.project(c));
@@ -183,6 +186,38 @@ impl PlaneMap {
     }
 }
 
+/// [`Projector::box_extents`] of a point projector whose frame's axes are world axes (a cube
+/// face's, [`crate::light::PointLight::face_light`]); `None` for any other frame. Each frame
+/// coordinate of a corner is then one world coordinate times its axis's nonzero component
+/// (the dot product's other terms are zeros), so the corners' (x, d) pairs are the four
+/// pairs of the box's x and d ranges, and likewise for y: the corners' images with two
+/// divisions per axis instead of sixteen, the same values.
+fn axis_box_extents(frame: &LightFrame, position: DVec3, aabb: &Aabb) -> Option<Extents> {
+    let (lo, hi) = (aabb.min() - position, aabb.max() - position);
+    // The range of one frame coordinate over the box.
+    let range = |v: DVec3| -> Option<(f64, f64)> {
+        let (s, lo, hi) = match (v.x != 0.0, v.y != 0.0, v.z != 0.0) {
+            (true, false, false) => (v.x, lo.x, hi.x),
+            (false, true, false) => (v.y, lo.y, hi.y),
+            (false, false, true) => (v.z, lo.z, hi.z),
+            _ => return None,
+        };
+        let (a, b) = (s * lo, s * hi);
+        Some((a.min(b), a.max(b)))
+    };
+    let (x, y, d) = (range(frame.right)?, range(frame.up)?, range(frame.forward)?);
+    let over = |(lo, hi): (f64, f64)| {
+        let (near, far) = (lo / d.0, lo / d.1);
+        let (near_hi, far_hi) = (hi / d.0, hi / d.1);
+        (near.min(far), near_hi.max(far_hi))
+    };
+    let ((x0, x1), (y0, y1)) = (over(x), over(y));
+    Some(Extents {
+        min: DVec3::new(x0, y0, d.0),
+        max: DVec3::new(x1, y1, d.1),
+    })
+}
+
 /// An axis-aligned box in a projector's (x, y, depth) space.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Extents {
@@ -218,6 +253,16 @@ impl Extents {
 
     pub fn is_empty(&self) -> bool {
         self.min.cmpgt(self.max).any()
+    }
+
+    /// The box cut to the square `|x|, |y| <= t` (a spot light's, in its own projector's
+    /// tangent units); empty (and [`Extents::is_empty`]) where it misses the square.
+    #[inline]
+    pub fn within_square(&self, t: f64) -> Extents {
+        Extents {
+            min: self.min.max(DVec3::new(-t, -t, f64::NEG_INFINITY)),
+            max: self.max.min(DVec3::new(t, t, f64::INFINITY)),
+        }
     }
 
     /// Area of the xy rectangle (0 when empty).
@@ -372,6 +417,38 @@ mod tests {
             }
             prop_assert!((fast.min - slow.min).abs().max_element() < 1e-9, "{fast:?} vs {slow:?}");
             prop_assert!((fast.max - slow.max).abs().max_element() < 1e-9, "{fast:?} vs {slow:?}");
+        }
+
+        /// Under a cube face's frame (world axes) a box's extents are its corners' images,
+        /// to the bit; under any other frame the corners are projected one by one.
+        #[test]
+        fn cube_face_box_extents_are_the_corners_images(
+            face in 0usize..6,
+            lo in prop::array::uniform3(-10.0f64..10.0),
+            size in prop::array::uniform3(0.0f64..5.0),
+            along in 0.01f64..20.0,
+            beside in prop::array::uniform3(-20.0f64..20.0),
+        ) {
+            let face = crate::light::CubeFace::ALL[face];
+            let frame = LightFrame::fixed(face.axis());
+            let lo = DVec3::from_array(lo);
+            let aabb = Aabb::new(lo, lo + DVec3::from_array(size)).unwrap();
+            // The light behind the box's nearest point along the face's axis, anywhere
+            // beside it.
+            let axis = face.axis();
+            let nearest = if axis.max_element() > 0.0 { aabb.min() } else { aabb.max() };
+            let beside = DVec3::from_array(beside);
+            let position = nearest - axis * along + beside - axis * axis.dot(beside);
+            let fast = axis_box_extents(&frame, position, &aabb);
+            let projector = Projector::Point { frame, position };
+            let mut slow = Extents::EMPTY;
+            for c in aabb.corners() {
+                slow.add(projector.project(c));
+            }
+            prop_assert_eq!(fast, Some(slow));
+            prop_assert_eq!(projector.box_extents(&aabb), slow);
+            let tilted = LightFrame::fixed((axis + DVec3::splat(1e-3)).normalize());
+            prop_assert_eq!(axis_box_extents(&tilted, position, &aabb), None);
         }
     }
 }

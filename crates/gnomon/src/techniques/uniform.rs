@@ -110,11 +110,7 @@ pub(crate) fn uniform_map(
 /// tolerance over their depth: near the light (a lamp inside a box) up to a thousandth of the
 /// square (see [`crate::techniques::tolerance`]). `ext` itself where the cut leaves nothing.
 pub(crate) fn within_cone(ext: Extents, spot: &SpotLight) -> Extents {
-    let t = spot.half_angle().tan();
-    let cut = Extents {
-        min: ext.min.max(DVec3::new(-t, -t, f64::NEG_INFINITY)),
-        max: ext.max.min(DVec3::new(t, t, f64::INFINITY)),
-    };
+    let cut = ext.within_square(spot.half_angle().tan());
     if cut.is_empty() { ext } else { cut }
 }
 
