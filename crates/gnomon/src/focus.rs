@@ -168,7 +168,7 @@ pub(crate) fn box_cut_vertices(
     out: &mut Vec<DVec3>,
 ) -> bool {
     // Most cut boxes cross one or two planes: small arrays for them (so that a call does not
-    // clear room for 32 planes), the full size for the rest.
+    // clear room for 32 planes), larger ones for the rest.
     if mask.count_ones() == 1 {
         cut_by_one(
             aabb,
@@ -178,6 +178,9 @@ pub(crate) fn box_cut_vertices(
         )
     } else if mask.count_ones() <= 4 {
         cut_vertices::<4>(aabb, planes, mask, tolerance, out)
+    } else if mask.count_ones() <= 8 {
+        // A spot light's frustum and a side.
+        cut_vertices::<8>(aabb, planes, mask, tolerance, out)
     } else {
         cut_vertices::<32>(aabb, planes, mask, tolerance, out)
     }

@@ -125,7 +125,7 @@ impl ConvexPolyhedron {
     /// The part of the polyhedron on the inside of `plane` (signed distance >= -tolerance).
     /// A polyhedron that only touches the plane comes back empty.
     pub fn clip(&self, plane: &Plane, tolerance: f64) -> ConvexPolyhedron {
-        let mut out = self.clone();
+        let mut out = self.with_room();
         out.clip_in_place(plane, tolerance, &mut Scratch::new());
         out
     }
@@ -136,7 +136,7 @@ impl ConvexPolyhedron {
         planes: impl IntoIterator<Item = &'a Plane>,
         tolerance: f64,
     ) -> ConvexPolyhedron {
-        let mut out = self.clone();
+        let mut out = self.with_room();
         let mut scratch = Scratch::new();
         for plane in planes {
             if out.is_empty() {
@@ -145,6 +145,21 @@ impl ConvexPolyhedron {
             out.clip_in_place(plane, tolerance, &mut scratch);
         }
         out
+    }
+
+    /// A copy with the room a [`Scratch`] has: a clip swaps its buffers with the scratch's,
+    /// so that an exact-size copy would make the next clip grow them piece by piece.
+    fn with_room(&self) -> Self {
+        fn copy<T: Copy>(v: &[T], room: usize) -> Vec<T> {
+            let mut out = Vec::with_capacity(room.max(v.len()));
+            out.extend_from_slice(v);
+            out
+        }
+        Self {
+            vertices: copy(&self.vertices, Scratch::VERTICES),
+            indices: copy(&self.indices, Scratch::INDICES),
+            face_ends: copy(&self.face_ends, Scratch::FACES),
+        }
     }
 
     fn clip_in_place(&mut self, plane: &Plane, tolerance: f64, scratch: &mut Scratch) {
@@ -260,13 +275,17 @@ struct Scratch {
 impl Scratch {
     /// Room for the polyhedra of the setups (a box or frustum clipped by a few planes: up
     /// to about 12 faces of 3 to 6 vertices), so that clipping does not grow them piecewise.
+    const VERTICES: usize = 32;
+    const INDICES: usize = 64;
+    const FACES: usize = 16;
+
     fn new() -> Self {
         Self {
-            distances: Vec::with_capacity(32),
-            remap: Vec::with_capacity(32),
-            vertices: Vec::with_capacity(32),
-            indices: Vec::with_capacity(64),
-            face_ends: Vec::with_capacity(16),
+            distances: Vec::with_capacity(Self::VERTICES),
+            remap: Vec::with_capacity(Self::VERTICES),
+            vertices: Vec::with_capacity(Self::VERTICES),
+            indices: Vec::with_capacity(Self::INDICES),
+            face_ends: Vec::with_capacity(Self::FACES),
             crossings: Vec::with_capacity(16),
             cap: Vec::with_capacity(16),
             keyed: Vec::with_capacity(16),
