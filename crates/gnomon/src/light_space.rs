@@ -107,6 +107,20 @@ impl Projector {
         }
     }
 
+    /// The projector's map plane as rows (x, y, w) on homogeneous points (p, 1): the image's
+    /// x and y are x / w and y / w, and a point projector's w is positive in front of it
+    /// (it is its depth there).
+    pub fn plane_rows(&self) -> [DVec4; 3] {
+        let f = self.frame();
+        match self {
+            Projector::Parallel(_) => [f.right.extend(0.0), f.up.extend(0.0), DVec4::W],
+            Projector::Point { position, .. } => {
+                let row = |v: DVec3| v.extend(-v.dot(*position));
+                [row(f.right), row(f.up), row(f.forward)]
+            }
+        }
+    }
+
     /// The extents of points (for a point projector, points in front of it).
     pub fn points_extents(&self, points: &[DVec3]) -> Extents {
         let mut ext = Extents::EMPTY;
@@ -145,17 +159,9 @@ pub(crate) struct PlaneMap {
 
 impl PlaneMap {
     pub fn new(projector: &Projector, source_from_world: DMat4) -> Self {
-        let f = projector.frame();
-        let rows = match projector {
-            Projector::Parallel(_) => [f.right.extend(0.0), f.up.extend(0.0), DVec4::W],
-            Projector::Point { position, .. } => {
-                let row = |v: DVec3| v.extend(-v.dot(*position));
-                [row(f.right), row(f.up), row(f.forward)]
-            }
-        };
         let world_from_source_rows = source_from_world.transpose();
         Self {
-            rows: rows.map(|r| world_from_source_rows * r),
+            rows: projector.plane_rows().map(|r| world_from_source_rows * r),
         }
     }
 

@@ -154,16 +154,15 @@ impl LimitedWarp for Psm {
         // receivers are read through the scene's hierarchy (`receivers_under`); every visible
         // receiver lies in P, in front of the virtual camera.
         let scene = input.scene;
-        let pps_front = |p: DVec3| (pps_from_world * p.extend(1.0)).w > 0.0;
         let linear_row = input.light.linear_depth_row();
         let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
-        let receiver_box = receivers_under(visible, scene, to_pps, pps_front);
-        let receivers_z = receivers_under(
-            visible,
-            scene,
-            |p| DVec3::new(0.0, 0.0, linear(p)),
-            |_| true,
-        )
+        // PPS of homogeneous PPS coordinates in front of the virtual camera.
+        let pps = |h: DVec4| (h.w > 0.0).then(|| h.truncate() / h.w);
+        let receiver_box =
+            receivers_under(visible, scene, &pps_from_world, linear_row, |h, _| pps(h));
+        let receivers_z = receivers_under(visible, scene, &pps_from_world, linear_row, |_, l| {
+            Some(DVec3::new(0.0, 0.0, l))
+        })
         .max
         .z;
         let body_z = body
@@ -183,7 +182,9 @@ impl LimitedWarp for Psm {
         let in_front = |l: DVec3, axis: DVec3| {
             let ahead = |q: DVec3| (q - l).dot(axis) > 1e-9 * (q - l).length();
             body_points.iter().all(|q| ahead(*q))
-                && visible.all(scene, |p| pps_front(p) && ahead(to_pps(p)))
+                && visible.all(scene, |p| {
+                    pps(pps_from_world * p.extend(1.0)).is_some_and(&ahead)
+                })
         };
         // The axis used when the one toward the receivers leaves a point behind: every finite
         // point in front of the virtual camera lies on the -z side of a directional light's
@@ -202,14 +203,16 @@ impl LimitedWarp for Psm {
         // The receivers under the map (its x and y; its z is the linear depth along the
         // light, what the casters are culled against).
         let plane_map = PlaneMap::new(&projector, pps_from_world);
-        let map_front = |p: DVec3| match &projector {
-            Projector::Parallel(_) => pps_front(p),
-            Projector::Point { frame, position } => {
-                pps_front(p) && (to_pps(p) - *position).dot(frame.forward) > 0.0
-            }
-        };
         let on_map = |p: DVec3| plane_map.project(p).with_z(linear(p));
-        let receivers = receivers_under(visible, scene, on_map, map_front).with_max_z(receivers_z);
+        // The projector's rows on homogeneous PPS coordinates (x, y, w): a point has an image
+        // where it lies in front of the virtual camera and, for a perspective map, of l.
+        let map_rows = projector.plane_rows();
+        let receivers = receivers_under(visible, scene, &pps_from_world, linear_row, |h, l| {
+            let [x, y, w] = map_rows.map(|r| r.dot(h));
+            let front = h.w > 0.0 && (matches!(projector, Projector::Parallel(_)) || w > 0.0);
+            front.then(|| DVec3::new(x / w, y / w, l))
+        })
+        .with_max_z(receivers_z);
         // Casters cut to B's depth range (planes perpendicular to the view) and, for a
         // perspective map in PPS, to the front of its centre: d = axis . (P - l W) >= d_min W / 2
         // is a plane of homogeneous PPS coordinates, a world plane through pps_from_world.
@@ -224,7 +227,9 @@ impl LimitedWarp for Psm {
             // at half of it keeps them all and keeps cut vertices off the singular plane d = 0.
             let d = |q: DVec3| (q - *position).dot(frame.forward);
             let receivers_d =
-                receivers_under(visible, scene, |p| DVec3::splat(d(to_pps(p))), pps_front);
+                receivers_under(visible, scene, &pps_from_world, linear_row, |h, _| {
+                    pps(h).map(|q| DVec3::splat(d(q)))
+                });
             let d_min = body_points
                 .iter()
                 .map(|q| d(*q))
@@ -348,36 +353,55 @@ fn pps_projector(
     }
 }
 
-/// The extents of the visible receiver parts under `map`, read through the scene's hierarchy:
-/// a box's image is its corners' (the maps here are projective, and `front` says where they
-/// are: a box with a corner behind has no bounded image, and is opened).
+/// The extents of the visible receiver parts under a map of PPS, read through the scene's
+/// hierarchy. `image` takes a point's homogeneous PPS coordinates `pps_from_world (p, 1)` and
+/// its linear depth `linear_row . (p, 1)` to its image, or to `None` where the map has no image
+/// of it (behind the virtual camera or the map's centre): a box with such a corner has no
+/// bounded image, and is opened. A box's corners are its centre's coordinates plus or minus
+/// the matrix's columns times its half extents (no product of the matrix per corner).
 fn receivers_under(
     visible: &VisibleScene,
     scene: &SceneBounds,
-    map: impl Fn(DVec3) -> DVec3,
-    front: impl Fn(DVec3) -> bool,
+    pps_from_world: &DMat4,
+    linear_row: DVec4,
+    image: impl Fn(DVec4, f64) -> Option<DVec3>,
 ) -> Extents {
     let tree = scene.receiver_tree();
-    let image = |b: &Aabb| {
+    let m = pps_from_world;
+    let box_image = |b: &Aabb| {
+        let (c, h) = (b.center(), b.half_extents());
+        let base = *m * c.extend(1.0);
+        let (dx, dy, dz) = (m.x_axis * h.x, m.y_axis * h.y, m.z_axis * h.z);
+        let lin = linear_row.dot(c.extend(1.0));
+        let r = linear_row.truncate() * h;
         let mut e = Extents::EMPTY;
-        for c in b.corners() {
-            if !front(c) {
-                return Extents::ALL;
+        for corner in 0..8 {
+            let (sx, sy, sz) = (corner & 1 != 0, corner & 2 != 0, corner & 4 != 0);
+            let pick = |on: bool, d: DVec4| if on { d } else { -d };
+            let pick1 = |on: bool, d: f64| if on { d } else { -d };
+            let hc = base + pick(sx, dx) + pick(sy, dy) + pick(sz, dz);
+            let lc = lin + pick1(sx, r.x) + pick1(sy, r.y) + pick1(sz, r.z);
+            match image(hc, lc) {
+                Some(q) => e.add(q),
+                None => return Extents::ALL,
             }
-            e.add(map(c));
         }
         e
     };
     visible.extents_under(
         scene,
         true,
-        |n| image(&tree.node_box(n)),
-        |i| image(&scene.receivers()[i]),
+        |n| box_image(&tree.node_box(n)),
+        |i| box_image(&scene.receivers()[i]),
         |_, exact| exact,
         |points| {
             let mut e = Extents::EMPTY;
             for p in points {
-                e.add(map(*p));
+                let p = p.extend(1.0);
+                // Every visible point has an image (it lies in P, in front of both).
+                if let Some(q) = image(*m * p, linear_row.dot(p)) {
+                    e.add(q);
+                }
             }
             e
         },
