@@ -240,10 +240,27 @@ pub fn separating_plane(
 /// with respect to the light-ray coordinates of [`separating_plane`] (the screen's Jacobian
 /// is this times a factor both maps share): |det M| / w^3.
 pub fn ray_area_density(map: &ShadowMap, light: &Light, p: DVec3) -> f64 {
-    let (basis, _) = ray_basis(light);
-    let m = ray_rows(map, &basis);
-    let w = map.clip_from_world.row(3).dot(p.extend(1.0));
-    m.determinant().abs() / w.abs().powi(3)
+    AreaDensity::new(map, light).at(p)
+}
+
+/// [`ray_area_density`] of one map at many points: |det M| and the map's w row, made once.
+struct AreaDensity {
+    det: f64,
+    w: DVec4,
+}
+
+impl AreaDensity {
+    fn new(map: &ShadowMap, light: &Light) -> Self {
+        let (basis, _) = ray_basis(light);
+        Self {
+            det: ray_rows(map, &basis).determinant().abs(),
+            w: map.clip_from_world.row(3),
+        }
+    }
+
+    fn at(&self, p: DVec3) -> f64 {
+        self.det / self.w.dot(p.extend(1.0)).abs().powi(3)
+    }
 }
 
 /// `plane` (n, d with |n| = 1, n . p + d >= 0 inside) as a [`Plane`].
@@ -300,13 +317,13 @@ fn crop(map: &ShadowMap, points: &[DVec3]) -> Option<ShadowMap> {
 /// the ratio of the two densities is a constant times (w_reference / w_map)^3, and a ratio of
 /// affine functions positive on a convex polytope takes its extremes at its vertices.
 fn no_coarser(map: &ShadowMap, reference: &ShadowMap, light: &Light, points: &[DVec3]) -> bool {
-    points.iter().all(|p| {
-        let (a, b) = (
-            ray_area_density(map, light, *p),
-            ray_area_density(reference, light, *p),
-        );
-        a >= b * (1.0 - 1e-9)
-    })
+    let (ours, theirs) = (
+        AreaDensity::new(map, light),
+        AreaDensity::new(reference, light),
+    );
+    points
+        .iter()
+        .all(|p| ours.at(*p) >= theirs.at(*p) * (1.0 - 1e-9))
 }
 
 /// How many caster boxes lie wholly on each side of `plane`, or straddle it: through the
