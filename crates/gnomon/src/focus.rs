@@ -153,6 +153,10 @@ impl LightCorners {
     }
 }
 
+/// Room for the vertices of a cut box, enough for most (a box cut by one plane has at most
+/// 13), so that the scratch buffers of the walks do not grow piece by piece.
+const CUT_VERTICES: usize = 32;
+
 /// The vertices of a box cut by the planes named in `mask` (the box lies inside the others),
 /// appended to `out` without allocating; `false` when nothing is left.
 ///
@@ -457,7 +461,7 @@ impl VisibleScene {
         for p in &self.points {
             f(*p);
         }
-        let mut scratch = Vec::new();
+        let mut scratch = Vec::with_capacity(CUT_VERTICES);
         for (i, plane) in &self.cut_once {
             scratch.clear();
             cut_by_one(
@@ -523,7 +527,7 @@ impl VisibleScene {
                 }
             }
         }
-        let mut scratch = Vec::new();
+        let mut scratch = Vec::with_capacity(CUT_VERTICES);
         for (i, plane) in &self.cut_once {
             if prune_cuts && ext.contains(&box_bound(*i as usize)) {
                 continue;
@@ -567,7 +571,7 @@ impl VisibleScene {
                 return false;
             }
         }
-        let mut scratch = Vec::new();
+        let mut scratch = Vec::with_capacity(CUT_VERTICES);
         for (i, plane) in &self.cut_once {
             let aabb = &scene.receivers()[*i as usize];
             if corners_pass(aabb) {
@@ -691,7 +695,7 @@ impl VisibleScene {
         let image = |points: &[DVec3]| projector.points_extents(points);
         let against_frustum =
             |c: DVec3, h: DVec3| straddled(c, h, &frustum.planes, all_planes(6), tolerance);
-        let mut scratch = Vec::new();
+        let mut scratch = Vec::with_capacity(CUT_VERTICES);
         // The part of `cuts[k]`'s receiver that several view planes cut, as a polyhedron,
         // shared by every face.
         let cut_body = |k: usize| {
@@ -1017,14 +1021,14 @@ pub(crate) fn walk_casters<I: CasterImages>(
     let mut near_clipped = 0;
     // The frustum's tip (see NearTip), made when a caster first crosses the near plane.
     let mut near_tip: Option<NearTip> = None;
-    let mut scratch = Vec::new();
-    let mut stack = Vec::new();
+    let mut scratch = Vec::with_capacity(CUT_VERTICES);
+    let mut stack = Vec::with_capacity(64);
     if !tree.is_empty() {
         stack.push((0usize, all_planes(cut_planes.len())));
     }
     // Subtrees counted whole while the extents did not yet hold them in x and y (early in the
     // walk they are small), to be opened at the end if they still do not.
-    let mut deferred = Vec::new();
+    let mut deferred = Vec::with_capacity(16);
     let mut strict = false;
     let clamped = images.clamped_planes();
     loop {

@@ -353,12 +353,11 @@ impl TreeCasters {
             relevant: 0,
         };
         // Nodes with their light-space boxes.
-        let mut stack = if tree.is_empty() {
-            Vec::new()
-        } else {
-            vec![(0usize, nodes.extents(0))]
-        };
-        let mut deferred = Vec::new();
+        let mut stack = Vec::with_capacity(64);
+        if !tree.is_empty() {
+            stack.push((0usize, nodes.extents(0)));
+        }
+        let mut deferred = Vec::with_capacity(16);
         let mut strict = false;
         loop {
             while let Some((node, light)) = stack.pop() {
