@@ -158,9 +158,10 @@ impl LimitedWarp for Psm {
         let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
         // PPS of homogeneous PPS coordinates in front of the virtual camera.
         let pps = |h: DVec4| (h.w > 0.0).then(|| h.truncate() / h.w);
-        let receiver_box =
-            receivers_under(visible, scene, &pps_from_world, linear_row, |h, _| pps(h));
-        let receivers_z = receivers_under(visible, scene, &pps_from_world, linear_row, |_, l| {
+        // The rows of pps_from_world, as affine functions of world points.
+        let pps_rows = [0, 1, 2, 3].map(|i| pps_from_world.row(i));
+        let receiver_box = receivers_under(visible, scene, pps_rows, |h| pps(DVec4::from(h)));
+        let receivers_z = receivers_under(visible, scene, [linear_row], |[l]| {
             Some(DVec3::new(0.0, 0.0, l))
         })
         .max
@@ -204,12 +205,16 @@ impl LimitedWarp for Psm {
         // light, what the casters are culled against).
         let plane_map = PlaneMap::new(&projector, pps_from_world);
         let on_map = |p: DVec3| plane_map.project(p).with_z(linear(p));
-        // The projector's rows on homogeneous PPS coordinates (x, y, w): a point has an image
-        // where it lies in front of the virtual camera and, for a perspective map, of l.
-        let map_rows = projector.plane_rows();
-        let receivers = receivers_under(visible, scene, &pps_from_world, linear_row, |h, l| {
-            let [x, y, w] = map_rows.map(|r| r.dot(h));
-            let front = h.w > 0.0 && (matches!(projector, Projector::Parallel(_)) || w > 0.0);
+        // The projector's rows (x, y, w) on world points, then PPS's w and the linear depth: a
+        // point has an image where it lies in front of the virtual camera and, for a
+        // perspective map, of l (w > 0: its depth from l times PPS's w).
+        let [map_x, map_y, map_w] = projector
+            .plane_rows()
+            .map(|r| pps_from_world.transpose() * r);
+        let parallel = matches!(projector, Projector::Parallel(_));
+        let map_rows = [map_x, map_y, map_w, pps_rows[3], linear_row];
+        let receivers = receivers_under(visible, scene, map_rows, |[x, y, w, pps_w, l]| {
+            let front = pps_w > 0.0 && (parallel || w > 0.0);
             front.then(|| DVec3::new(x / w, y / w, l))
         })
         .with_max_z(receivers_z);
@@ -226,9 +231,10 @@ impl LimitedWarp for Psm {
             // Every relevant point has d >= the smallest d over B and the receivers; cutting
             // at half of it keeps them all and keeps cut vertices off the singular plane d = 0.
             let d = |q: DVec3| (q - *position).dot(frame.forward);
+            // d of a point's PPS image: the map's w row over PPS's w.
             let receivers_d =
-                receivers_under(visible, scene, &pps_from_world, linear_row, |h, _| {
-                    pps(h).map(|q| DVec3::splat(d(q)))
+                receivers_under(visible, scene, [map_w, pps_rows[3]], |[w, pps_w]| {
+                    (pps_w > 0.0).then(|| DVec3::splat(w / pps_w))
                 });
             let d_min = body_points
                 .iter()
@@ -353,35 +359,27 @@ fn pps_projector(
     }
 }
 
-/// The extents of the visible receiver parts under a map of PPS, read through the scene's
-/// hierarchy. `image` takes a point's homogeneous PPS coordinates `pps_from_world (p, 1)` and
-/// its linear depth `linear_row . (p, 1)` to its image, or to `None` where the map has no image
-/// of it (behind the virtual camera or the map's centre): a box with such a corner has no
-/// bounded image, and is opened. A box's corners are its centre's coordinates plus or minus
-/// the matrix's columns times its half extents (no product of the matrix per corner).
-fn receivers_under(
+/// The extents of the visible receiver parts under a map given by `rows`, affine functions
+/// of world points (coefficients on (p, 1)), read through the scene's hierarchy: `image`
+/// takes a point's row values to its image, or to `None` where the map has none (behind the
+/// virtual camera or the map's centre); a box with such a corner has no bounded image, and is
+/// opened. A row's value at a box's corner is its value at the centre plus or minus its
+/// products with the half extents, so a corner costs no product of a matrix.
+fn receivers_under<const K: usize>(
     visible: &VisibleScene,
     scene: &SceneBounds,
-    pps_from_world: &DMat4,
-    linear_row: DVec4,
-    image: impl Fn(DVec4, f64) -> Option<DVec3>,
+    rows: [DVec4; K],
+    image: impl Fn([f64; K]) -> Option<DVec3>,
 ) -> Extents {
     let tree = scene.receiver_tree();
-    let m = pps_from_world;
     let box_image = |b: &Aabb| {
-        let (c, h) = (b.center(), b.half_extents());
-        let base = *m * c.extend(1.0);
-        let (dx, dy, dz) = (m.x_axis * h.x, m.y_axis * h.y, m.z_axis * h.z);
-        let lin = linear_row.dot(c.extend(1.0));
-        let r = linear_row.truncate() * h;
+        let (c, h) = (b.center().extend(1.0), b.half_extents());
+        let parts = rows.map(|r| (r.dot(c), r.truncate() * h));
         let mut e = Extents::EMPTY;
         for corner in 0..8 {
-            let (sx, sy, sz) = (corner & 1 != 0, corner & 2 != 0, corner & 4 != 0);
-            let pick = |on: bool, d: DVec4| if on { d } else { -d };
-            let pick1 = |on: bool, d: f64| if on { d } else { -d };
-            let hc = base + pick(sx, dx) + pick(sy, dy) + pick(sz, dz);
-            let lc = lin + pick1(sx, r.x) + pick1(sy, r.y) + pick1(sz, r.z);
-            match image(hc, lc) {
+            let sign = |bit: usize| if corner & bit == 0 { -1.0 } else { 1.0 };
+            let s = DVec3::new(sign(1), sign(2), sign(4));
+            match image(parts.map(|(base, d)| base + d.dot(s))) {
                 Some(q) => e.add(q),
                 None => return Extents::ALL,
             }
@@ -399,7 +397,7 @@ fn receivers_under(
             for p in points {
                 let p = p.extend(1.0);
                 // Every visible point has an image (it lies in P, in front of both).
-                if let Some(q) = image(*m * p, linear_row.dot(p)) {
+                if let Some(q) = image(rows.map(|r| r.dot(p))) {
                     e.add(q);
                 }
             }
