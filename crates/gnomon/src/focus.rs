@@ -541,10 +541,15 @@ impl VisibleScene {
     }
 
     /// Whether every point of the visible receiver parts passes `pred`, whose passing points
-    /// must form a convex set (a half-space, a cone): a box then passes when its corners do,
-    /// so a subtree whose node's corners pass is not opened.
-    pub fn all(&self, scene: &SceneBounds, pred: impl Fn(DVec3) -> bool) -> bool {
-        let corners_pass = |b: &Aabb| b.corners().iter().all(|c| pred(*c));
+    /// must form a convex set (a half-space, a cone): a box then passes when its corners do
+    /// (`corners_pass`, which must say whether `pred` holds at all eight), so a subtree whose
+    /// node's corners pass is not opened.
+    pub fn all(
+        &self,
+        scene: &SceneBounds,
+        pred: impl Fn(DVec3) -> bool,
+        corners_pass: impl Fn(&Aabb) -> bool,
+    ) -> bool {
         if !self.points.iter().all(|p| pred(*p)) {
             return false;
         }

@@ -182,10 +182,13 @@ impl LimitedWarp for Psm {
         // (a convex cone around the axis, in PPS).
         let in_front = |l: DVec3, axis: DVec3| {
             let ahead = |q: DVec3| (q - l).dot(axis) > 1e-9 * (q - l).length();
+            let pps_ahead = |h: [f64; 4]| pps(DVec4::from(h)).is_some_and(&ahead);
             body_points.iter().all(|q| ahead(*q))
-                && visible.all(scene, |p| {
-                    pps(pps_from_world * p.extend(1.0)).is_some_and(&ahead)
-                })
+                && visible.all(
+                    scene,
+                    |p| pps_ahead(pps_rows.map(|r| r.dot(p.extend(1.0)))),
+                    |b| corner_values(&pps_rows, b).into_iter().all(pps_ahead),
+                )
         };
         // The axis used when the one toward the receivers leaves a point behind: every finite
         // point in front of the virtual camera lies on the -z side of a directional light's
@@ -359,12 +362,23 @@ fn pps_projector(
     }
 }
 
+/// The values of `rows` (affine functions of world points) at a box's eight corners: each
+/// its value at the centre plus or minus its products with the half extents.
+fn corner_values<const K: usize>(rows: &[DVec4; K], b: &Aabb) -> [[f64; K]; 8] {
+    let (c, h) = (b.center().extend(1.0), b.half_extents());
+    let parts = rows.map(|r| (r.dot(c), r.truncate() * h));
+    std::array::from_fn(|corner| {
+        let sign = |bit: usize| if corner & bit == 0 { -1.0 } else { 1.0 };
+        let s = DVec3::new(sign(1), sign(2), sign(4));
+        parts.map(|(base, d)| base + d.dot(s))
+    })
+}
+
 /// The extents of the visible receiver parts under a map given by `rows`, affine functions
 /// of world points (coefficients on (p, 1)), read through the scene's hierarchy: `image`
 /// takes a point's row values to its image, or to `None` where the map has none (behind the
 /// virtual camera or the map's centre); a box with such a corner has no bounded image, and is
-/// opened. A row's value at a box's corner is its value at the centre plus or minus its
-/// products with the half extents, so a corner costs no product of a matrix.
+/// opened. A box's corners cost no product of a matrix ([`corner_values`]).
 fn receivers_under<const K: usize>(
     visible: &VisibleScene,
     scene: &SceneBounds,
@@ -373,13 +387,9 @@ fn receivers_under<const K: usize>(
 ) -> Extents {
     let tree = scene.receiver_tree();
     let box_image = |b: &Aabb| {
-        let (c, h) = (b.center().extend(1.0), b.half_extents());
-        let parts = rows.map(|r| (r.dot(c), r.truncate() * h));
         let mut e = Extents::EMPTY;
-        for corner in 0..8 {
-            let sign = |bit: usize| if corner & bit == 0 { -1.0 } else { 1.0 };
-            let s = DVec3::new(sign(1), sign(2), sign(4));
-            match image(parts.map(|(base, d)| base + d.dot(s))) {
+        for values in corner_values(&rows, b) {
+            match image(values) {
                 Some(q) => e.add(q),
                 None => return Extents::ALL,
             }
