@@ -19,12 +19,13 @@ pub fn convex_hull_2d(points: &[DVec2]) -> Vec<usize> {
     let mut hull: Vec<usize> = Vec::with_capacity(order.len() + 1);
     for pass in 0..2 {
         let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &usize>> = if pass == 0 {
-            Box::new(order.iter())
-        } else {
-            Box::new(order.iter().rev())
-        };
-        for &i in iter {
+        // The lower chain left to right, then the upper one right to left.
+        for k in 0..order.len() {
+            let i = if pass == 0 {
+                order[k]
+            } else {
+                order[order.len() - 1 - k]
+            };
             while hull.len() >= start + 2
                 && cross(
                     points[hull[hull.len() - 2]],
