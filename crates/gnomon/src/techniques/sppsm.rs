@@ -185,27 +185,32 @@ fn ray_rows(map: &ShadowMap, basis: &[DVec4; 3]) -> DMat3 {
     ])
 }
 
-/// The basis in which the maps' rows are compared, and how a 3-vector of coefficients in it
-/// becomes a world plane (n, d): for a directional light (right, 0), (up, 0), (0, 1); for a
-/// spot (or point) light the world axes as directions from the light.
-fn ray_basis(light: &Light) -> ([DVec4; 3], impl Fn(DVec3) -> DVec4) {
+/// The basis in which the maps' rows are compared: for a directional light (right, 0),
+/// (up, 0), (0, 1); for a spot (or point) light the world axes as directions from the light.
+fn ray_basis(light: &Light) -> [DVec4; 3] {
     match light {
         Light::Directional(d) => {
             let forward = d.direction();
             let right = forward.any_orthonormal_vector();
             let up = right.cross(forward);
-            (
-                [right.extend(0.0), up.extend(0.0), DVec4::W],
-                Box::new(move |l: DVec3| (l.x * right + l.y * up).extend(l.z))
-                    as Box<dyn Fn(DVec3) -> DVec4>,
-            )
+            [right.extend(0.0), up.extend(0.0), DVec4::W]
+        }
+        Light::Spot(_) | Light::Point(_) => [DVec4::X, DVec4::Y, DVec4::Z],
+    }
+}
+
+/// The world plane (n, d) of a 3-vector of coefficients `l` in [`ray_basis`]: for a
+/// directional light their combination of the basis, for a spot (or point) light the plane
+/// through the light with normal `l`.
+fn ray_plane(light: &Light, l: DVec3) -> DVec4 {
+    match light {
+        Light::Directional(_) => {
+            let [right, up, w] = ray_basis(light);
+            l.x * right + l.y * up + l.z * w
         }
         Light::Spot(_) | Light::Point(_) => {
             let position = light.position().unwrap_or(DVec3::ZERO);
-            (
-                [DVec4::X, DVec4::Y, DVec4::Z],
-                Box::new(move |l: DVec3| l.extend(-l.dot(position))) as Box<dyn Fn(DVec3) -> DVec4>,
-            )
+            l.extend(-l.dot(position))
         }
     }
 }
@@ -219,13 +224,13 @@ pub fn separating_plane(
     perspective: &ShadowMap,
     light: &Light,
 ) -> Option<DVec4> {
-    let (basis, to_world) = ray_basis(light);
+    let basis = ray_basis(light);
     let (f, p) = (ray_rows(focused, &basis), ray_rows(perspective, &basis));
     let (det_f, det_p) = (f.determinant().abs().cbrt(), p.determinant().abs().cbrt());
     // Rows of a DMat3 built column by column: row 2 (w) is (col0.z, col1.z, col2.z).
     let w = |m: &DMat3| DVec3::new(m.x_axis.z, m.y_axis.z, m.z_axis.z);
     let coefficients = det_p * w(&f) - det_f * w(&p);
-    let plane = to_world(coefficients);
+    let plane = ray_plane(light, coefficients);
     let length = plane.truncate().length();
     if !(length.is_finite() && length > 1e-12 * (det_p * w(&f).length() + det_f * w(&p).length()))
         || det_f == 0.0
@@ -251,7 +256,7 @@ struct AreaDensity {
 
 impl AreaDensity {
     fn new(map: &ShadowMap, light: &Light) -> Self {
-        let (basis, _) = ray_basis(light);
+        let basis = ray_basis(light);
         Self {
             det: ray_rows(map, &basis).determinant().abs(),
             w: map.clip_from_world.row(3),
