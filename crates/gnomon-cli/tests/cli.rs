@@ -1391,6 +1391,36 @@ fn run_compare(
     serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
 }
 
+/// A row that refuses the first view's light (SPPSM under a lamp) is n/a there, as in any
+/// other view, and the rows after it are compared: the untimed first frame, which compiles
+/// the pipelines, takes the first row that can draw the light (it took the first row, and the
+/// run failed).
+#[test]
+fn compare_starts_with_a_view_whose_light_the_first_row_refuses() {
+    let dir = temp_dir("compare-refused-first");
+    let report = run_compare(&dir, "street_lamp,street", "sppsm,focused", "256", "64x36");
+    let rows = |view: usize| {
+        report["views"][view]["techniques"]
+            .as_array()
+            .unwrap()
+            .clone()
+    };
+    let lamp = rows(0);
+    assert_eq!(lamp[0]["technique"], "sppsm");
+    assert_eq!(lamp[0]["skipped"], "takes no point light", "{lamp:?}");
+    let focused = lamp.iter().find(|r| r["technique"] == "focused").unwrap();
+    assert!(
+        focused["compared_pixels"].as_u64().unwrap() > 0,
+        "{focused}"
+    );
+    // Under the sun every row draws.
+    assert!(
+        rows(1).iter().all(|r| r.get("skipped").is_none()),
+        "{:?}",
+        rows(1)
+    );
+}
+
 /// `gnomon compare` renders each view with each technique and the exact volumes, and writes
 /// a grid per view, a Markdown table and JSON: wrong pixels against the volumes (a 2048 map
 /// is wrong on fewer pixels than a 256 one), undersampling percentiles, times.
