@@ -316,11 +316,13 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 .filter(|r| r["technique"] == entry.name())
                 .filter_map(|r| r["vs_baseline"].as_f64())
                 .collect();
+            // No ratio where the technique or the baseline refuses every view's light.
+            let figure = |f: f64| (!ratios.is_empty()).then_some(f);
             json!({
                 "technique": entry.name(),
-                "mean_vs_baseline": mean_sd(&ratios).0,
-                "min_vs_baseline": ratios.iter().copied().fold(f64::INFINITY, f64::min),
-                "max_vs_baseline": ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                "mean_vs_baseline": figure(mean_sd(&ratios).0),
+                "min_vs_baseline": figure(ratios.iter().copied().fold(f64::INFINITY, f64::min)),
+                "max_vs_baseline": figure(ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max)),
             })
         })
         .collect();
@@ -369,18 +371,27 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             r["frame_ms_sd"].as_f64().unwrap_or_default(),
             r["shadow_pass_ms"].as_f64().unwrap_or_default(),
             r["main_pass_ms"].as_f64().unwrap_or_default(),
-            format!("{:.2}x", r["vs_baseline"].as_f64().unwrap_or_default()),
+            // (None where the baseline refuses the view's light.)
+            r["vs_baseline"]
+                .as_f64()
+                .map_or("n/a".to_string(), |v| format!("{v:.2}x")),
         );
     }
     crate::say!("\nframe time / {baseline_name}'s over the views: mean (smallest, largest)");
     for s in &summary {
-        crate::say!(
-            "{:<20} {:>6.2}x ({:.2}x, {:.2}x)",
-            s["technique"].as_str().unwrap_or_default(),
-            s["mean_vs_baseline"].as_f64().unwrap_or_default(),
-            s["min_vs_baseline"].as_f64().unwrap_or_default(),
-            s["max_vs_baseline"].as_f64().unwrap_or_default(),
-        );
+        let technique = s["technique"].as_str().unwrap_or_default();
+        match (
+            s["mean_vs_baseline"].as_f64(),
+            s["min_vs_baseline"].as_f64(),
+            s["max_vs_baseline"].as_f64(),
+        ) {
+            (Some(mean), Some(min), Some(max)) => {
+                crate::say!("{technique:<20} {mean:>6.2}x ({min:.2}x, {max:.2}x)")
+            }
+            _ => crate::say!(
+                "{technique:<20}    n/a (no view whose light both it and {baseline_name} take)"
+            ),
+        }
     }
     Ok(())
 }

@@ -1191,6 +1191,60 @@ fn bench_times_techniques_side_by_side() {
     }
 }
 
+/// A baseline that refuses a view's light gives no ratio there: `vs_baseline` is null, the
+/// table says n/a, and a technique with no view that both it and the baseline draw has no
+/// summary figures (they read 0.00x and -0.00x).
+#[test]
+fn bench_gives_no_ratio_where_the_baseline_refuses_the_light() {
+    let args = |views: &str| {
+        [
+            "bench",
+            "--views",
+            views,
+            "--frames",
+            "1",
+            "--size",
+            "64x36",
+            "--shadow-map",
+            "256",
+            "--techniques",
+            "sppsm,focused",
+            "--baseline",
+            "sppsm",
+        ]
+        .map(String::from)
+    };
+    let lamp_only = args("street_lamp");
+    let lamp_only: Vec<&str> = lamp_only.iter().map(String::as_str).collect();
+    let out = gnomon_ok(&[lamp_only.as_slice(), &["--json"]].concat());
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let focused = json["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["technique"] == "focused")
+        .unwrap()
+        .clone();
+    assert!(focused["frame_ms"].as_f64().unwrap() > 0.0, "{focused}");
+    assert!(focused["vs_baseline"].is_null(), "{focused}");
+    for s in json["summary"].as_array().unwrap() {
+        assert!(s["mean_vs_baseline"].is_null(), "{s}");
+    }
+    let text = String::from_utf8(gnomon_ok(&lamp_only).stdout).unwrap();
+    assert!(
+        text.contains("n/a (no view whose light both it and sppsm take)"),
+        "{text}"
+    );
+    // With a sun view too, the ratios come from it alone.
+    let both = args("street_lamp,street");
+    let both: Vec<&str> = both.iter().map(String::as_str).collect();
+    let out = gnomon_ok(&[both.as_slice(), &["--json"]].concat());
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let summary = json["summary"].as_array().unwrap();
+    assert_eq!(summary[0]["mean_vs_baseline"], 1.0);
+    assert!(summary[1]["mean_vs_baseline"].as_f64().unwrap() > 0.0);
+}
+
 /// `gnomon analyze` reproduces the papers from the techniques' matrices (z_n = 1,
 /// z_f = 100): uniform 99 at z_n, PSM as in the papers 99 at z_f, LiSPSM 9.9 at both ends,
 /// each within 3%, and the logarithmic ideal 4.61; it plots every curve.
