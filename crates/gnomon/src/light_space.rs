@@ -165,6 +165,11 @@ impl PlaneMap {
         }
     }
 
+    /// The rows (x, y, w) on world points (p, 1): the projector's composed with the map.
+    pub fn rows(&self) -> [DVec4; 3] {
+        self.rows
+    }
+
     /// (x, y, 0) of a world point with w > 0.
     #[inline]
     pub fn project(&self, p: DVec3) -> DVec3 {
@@ -177,19 +182,27 @@ impl PlaneMap {
     /// corner is its value at the centre plus or minus its products with the half extents.
     #[inline(always)]
     pub fn box_extents(&self, aabb: &Aabb) -> Extents {
-        let c = aabb.center().extend(1.0);
-        let h = aabb.half_extents();
-        let parts = self.rows.map(|r| (r.dot(c), r.truncate() * h));
         let mut ext = Extents::EMPTY;
-        for corner in 0..8 {
-            let sign = |bit: usize| if corner & bit == 0 { -1.0 } else { 1.0 };
-            let s = DVec3::new(sign(1), sign(2), sign(4));
-            let [x, y, w] = parts.map(|(base, d)| base + d.dot(s));
+        for [x, y, w] in corner_values(&self.rows, aabb) {
             let r = 1.0 / w;
             ext.add(DVec3::new(x * r, y * r, 0.0));
         }
         ext
     }
+}
+
+/// The values of `rows` (affine functions of world points, coefficients on (p, 1)) at a box's
+/// eight corners: each its value at the centre plus or minus its products with the half
+/// extents, with no product of a matrix per corner.
+#[inline(always)]
+pub(crate) fn corner_values<const K: usize>(rows: &[DVec4; K], b: &Aabb) -> [[f64; K]; 8] {
+    let (c, h) = (b.center().extend(1.0), b.half_extents());
+    let parts = rows.map(|r| (r.dot(c), r.truncate() * h));
+    std::array::from_fn(|corner| {
+        let sign = |bit: usize| if corner & bit == 0 { -1.0 } else { 1.0 };
+        let s = DVec3::new(sign(1), sign(2), sign(4));
+        parts.map(|(base, d)| base + d.dot(s))
+    })
 }
 
 /// [`Projector::box_extents`] of a point projector whose frame's axes are world axes (a cube

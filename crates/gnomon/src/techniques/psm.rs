@@ -51,7 +51,7 @@ use crate::error::SetupError;
 use crate::focus::{MapImages, VisibleScene, WalkedCasters, walk_casters};
 use crate::geometry::Plane;
 use crate::light::Light;
-use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, pad};
+use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, corner_values, pad};
 use crate::setup::{
     Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
@@ -211,9 +211,7 @@ impl LimitedWarp for Psm {
         // The projector's rows (x, y, w) on world points, then PPS's w and the linear depth: a
         // point has an image where it lies in front of the virtual camera and, for a
         // perspective map, of l (w > 0: its depth from l times PPS's w).
-        let [map_x, map_y, map_w] = projector
-            .plane_rows()
-            .map(|r| pps_from_world.transpose() * r);
+        let [map_x, map_y, map_w] = plane_map.rows();
         let parallel = matches!(projector, Projector::Parallel(_));
         let map_rows = [map_x, map_y, map_w, pps_rows[3], linear_row];
         let receivers = receivers_under(visible, scene, map_rows, |[x, y, w, pps_w, l]| {
@@ -360,18 +358,6 @@ fn pps_projector(
         frame: LightFrame::fixed(axis),
         position: l,
     }
-}
-
-/// The values of `rows` (affine functions of world points) at a box's eight corners: each
-/// its value at the centre plus or minus its products with the half extents.
-fn corner_values<const K: usize>(rows: &[DVec4; K], b: &Aabb) -> [[f64; K]; 8] {
-    let (c, h) = (b.center().extend(1.0), b.half_extents());
-    let parts = rows.map(|r| (r.dot(c), r.truncate() * h));
-    std::array::from_fn(|corner| {
-        let sign = |bit: usize| if corner & bit == 0 { -1.0 } else { 1.0 };
-        let s = DVec3::new(sign(1), sign(2), sign(4));
-        parts.map(|(base, d)| base + d.dot(s))
-    })
 }
 
 /// The extents of the visible receiver parts under a map given by `rows`, affine functions
