@@ -18,7 +18,7 @@ use crate::bounds::{Aabb, BoxArrays, SceneBounds};
 use crate::bvh::{BoxTree, Classified, all_planes, straddled};
 use crate::geometry::{ConvexPolyhedron, Plane};
 
-use crate::light_space::{Extents, LightFrame, Projector};
+use crate::light_space::{AxisFrustum, Extents, LightFrame, Projector};
 use crate::setup::Diagnostics;
 
 /// How an axis-aligned box lies against a set of planes.
@@ -622,23 +622,23 @@ impl VisibleScene {
     }
 }
 
-/// A spot light's frustum as its own map sees it: its planes (near, far, then the four
-/// sides, [`crate::light::SpotLight::frustum_planes`]) and the tangent of its half-angle,
-/// so that its sides are the map's square `|x|, |y| <= tangent`. Since the sides are the
+/// A cube face's frustum as its own map sees it: its planes (near, far, then the four sides,
+/// [`crate::light::SpotLight::frustum_planes`]), the tangent of its half-angle, so that its
+/// sides are the map's square `|x|, |y| <= tangent`, and the closed form of a box's part
+/// inside it ([`AxisFrustum`]: a face's frame has world axes). Since the sides are the
 /// light's rays through the square's edges, the image of a part in front of the light
 /// (beyond its near plane) cut by the sides is the image of the uncut part clamped to the
-/// square: exact in x and y with no cut.
+/// square, and a box's part needs no cut at all.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct SpotFrustum {
+pub(crate) struct FaceFrustum {
     pub planes: [Plane; 6],
     pub tangent: f64,
+    pub axis: AxisFrustum,
 }
 
-impl SpotFrustum {
+impl FaceFrustum {
     /// The bits of the near and far planes in `planes`.
     pub const NEAR_FAR: u32 = 0b11;
-    /// The bits of the sides.
-    pub const SIDES: u32 = 0b11_1100;
 
     /// `e` clamped to the square in x and y, or empty where it misses it.
     pub fn clamp(&self, e: Extents) -> Extents {
@@ -647,48 +647,48 @@ impl SpotFrustum {
     }
 }
 
-/// A caster walk's images under a spot light's own projector with the sides clamped
-/// ([`SpotFrustum`]): the walk cuts by the near and far planes only where boxes cross them.
-pub(crate) struct SpotImages<'a> {
+/// A caster walk's images under a cube face's own projector: each box's is the image of its
+/// part inside the face's frustum ([`AxisFrustum::box_extents`]), so that the walk cuts no
+/// box; it walks with the near plane alone as its cutting plane, which keeps the boxes that
+/// cross it apart for [`AxisFrustum::clips_tip`].
+pub(crate) struct FaceImages<'a> {
     pub scene: &'a SceneBounds,
     pub projector: &'a Projector,
-    pub frustum: &'a SpotFrustum,
+    pub frustum: &'a FaceFrustum,
 }
 
-impl CasterImages for SpotImages<'_> {
+impl CasterImages for FaceImages<'_> {
     const AFFINE: bool = false;
+    const EXACT: bool = true;
     fn node(&self, n: usize) -> Extents {
         let tree = self.scene.caster_tree();
-        self.frustum
-            .clamp(self.projector.box_extents(&tree.node_box(n)))
+        self.frustum.axis.box_extents(&tree.node_box(n))
     }
     fn caster(&self, i: usize) -> Extents {
-        self.frustum
-            .clamp(self.projector.box_extents(&self.scene.casters()[i]))
+        self.frustum.axis.box_extents(&self.scene.casters()[i])
     }
     fn point(&self, p: DVec3) -> DVec3 {
         self.projector.project(p)
     }
-    fn clamped_planes(&self) -> u32 {
-        SpotFrustum::SIDES
-    }
-    fn bound(&self, e: Extents) -> Extents {
-        self.frustum.clamp(e)
+    fn clips_near(&self, i: usize) -> bool {
+        self.frustum.axis.clips_tip(&self.scene.casters()[i])
     }
 }
 
 impl VisibleScene {
-    /// The extents, under a spot light's own `projector`, of the visible receiver parts
+    /// The extents, under a cube face's own `projector`, of the visible receiver parts
     /// inside its `frustum`, straight from this scene (cut by the view's `view_planes`
     /// alone): the same as [`Self::receiver_extents`] of the scene cut by the frustum. A
-    /// part in front of the light's near plane is cut by the frustum's sides only where its
-    /// clamped image ([`SpotFrustum::clamp`], which holds the image of its cut) adds to the
-    /// extents gathered so far; a subtree whose clamped image adds nothing is not opened.
+    /// whole box's part, and a bound of a subtree's, is a closed form
+    /// ([`AxisFrustum::box_extents`]); a subtree whose bound adds nothing to the extents
+    /// gathered so far is not opened. A part the view cuts, in front of the light's near
+    /// plane, is cut by the frustum's sides only where its clamped image
+    /// ([`FaceFrustum::clamp`], which holds the image of its cut) adds to the extents.
     pub fn extents_in_frustum(
         &self,
         scene: &SceneBounds,
         view_planes: &[Plane],
-        frustum: &SpotFrustum,
+        frustum: &FaceFrustum,
         projector: &Projector,
     ) -> Extents {
         let tolerance = self.tolerance;
@@ -714,9 +714,10 @@ impl VisibleScene {
                     ConvexPolyhedron::from_box(&receivers[i as usize]).clip_all(cut, tolerance)
                 })
         };
-        // Adds receiver `i`'s visible part (`view`) inside the frustum planes `frustum_mask`
-        // that cross it, given an image `bound` that holds its part's where the part lies in
-        // front of the light (and is the image of its visible part unless one plane cuts it).
+        // Adds the part inside the frustum planes `frustum_mask` that cross it of the visible
+        // part (`view`) of receiver `i`, given an image `bound` that holds its part's (the
+        // image of the visible part where the view cuts it and no plane of the frustum
+        // does).
         let mut add = |ext: &mut Extents,
                        i: usize,
                        view: ViewPart<'_>,
@@ -726,7 +727,8 @@ impl VisibleScene {
                 if b.is_empty() || ext.contains(&b) {
                     return;
                 }
-                if frustum_mask == 0 && !matches!(view, ViewPart::CutOnce(_)) {
+                // A part the view cuts, inside every plane of the frustum: its image.
+                if frustum_mask == 0 && matches!(view, ViewPart::Cut(_)) {
                     *ext = ext.union(&b);
                     return;
                 }
@@ -741,13 +743,6 @@ impl VisibleScene {
                     scratch.extend_from_slice(part.points());
                     !part.is_empty()
                 }
-                ViewPart::Whole => box_cut_vertices(
-                    &receivers[i],
-                    &frustum.planes,
-                    frustum_mask,
-                    tolerance,
-                    &mut scratch,
-                ),
                 ViewPart::CutOnce(plane) => {
                     let mut cut = [*plane; 7];
                     cut[1..].copy_from_slice(&frustum.planes);
@@ -768,37 +763,25 @@ impl VisibleScene {
         for (k, &(i, _, start, end)) in self.cuts.iter().enumerate() {
             let i = i as usize;
             if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
-                let bound = (m & SpotFrustum::NEAR_FAR == 0)
+                let bound = (m & FaceFrustum::NEAR_FAR == 0)
                     .then(|| image(&self.points[start as usize..end as usize]));
                 add(&mut ext, i, ViewPart::Cut(k), m, bound);
             }
         }
-        let whole_box = |add: &mut AddPart<'_>, ext: &mut Extents, i: usize| {
-            if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
-                let bound =
-                    (m & SpotFrustum::NEAR_FAR == 0).then(|| projector.box_extents(&receivers[i]));
-                add(ext, i, ViewPart::Whole, m, bound);
-            }
+        let whole_box = |ext: &mut Extents, i: usize| {
+            *ext = ext.union(&frustum.axis.box_extents(&receivers[i]));
         };
         for &i in &self.boxes {
-            whole_box(&mut add, &mut ext, i as usize);
+            whole_box(&mut ext, i as usize);
         }
         let mut stack: Vec<usize> = self.nodes.iter().map(|&n| n as usize).collect();
         while let Some(node) = stack.pop() {
-            let held = match against_frustum(tree.nodes.center_of(node), tree.nodes.half_of(node)) {
-                None => continue,
-                Some(m) if m & SpotFrustum::NEAR_FAR == 0 => {
-                    let e = frustum.clamp(projector.box_extents(&tree.node_box(node)));
-                    e.is_empty() || ext.contains(&e)
-                }
-                Some(_) => false,
-            };
-            if held {
+            if ext.contains(&frustum.axis.box_extents(&tree.node_box(node))) {
                 continue;
             }
             if tree.is_leaf(node) {
                 for &i in tree.boxes_of(node) {
-                    whole_box(&mut add, &mut ext, i as usize);
+                    whole_box(&mut ext, i as usize);
                 }
             } else {
                 stack.extend(tree.children(node));
@@ -807,26 +790,23 @@ impl VisibleScene {
         for (i, plane) in &self.cut_once {
             let i = *i as usize;
             if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
-                // The whole box's image holds its part's.
-                let bound =
-                    (m & SpotFrustum::NEAR_FAR == 0).then(|| projector.box_extents(&receivers[i]));
-                add(&mut ext, i, ViewPart::CutOnce(plane), m, bound);
+                // The part of the whole box inside the frustum holds its part's.
+                add(
+                    &mut ext,
+                    i,
+                    ViewPart::CutOnce(plane),
+                    m,
+                    Some(frustum.axis.box_extents(&receivers[i])),
+                );
             }
         }
         ext
     }
 }
 
-/// How [`VisibleScene::extents_in_frustum`] adds a receiver's part: the extents, the
-/// receiver, which part of it the view sees, the frustum planes that cross it, and an image
-/// that holds its part's.
-type AddPart<'a> = dyn FnMut(&mut Extents, usize, ViewPart<'_>, u32, Option<Extents>) + 'a;
-
 /// Which part of a receiver the view sees, for [`VisibleScene::extents_in_frustum`].
 #[derive(Clone, Copy)]
 enum ViewPart<'p> {
-    /// The whole box.
-    Whole,
     /// The box inside one plane.
     CutOnce(&'p Plane),
     /// The part of the receiver of `cuts[k]`, which several planes cut.
@@ -922,16 +902,14 @@ pub(crate) trait CasterImages {
     fn order(&self, _center: DVec3) -> f64 {
         0.0
     }
-    /// The bits of the cutting planes whose cut the images make themselves: `node`, `caster`
-    /// and [`CasterImages::bound`] clamp an image to what lies inside those planes, exactly
-    /// in x and y (a spot frustum's sides, whose inside is the map's square). A box only
-    /// they cross needs no cut, but where its depth is read (see [`walk_casters`]).
-    fn clamped_planes(&self) -> u32 {
-        0
-    }
-    /// The image of a part inside the clamped planes, from the extents of its points.
-    fn bound(&self, e: Extents) -> Extents {
-        e
+    /// Whether `node` and `caster` give the images of their boxes' parts inside the walk's
+    /// cutting planes and the map's frustum (a cube face's, [`FaceImages`]): no box is then
+    /// cut, and [`CasterImages::clips_near`] says which the light's near plane clips.
+    const EXACT: bool = false;
+    /// For [`CasterImages::EXACT`] images: whether the light's near plane (the first cutting
+    /// plane, which caster `i` crosses) clips part of the caster from the map.
+    fn clips_near(&self, _i: usize) -> bool {
+        false
     }
 }
 
@@ -1035,7 +1013,6 @@ pub(crate) fn walk_casters<I: CasterImages>(
     // walk they are small), to be opened at the end if they still do not.
     let mut deferred = Vec::with_capacity(16);
     let mut strict = false;
-    let clamped = images.clamped_planes();
     loop {
         while let Some((node, active)) = stack.pop() {
             let active = match active {
@@ -1052,8 +1029,9 @@ pub(crate) fn walk_casters<I: CasterImages>(
                 },
             };
             // A node's image holds its boxes' (for a point light, where the node lies in
-            // front of it: inside every plane of its frustum but those the images clamp).
-            if active & !clamped == 0 || I::AFFINE {
+            // front of it: inside every plane of its frustum, or where the images are of the
+            // parts inside it).
+            if active == 0 || I::AFFINE || I::EXACT {
                 let image = images.node(node);
                 if !receivers.xy_overlaps(&image, xy_slack) || image.min.z > receivers.max.z {
                     continue;
@@ -1095,43 +1073,23 @@ pub(crate) fn walk_casters<I: CasterImages>(
                 let (box_ext, crosses_near) = match code {
                     None => continue,
                     Some(0) => (images.caster(i), false),
+                    Some(mask) if I::EXACT => (
+                        images.caster(i),
+                        light_near_first && mask & 1 != 0 && images.clips_near(i),
+                    ),
                     Some(mask) => {
-                        // Where only planes the images clamp cross it, its image holds its
-                        // part's, and it is cut only where that image would add to the
-                        // extents, so that they are its part's. (Where it adds nothing, it
-                        // counts as relevant when its image reaches over the receivers.)
-                        let uncut = (mask & !clamped == 0)
-                            .then(|| images.caster(i))
-                            .filter(|e| {
-                                !receivers.xy_overlaps(e, xy_slack)
-                                    || e.min.z > receivers.max.z
-                                    || ext.contains(&e.clamped_to(&over))
-                            });
-                        match uncut {
-                            Some(e) => (e, false),
-                            None => {
-                                scratch.clear();
-                                let caster = &scene.casters()[i];
-                                if !box_cut_vertices(
-                                    caster,
-                                    cut_planes,
-                                    mask,
-                                    tolerance,
-                                    &mut scratch,
-                                ) {
-                                    continue;
-                                }
-                                let e = images.bound(points_image(images, &scratch));
-                                let near_cut = light_near_first
-                                    && mask & 1 != 0
-                                    && near_tip
-                                        .get_or_insert_with(|| {
-                                            NearTip::new(scene, cut_planes, tolerance)
-                                        })
-                                        .clips(caster, mask, tolerance);
-                                (e, near_cut)
-                            }
+                        scratch.clear();
+                        let caster = &scene.casters()[i];
+                        if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch) {
+                            continue;
                         }
+                        let e = points_image(images, &scratch);
+                        let near_cut = light_near_first
+                            && mask & 1 != 0
+                            && near_tip
+                                .get_or_insert_with(|| NearTip::new(scene, cut_planes, tolerance))
+                                .clips(caster, mask, tolerance);
+                        (e, near_cut)
                     }
                 };
                 if !receivers.xy_overlaps(&box_ext, xy_slack) || box_ext.min.z > receivers.max.z {

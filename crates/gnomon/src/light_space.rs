@@ -212,19 +212,8 @@ pub(crate) fn corner_values<const K: usize>(rows: &[DVec4; K], b: &Aabb) -> [[f6
 /// pairs of the box's x and d ranges, and likewise for y: the corners' images with two
 /// divisions per axis instead of sixteen, the same values.
 fn axis_box_extents(frame: &LightFrame, position: DVec3, aabb: &Aabb) -> Option<Extents> {
-    let (lo, hi) = (aabb.min() - position, aabb.max() - position);
-    // The range of one frame coordinate over the box.
-    let range = |v: DVec3| -> Option<(f64, f64)> {
-        let (s, lo, hi) = match (v.x != 0.0, v.y != 0.0, v.z != 0.0) {
-            (true, false, false) => (v.x, lo.x, hi.x),
-            (false, true, false) => (v.y, lo.y, hi.y),
-            (false, false, true) => (v.z, lo.z, hi.z),
-            _ => return None,
-        };
-        let (a, b) = (s * lo, s * hi);
-        Some((a.min(b), a.max(b)))
-    };
-    let (x, y, d) = (range(frame.right)?, range(frame.up)?, range(frame.forward)?);
+    let axes = world_axes(frame)?;
+    let (x, y, d) = axis_ranges(&axes, position, aabb);
     let over = |(lo, hi): (f64, f64)| {
         let (near, far) = (lo / d.0, lo / d.1);
         let (near_hi, far_hi) = (hi / d.0, hi / d.1);
@@ -235,6 +224,131 @@ fn axis_box_extents(frame: &LightFrame, position: DVec3, aabb: &Aabb) -> Option<
         min: DVec3::new(x0, y0, d.0),
         max: DVec3::new(x1, y1, d.1),
     })
+}
+
+/// For each of a frame's right, up and forward: the world axis it lies along (0, 1, 2) and
+/// its sign; `None` unless all three are world axes (a cube face's frame).
+fn world_axes(frame: &LightFrame) -> Option<[(usize, f64); 3]> {
+    let axis = |v: DVec3| match (v.x != 0.0, v.y != 0.0, v.z != 0.0) {
+        (true, false, false) => Some((0, v.x)),
+        (false, true, false) => Some((1, v.y)),
+        (false, false, true) => Some((2, v.z)),
+        _ => None,
+    };
+    Some([axis(frame.right)?, axis(frame.up)?, axis(frame.forward)?])
+}
+
+/// The ranges of the frame coordinates (x, y, d) of `aabb - position`, for the frame whose
+/// [`world_axes`] are `axes`: each one world coordinate's range times the axis's component.
+#[inline]
+fn axis_ranges(
+    axes: &[(usize, f64); 3],
+    position: DVec3,
+    aabb: &Aabb,
+) -> ((f64, f64), (f64, f64), (f64, f64)) {
+    let (lo, hi) = (aabb.min() - position, aabb.max() - position);
+    let range = |(k, s): (usize, f64)| {
+        let (a, b) = (s * lo[k], s * hi[k]);
+        (a.min(b), a.max(b))
+    };
+    (range(axes[0]), range(axes[1]), range(axes[2]))
+}
+
+/// A cube face's frustum under its own point projector, whose frame's axes are world axes
+/// ([`crate::light::PointLight::face_light`]): the points with depth d in `[near, far]` and
+/// `|x|, |y| <= tangent * d` in frame coordinates from the light. A box's frame coordinates
+/// then range over a box too, which makes the image of a box's part inside the frustum a
+/// closed form ([`AxisFrustum::box_extents`]) where other frames need the box cut by the
+/// frustum's planes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct AxisFrustum {
+    position: DVec3,
+    axes: [(usize, f64); 3],
+    tangent: f64,
+    near: f64,
+    far: f64,
+}
+
+impl AxisFrustum {
+    /// The frustum of a point projector with `frame` at `position`; `None` unless the frame's
+    /// axes are world axes.
+    pub fn new(
+        frame: &LightFrame,
+        position: DVec3,
+        tangent: f64,
+        near: f64,
+        far: f64,
+    ) -> Option<Self> {
+        Some(Self {
+            position,
+            axes: world_axes(frame)?,
+            tangent,
+            near,
+            far,
+        })
+    }
+
+    /// The extents of the image of `aabb`'s part inside the frustum (empty where it misses
+    /// the frustum), exactly, with no cut: with [x0, x1], [y0, y1], [d0, d1] the box's frame
+    /// coordinates, its part's depth ranges from the least depth d at which each range meets
+    /// `[-tangent d, tangent d]` (the larger of d0, `near` and each range's distance from 0
+    /// over the tangent) to the least of d1 and `far`; x / d is greatest at the part's least
+    /// depth where x1 > 0 (there x is x1 or the frustum's side, `tangent d`) and at its
+    /// greatest depth otherwise, and likewise for the least x and for y.
+    #[inline]
+    pub fn box_extents(&self, aabb: &Aabb) -> Extents {
+        // Plain comparisons rather than f64::max and min (no NaN reaches here): this runs for
+        // every box and node a cube face's walks meet.
+        let max = |a: f64, b: f64| if a > b { a } else { b };
+        let min = |a: f64, b: f64| if a < b { a } else { b };
+        let (lo, hi) = (
+            (aabb.min() - self.position).to_array(),
+            (aabb.max() - self.position).to_array(),
+        );
+        let range = |(k, s): (usize, f64)| {
+            if s > 0.0 {
+                (lo[k], hi[k])
+            } else {
+                (-hi[k], -lo[k])
+            }
+        };
+        let (d0, d1) = range(self.axes[2]);
+        let (near, far) = (max(d0, self.near), min(d1, self.far));
+        if near > far {
+            return Extents::EMPTY;
+        }
+        let ((x0, x1), (y0, y1)) = (range(self.axes[0]), range(self.axes[1]));
+        let t = self.tangent;
+        let gap = |lo: f64, hi: f64| max(max(lo, -hi), 0.0);
+        let near = max(near, max(gap(x0, x1), gap(y0, y1)) / t);
+        if near > far {
+            return Extents::EMPTY;
+        }
+        let span = |lo: f64, hi: f64| {
+            let least = if lo < 0.0 { max(lo / near, -t) } else { lo / far };
+            let most = if hi > 0.0 { min(hi / near, t) } else { hi / far };
+            (least, most)
+        };
+        let ((xl, xm), (yl, ym)) = (span(x0, x1), span(y0, y1));
+        Extents {
+            min: DVec3::new(xl, yl, near),
+            max: DVec3::new(xm, ym, far),
+        }
+    }
+
+    /// Whether part of `aabb`'s surface lies in the frustum's tip, the pyramid from the light
+    /// to the near plane, which the near plane clips from the map: the box meets the tip
+    /// (some depth d in `[0, near]` where both its x and y ranges meet `[-tangent d, tangent
+    /// d]`) and does not hold the whole tip (the light and the near plane's corners) inside.
+    pub fn clips_tip(&self, aabb: &Aabb) -> bool {
+        let ((x0, x1), (y0, y1), (d0, d1)) = axis_ranges(&self.axes, self.position, aabb);
+        let t = self.tangent;
+        let gap = |lo: f64, hi: f64| lo.max(-hi).max(0.0);
+        let meets = d0.max(0.0).max(gap(x0, x1) / t).max(gap(y0, y1) / t) <= d1.min(self.near);
+        let r = t * self.near;
+        let holds = x0 < -r && x1 > r && y0 < -r && y1 > r && d0 < 0.0 && d1 > self.near;
+        meets && !holds
+    }
 }
 
 /// An axis-aligned box in a projector's (x, y, depth) space.

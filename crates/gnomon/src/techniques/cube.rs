@@ -16,10 +16,10 @@
 //! [`PointLight::face_of`]); [`MapSelection::CubeFaces`] lists the faces that have maps.
 
 use crate::error::SetupError;
-use crate::focus::{SpotFrustum, SpotImages, unit_cube_clip, walk_casters};
+use crate::focus::{FaceFrustum, FaceImages, unit_cube_clip, walk_casters};
 use crate::frame::Frame;
 use crate::light::{CubeFace, Light, PointLight, SpotLight, cube_face_tangent};
-use crate::light_space::{Extents, build_map};
+use crate::light_space::{AxisFrustum, Extents, build_map};
 use crate::samples::ViewSamples;
 use crate::setup::{
     CubeFaceMaps, Diagnostics, Fallback, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
@@ -187,9 +187,11 @@ fn focused_face(
     if !near_inside {
         return None;
     }
-    let frustum = SpotFrustum {
+    let axis = AxisFrustum::new(projector.frame(), spot.position(), t, spot.near(), spot.range())?;
+    let frustum = FaceFrustum {
         planes: spot.frustum_planes(projector.frame().up),
         tangent: t,
+        axis,
     };
     let mut diagnostics = Diagnostics::new(input.camera, &light, scene);
     let receivers = if view.view_body.is_empty() {
@@ -201,12 +203,14 @@ fn focused_face(
     if receivers.is_empty() {
         return Some(None);
     }
-    let images = SpotImages {
+    let images = FaceImages {
         scene,
         projector: &projector,
         frustum: &frustum,
     };
-    let walked = walk_casters(scene, &images, &receivers, &frustum.planes, true, tolerance);
+    // The images are of the casters' parts inside the frustum: the walk cuts by the near
+    // plane alone, to count the casters it clips.
+    let walked = walk_casters(scene, &images, &receivers, &frustum.planes[..1], true, tolerance);
     walked.count_into(scene, &mut diagnostics);
     let Some(region) = unit_cube_clip(&receivers, &walked.extents, None) else {
         return Some(None);
