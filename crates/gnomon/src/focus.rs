@@ -714,24 +714,22 @@ impl VisibleScene {
                     ConvexPolyhedron::from_box(&receivers[i as usize]).clip_all(cut, tolerance)
                 })
         };
-        // Adds the part inside the frustum planes `frustum_mask` that cross it of the visible
-        // part (`view`) of receiver `i`, given an image `bound` that holds its part's (the
-        // image of the visible part where the view cuts it and no plane of the frustum
-        // does).
+        // Adds the part inside the frustum planes `frustum_mask` of the visible part (`view`) of
+        // receiver `i`, given an image `bound` that holds its part's (and is its image where
+        // `exact` and no plane of the frustum cuts it).
         let mut add = |ext: &mut Extents,
                        i: usize,
                        view: ViewPart<'_>,
                        frustum_mask: u32,
-                       bound: Option<Extents>| {
-            if let Some(b) = bound.map(|b| frustum.clamp(b)) {
-                if b.is_empty() || ext.contains(&b) {
-                    return;
-                }
-                // A part the view cuts, inside every plane of the frustum: its image.
-                if frustum_mask == 0 && matches!(view, ViewPart::Cut(_)) {
-                    *ext = ext.union(&b);
-                    return;
-                }
+                       bound: Extents,
+                       exact: bool| {
+            let b = frustum.clamp(bound);
+            if b.is_empty() || ext.contains(&b) {
+                return;
+            }
+            if frustum_mask == 0 && exact {
+                *ext = ext.union(&b);
+                return;
             }
             scratch.clear();
             let kept = match view {
@@ -760,14 +758,6 @@ impl VisibleScene {
             }
         };
         let mut ext = Extents::EMPTY;
-        for (k, &(i, _, start, end)) in self.cuts.iter().enumerate() {
-            let i = i as usize;
-            if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
-                let bound = (m & FaceFrustum::NEAR_FAR == 0)
-                    .then(|| image(&self.points[start as usize..end as usize]));
-                add(&mut ext, i, ViewPart::Cut(k), m, bound);
-            }
-        }
         let whole_box = |ext: &mut Extents, i: usize| {
             *ext = ext.union(&frustum.axis.box_extents(&receivers[i]));
         };
@@ -787,16 +777,40 @@ impl VisibleScene {
                 stack.extend(tree.children(node));
             }
         }
+        // The parts the view cuts, once the whole boxes have grown the extents (so that more
+        // of them add nothing). Where one lies in front of the light (inside its near plane)
+        // its points' image bounds its part's; else the image of the whole box's part does.
+        // The near plane is left out of a cut where the box misses the frustum's tip: the
+        // sides keep nothing nearer.
+        let planes_of = |i: usize, m: u32| {
+            if m & 1 != 0 && !frustum.axis.meets_tip(&receivers[i]) {
+                m & !1
+            } else {
+                m
+            }
+        };
+        for (k, &(i, _, start, end)) in self.cuts.iter().enumerate() {
+            let i = i as usize;
+            if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
+                let (bound, exact) = if m & FaceFrustum::NEAR_FAR == 0 {
+                    (image(&self.points[start as usize..end as usize]), true)
+                } else {
+                    (frustum.axis.box_extents(&receivers[i]), false)
+                };
+                add(&mut ext, i, ViewPart::Cut(k), planes_of(i, m), bound, exact);
+            }
+        }
         for (i, plane) in &self.cut_once {
             let i = *i as usize;
             if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
-                // The part of the whole box inside the frustum holds its part's.
+                let bound = frustum.axis.box_extents(&receivers[i]);
                 add(
                     &mut ext,
                     i,
                     ViewPart::CutOnce(plane),
-                    m,
-                    Some(frustum.axis.box_extents(&receivers[i])),
+                    planes_of(i, m),
+                    bound,
+                    false,
                 );
             }
         }
@@ -1383,6 +1397,56 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig { cases: 3000, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// A cube face's closed forms agree with cutting the box by the face's frustum planes:
+        /// the image of the part inside (empty where nothing is), and whether the near plane
+        /// clips part of its surface ([`NearTip`]). Boxes are drawn around the light, across
+        /// the sides, the near plane (the light inside a box, or beside it within the near
+        /// distance) and the far plane.
+        #[test]
+        fn cube_face_closed_forms_match_the_cut(
+            face in 0usize..6,
+            lo in prop::array::uniform3(-12.0f64..12.0),
+            size in prop::array::uniform3(0.0f64..10.0),
+            scale in prop::sample::select(vec![1.0, 1e-3, 1e-6]),
+            range in prop::sample::select(vec![5.0, 20.0, 1e3]),
+            resolution in prop::sample::select(vec![16u32, 1024]),
+        ) {
+            use crate::light::{CubeFace, PointLight};
+            let lo = DVec3::from_array(lo) * scale;
+            let aabb = Aabb::new(lo, lo + DVec3::from_array(size) * scale).unwrap();
+            let point = PointLight::new(DVec3::ZERO, range).unwrap();
+            let spot = point.face_light(CubeFace::ALL[face], resolution);
+            let frame = LightFrame::fixed(spot.direction());
+            let projector = Projector::Point { frame, position: spot.position() };
+            let t = spot.half_angle().tan();
+            let axis = AxisFrustum::new(&frame, spot.position(), t, spot.near(), spot.range()).unwrap();
+            let planes = spot.frustum_planes(frame.up);
+            let mut cut = Vec::new();
+            let kept = box_cut_vertices(&aabb, &planes, all_planes(6), 0.0, &mut cut);
+            let closed = axis.box_extents(&aabb);
+            let scale = range.max(1.0);
+            if kept {
+                let mut slow = Extents::EMPTY;
+                for p in &cut {
+                    slow.add(projector.project(*p));
+                }
+                // A part thinner than round-off may come out empty in one and not the other.
+                if !closed.is_empty() {
+                    prop_assert!(close(&closed, &slow, 1e-9 * scale), "{closed:?} vs cut {slow:?}");
+                } else {
+                    prop_assert!((slow.max - slow.min).max_element() <= 1e-9 * scale, "{slow:?}");
+                }
+            } else {
+                prop_assert!(closed.is_empty() || (closed.max - closed.min).max_element() <= 1e-9 * scale, "{closed:?}");
+            }
+            let scene = SceneBounds::new(vec![aabb], vec![aabb], None).unwrap();
+            let mask = straddled(aabb.center(), aabb.half_extents(), &planes, all_planes(6), 0.0);
+            if let Some(mask) = mask.filter(|m| m & 1 != 0) {
+                let by_cut = NearTip::new(&scene, &planes, 0.0).clips(&aabb, mask, 0.0);
+                prop_assert_eq!(axis.clips_tip(&aabb), by_cut);
+            }
+        }
 
         /// The allocation-free cut agrees with the general polyhedron clipper.
         #[test]

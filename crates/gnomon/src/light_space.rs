@@ -325,8 +325,16 @@ impl AxisFrustum {
             return Extents::EMPTY;
         }
         let span = |lo: f64, hi: f64| {
-            let least = if lo < 0.0 { max(lo / near, -t) } else { lo / far };
-            let most = if hi > 0.0 { min(hi / near, t) } else { hi / far };
+            let least = if lo < 0.0 {
+                max(lo / near, -t)
+            } else {
+                lo / far
+            };
+            let most = if hi > 0.0 {
+                min(hi / near, t)
+            } else {
+                hi / far
+            };
             (least, most)
         };
         let ((xl, xm), (yl, ym)) = (span(x0, x1), span(y0, y1));
@@ -336,18 +344,23 @@ impl AxisFrustum {
         }
     }
 
-    /// Whether part of `aabb`'s surface lies in the frustum's tip, the pyramid from the light
-    /// to the near plane, which the near plane clips from the map: the box meets the tip
-    /// (some depth d in `[0, near]` where both its x and y ranges meet `[-tangent d, tangent
-    /// d]`) and does not hold the whole tip (the light and the near plane's corners) inside.
-    pub fn clips_tip(&self, aabb: &Aabb) -> bool {
+    /// Whether `aabb` meets the frustum's tip, the pyramid from the light to the near plane:
+    /// at some depth d in `[0, near]` both its x and y ranges meet `[-tangent d, tangent d]`.
+    pub fn meets_tip(&self, aabb: &Aabb) -> bool {
         let ((x0, x1), (y0, y1), (d0, d1)) = axis_ranges(&self.axes, self.position, aabb);
         let t = self.tangent;
         let gap = |lo: f64, hi: f64| lo.max(-hi).max(0.0);
-        let meets = d0.max(0.0).max(gap(x0, x1) / t).max(gap(y0, y1) / t) <= d1.min(self.near);
-        let r = t * self.near;
+        d0.max(0.0).max(gap(x0, x1) / t).max(gap(y0, y1) / t) <= d1.min(self.near)
+    }
+
+    /// Whether part of `aabb`'s surface lies in the frustum's tip, which the near plane clips
+    /// from the map: the box meets the tip ([`Self::meets_tip`]) and does not hold the whole
+    /// tip (the light and the near plane's corners) inside.
+    pub fn clips_tip(&self, aabb: &Aabb) -> bool {
+        let ((x0, x1), (y0, y1), (d0, d1)) = axis_ranges(&self.axes, self.position, aabb);
+        let r = self.tangent * self.near;
         let holds = x0 < -r && x1 > r && y0 < -r && y1 > r && d0 < 0.0 && d1 > self.near;
-        meets && !holds
+        !holds && self.meets_tip(aabb)
     }
 }
 

@@ -187,7 +187,13 @@ fn focused_face(
     if !near_inside {
         return None;
     }
-    let axis = AxisFrustum::new(projector.frame(), spot.position(), t, spot.near(), spot.range())?;
+    let axis = AxisFrustum::new(
+        projector.frame(),
+        spot.position(),
+        t,
+        spot.near(),
+        spot.range(),
+    )?;
     let frustum = FaceFrustum {
         planes: spot.frustum_planes(projector.frame().up),
         tangent: t,
@@ -210,7 +216,14 @@ fn focused_face(
     };
     // The images are of the casters' parts inside the frustum: the walk cuts by the near
     // plane alone, to count the casters it clips.
-    let walked = walk_casters(scene, &images, &receivers, &frustum.planes[..1], true, tolerance);
+    let walked = walk_casters(
+        scene,
+        &images,
+        &receivers,
+        &frustum.planes[..1],
+        true,
+        tolerance,
+    );
     walked.count_into(scene, &mut diagnostics);
     let Some(region) = unit_cube_clip(&receivers, &walked.extents, None) else {
         return Some(None);
