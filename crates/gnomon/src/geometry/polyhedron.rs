@@ -1,3 +1,5 @@
+use std::cell::RefCell;
+
 use glam::DVec3;
 
 use super::Plane;
@@ -126,7 +128,7 @@ impl ConvexPolyhedron {
     /// A polyhedron that only touches the plane comes back empty.
     pub fn clip(&self, plane: &Plane, tolerance: f64) -> ConvexPolyhedron {
         let mut out = self.with_room();
-        out.clip_in_place(plane, tolerance, &mut Scratch::new());
+        Scratch::with(|scratch| out.clip_in_place(plane, tolerance, scratch));
         out
     }
 
@@ -137,13 +139,14 @@ impl ConvexPolyhedron {
         tolerance: f64,
     ) -> ConvexPolyhedron {
         let mut out = self.with_room();
-        let mut scratch = Scratch::new();
-        for plane in planes {
-            if out.is_empty() {
-                break;
+        Scratch::with(|scratch| {
+            for plane in planes {
+                if out.is_empty() {
+                    break;
+                }
+                out.clip_in_place(plane, tolerance, scratch);
             }
-            out.clip_in_place(plane, tolerance, &mut scratch);
-        }
+        });
         out
     }
 
@@ -260,7 +263,7 @@ impl ConvexPolyhedron {
     }
 }
 
-/// Buffers reused across the clips of one [`ConvexPolyhedron::clip_all`].
+/// Buffers a clip works in: one set per thread, reused by every clip ([`Scratch::with`]).
 struct Scratch {
     distances: Vec<f64>,
     remap: Vec<u32>,
@@ -278,6 +281,24 @@ impl Scratch {
     const VERTICES: usize = 32;
     const INDICES: usize = 64;
     const FACES: usize = 16;
+
+    /// Runs `f` with this thread's scratch buffers, kept between clips so that a clip
+    /// allocates only its result (a fresh set where they are in use).
+    fn with<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
+        thread_local! {
+            static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::new());
+        }
+        let mut f = Some(f);
+        let reused = SCRATCH.with(|cell| {
+            cell.try_borrow_mut()
+                .ok()
+                .map(|mut scratch| (f.take().expect("called once"))(&mut scratch))
+        });
+        match reused {
+            Some(r) => r,
+            None => (f.take().expect("called once"))(&mut Scratch::new()),
+        }
+    }
 
     fn new() -> Self {
         Self {
