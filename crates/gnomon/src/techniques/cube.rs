@@ -155,10 +155,12 @@ fn faces(
 
 /// The focused map with unit cube clipping of one face (`spot`, its spot light), fitted
 /// straight from the point light's frame `view` rather than from a frame of the face: the
-/// view's visible receiver parts and the casters are taken under the face's projector with
-/// its sides clamped ([`SpotFrustum`]: exact in x and y), and cut only where they cross its
-/// near or far plane, or where a caster's depth would be the map's near plane. `Some(None)`
-/// when the face has nothing to shadow (no visible receiver, or no caster for them).
+/// view's visible receiver parts and the casters are taken under the face's projector. The
+/// image of a box's part inside the face's frustum is a closed form ([`AxisFrustum`]: the
+/// face's frame has world axes), so no box is cut; a receiver part that several view planes
+/// cut is cut by the frustum's planes where its image would add to the extents.
+/// `Some(None)` when the face has nothing to shadow (no visible receiver, or no caster for
+/// them); `None` where the face needs its own frame (below).
 ///
 /// B is not built: with the light inside the scene box (the corners of the face's near
 /// plane inside it) B reaches the face's near plane (the segments from the light to P run
