@@ -9,7 +9,7 @@ use std::hint::black_box;
 #[path = "common/city.rs"]
 mod city;
 
-use city::{bench_camera, city, lamp, spot, sun};
+use city::{bench_camera, city, lamp, lamp_over_city, spot, sun};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use gnomon::{
     Cascades, Cube, Focused, Lispsm, MapSettings, Psm, Sppsm, Tsm, Uniform, ViewSamples, Xpsm,
@@ -18,7 +18,7 @@ use gnomon::{
 
 fn bench(c: &mut Criterion) {
     let (camera, sun, spot) = (bench_camera(), sun(), spot());
-    let (lamp, street_lamp) = (lamp(250.0), lamp(40.0));
+    let (lamp, street_lamp, lamp_over) = (lamp(250.0), lamp(40.0), lamp_over_city());
     let settings = MapSettings::with_resolution(2048);
     let mut group = c.benchmark_group("setup");
     for n in [10usize, 100, 1000] {
@@ -178,6 +178,7 @@ fn bench(c: &mut Criterion) {
         for (name, light) in [
             ("cube_point_given_samples", &lamp),
             ("cube_point_40m_given_samples", &street_lamp),
+            ("cube_point_over_city_given_samples", &lamp_over),
         ] {
             let samples = ViewSamples::new(&camera, light, &scene);
             group.bench_with_input(BenchmarkId::new(name, n), &scene, |b, s| {

@@ -12,14 +12,14 @@ use std::process::ExitCode;
 #[path = "../benches/common/city.rs"]
 mod city;
 
-use city::{bench_camera, city, lamp, spot, sun};
+use city::{bench_camera, city, lamp, lamp_over_city, spot, sun};
 use gnomon::{
     Cascades, Cube, Focused, Lispsm, MapSettings, SetupError, ShadowSetup, ShadowTechnique, Sppsm,
     ViewSamples, compute_setup, compute_setup_with_samples,
 };
 
 /// The setups, named as the criterion bench names them (at 1000 boxes, `setup/NAME/1000`).
-const SETUPS: [&str; 8] = [
+const SETUPS: [&str; 9] = [
     "focused_directional",
     "lispsm_directional",
     "lispsm_directional_given_samples",
@@ -27,6 +27,7 @@ const SETUPS: [&str; 8] = [
     "cascades_4_stable_directional",
     "sppsm_directional",
     "cube_point_given_samples",
+    "cube_point_over_city_given_samples",
     "focused_spot",
 ];
 
@@ -51,6 +52,7 @@ fn main() -> ExitCode {
     let settings = MapSettings::with_resolution(2048);
     let light = match *name {
         "cube_point_given_samples" => lamp(250.0),
+        "cube_point_over_city_given_samples" => lamp_over_city(),
         "focused_spot" => spot(),
         _ => sun(),
     };
@@ -71,7 +73,7 @@ fn main() -> ExitCode {
                 ..Cascades::default()
             }),
             "sppsm_directional" => casting(&Sppsm::default()),
-            "cube_point_given_samples" => given(&Cube),
+            "cube_point_given_samples" | "cube_point_over_city_given_samples" => given(&Cube),
             _ => casting(&Focused),
         }
     };

@@ -67,3 +67,9 @@ pub fn spot() -> Light {
 pub fn lamp(range: f64) -> Light {
     Light::Point(PointLight::new(DVec3::new(-40.0, 10.0, 60.0), range).unwrap())
 }
+
+/// A lamp 20 m over the city's tallest buildings (outside the scene box, where each cube
+/// face builds its B).
+pub fn lamp_over_city() -> Light {
+    Light::Point(PointLight::new(DVec3::new(-40.0, 60.0, 60.0), 250.0).unwrap())
+}

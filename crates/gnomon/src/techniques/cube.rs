@@ -15,9 +15,11 @@
 //! A point reads the map of the face its direction from the light falls in (its major axis,
 //! [`PointLight::face_of`]); [`MapSelection::CubeFaces`] lists the faces that have maps.
 
+use crate::body::focus_body;
 use crate::error::SetupError;
 use crate::focus::{FaceFrustum, FaceImages, unit_cube_clip, walk_casters};
 use crate::frame::Frame;
+use crate::geometry::ConvexPolyhedron;
 use crate::light::{CubeFace, Light, PointLight, SpotLight, cube_face_tangent};
 use crate::light_space::{AxisFrustum, Extents, build_map};
 use crate::samples::ViewSamples;
@@ -25,6 +27,7 @@ use crate::setup::{
     CubeFaceMaps, Diagnostics, Fallback, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
 };
 use crate::techniques::basis::{FocusBasis, Part};
+use crate::techniques::focused::usable_body_extents;
 use crate::techniques::{ANGULAR_PADDING, Focused, fixed_projector};
 
 /// Cube shadow maps for a point light: six faces, each the focused map with unit cube
@@ -162,10 +165,12 @@ fn faces(
 /// `Some(None)` when the face has nothing to shadow (no visible receiver, or no caster for
 /// them); `None` where the face needs its own frame (below).
 ///
-/// B is not built: with the light inside the scene box (the corners of the face's near
-/// plane inside it) B reaches the face's near plane (the segments from the light to P run
-/// in it), so it cannot raise the map's near plane above the casters'. Elsewhere this
-/// returns `None` and the face gets its own frame.
+/// B is built only where the light stands outside the scene box: inside it (the corners of
+/// the face's near plane inside the box) B reaches the face's near plane (the segments from
+/// the light to P run in it), so it cannot raise the map's near plane above the casters'.
+/// Outside, B is the face's own frame's (the scene box in the face's frustum cut by the
+/// face's P extended toward the light). `None` only where the face's frame does not have
+/// world axes.
 fn focused_face(
     view: &Frame<'_>,
     input: &SetupInput<'_>,
@@ -186,9 +191,6 @@ fn focused_face(
             let corner = center + spot.near() * t * (a * right + b * up);
             scene_box.contains_point(corner, -tolerance)
         });
-    if !near_inside {
-        return None;
-    }
     let axis = AxisFrustum::new(
         projector.frame(),
         spot.position(),
@@ -211,6 +213,19 @@ fn focused_face(
     if receivers.is_empty() {
         return Some(None);
     }
+    let body = (!near_inside).then(|| {
+        let view_body = view.view_body.clip_all(&frustum.planes, tolerance);
+        let region = ConvexPolyhedron::from_box(&scene_box).clip_all(&frustum.planes, tolerance);
+        focus_body(&view_body, &region, &projector, tolerance).vertices(tolerance)
+    });
+    let body_extents = body.map(|body| {
+        diagnostics.focus_body_vertices = body.len();
+        let extents = usable_body_extents(&body, &projector, &receivers, tolerance);
+        if extents.is_none() {
+            diagnostics.fallbacks.push(Fallback::DegenerateFocusBody);
+        }
+        extents
+    });
     let images = FaceImages {
         scene,
         projector: &projector,
@@ -227,7 +242,8 @@ fn focused_face(
         tolerance,
     );
     walked.count_into(scene, &mut diagnostics);
-    let Some(region) = unit_cube_clip(&receivers, &walked.extents, None) else {
+    let Some(region) = unit_cube_clip(&receivers, &walked.extents, body_extents.flatten().as_ref())
+    else {
         return Some(None);
     };
     Some(Some(ShadowSetup {
@@ -396,26 +412,105 @@ mod shared_frame_tests {
             let camera = test_scenes::camera(eye, target);
             prop_assume!(camera.is_some());
             let camera = camera.unwrap();
-            // Above the scene box the focused faces get frames of their own; inside it they
-            // are fitted from the point light's frame.
+            // Inside the scene box or above it: the focused faces are fitted from the point
+            // light's frame, with B where it stands outside the box.
             let high = if above_scene { 60.0 } else { 0.0 };
             let position = DVec3::from_array(lamp).with_y(lamp[1].abs() * 0.3 + 0.5 + high);
             let point = PointLight::new(position, range).unwrap();
-            let light = Light::Point(point);
-            let map = MapSettings::with_resolution(1024);
-            let samples = ViewSamples::new(&camera, &light, &scene);
             let technique: &dyn ShadowTechnique = if warp { &Lispsm::default() as &dyn ShadowTechnique } else { &Focused };
-            let shared = compute_setup_with_samples(technique, &camera, &light, &scene, map, &samples).unwrap();
-            let MapSelection::CubeFaces(faces) = shared.selection else { panic!() };
-            for (k, face) in faces.faces().iter().enumerate() {
-                let spot = Light::Spot(point.face_light(*face, map.resolution));
-                let own = face_share(&samples, &point, *face, map.resolution);
-                let alone = compute_setup_with_samples(technique, &camera, &spot, &scene, map, &own).unwrap();
-                let (a, b) = (shared.maps[k].clip_from_world, alone.maps[0].clip_from_world);
-                let scale = b.abs().to_cols_array().iter().copied().fold(0.0, f64::max);
-                let diff = (a - b).abs().to_cols_array().iter().copied().fold(0.0, f64::max);
-                prop_assert!(diff <= 1e-9 * scale, "face {face:?}: {a} vs {b}");
-            }
+            faces_match_faces_set_up_alone(technique, &camera, &point, &scene)?;
         }
+
+        /// A lamp over the scene box (beside it too) and a narrow view of part of the scene:
+        /// B, which the focused faces build from the point light's frame there, raises some
+        /// faces' near planes above the nearest caster in their receivers' columns, and every
+        /// face gets the map (or is skipped as) its own spot light's frame gives.
+        #[test]
+        fn faces_of_a_lamp_over_the_scene_match_faces_set_up_alone(
+            boxes in prop::collection::vec((prop::array::uniform3(0.0f64..1.0), prop::array::uniform3(0.3f64..6.3)), 3..23),
+            lamp in prop::array::uniform3(0.0f64..1.0),
+            eye in prop::array::uniform3(0.0f64..1.0),
+            target in prop::array::uniform2(-30.0f64..30.0),
+            fov in 5.0f64..35.0,
+            far in 20.0f64..80.0,
+        ) {
+            use crate::bounds::{Aabb, SceneBounds};
+            use crate::camera::{Camera, Lens};
+            let casters: Vec<Aabb> = boxes
+                .iter()
+                .map(|(lo, size)| {
+                    let lo = DVec3::new(lo[0] * 60.0 - 30.0, lo[1] * 15.0, lo[2] * 60.0 - 30.0);
+                    Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap()
+                })
+                .collect();
+            let mut receivers = casters.clone();
+            receivers.push(Aabb::new(DVec3::new(-40.0, -1.0, -40.0), DVec3::new(40.0, 0.0, 40.0)).unwrap());
+            let scene = SceneBounds::new(casters, receivers, None).unwrap();
+            let top = scene.scene_box().max().y;
+            let position = DVec3::new(lamp[0] * 100.0 - 50.0, top + 0.5 + lamp[1] * 10.0, lamp[2] * 100.0 - 50.0);
+            let eye = DVec3::new(eye[0] * 80.0 - 40.0, 1.0 + eye[1] * 20.0, eye[2] * 80.0 - 40.0);
+            let target = DVec3::new(target[0], 0.0, target[1]);
+            prop_assume!(eye.distance(target) > 2.0);
+            let lens = Lens { fov_y_degrees: fov, aspect: 1.5, near: 0.5, far };
+            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+            let point = PointLight::new(position, 200.0).unwrap();
+            faces_match_faces_set_up_alone(&Focused, &camera, &point, &scene)?;
+        }
+    }
+
+    /// Checks that `technique`'s faces for `point` are those that each face's own spot light
+    /// gives: the same maps, and a face skipped exactly where its own setup has nothing to
+    /// shadow (unless every face is, when the first keeps a map).
+    fn faces_match_faces_set_up_alone(
+        technique: &dyn ShadowTechnique,
+        camera: &crate::camera::Camera,
+        point: &PointLight,
+        scene: &crate::bounds::SceneBounds,
+    ) -> Result<(), TestCaseError> {
+        let light = Light::Point(*point);
+        let map = MapSettings::with_resolution(1024);
+        let samples = ViewSamples::new(camera, &light, scene);
+        let shared =
+            compute_setup_with_samples(technique, camera, &light, scene, map, &samples).unwrap();
+        let MapSelection::CubeFaces(faces) = &shared.selection else {
+            panic!()
+        };
+        let mut drawn = Vec::new();
+        for face in CubeFace::ALL {
+            let spot = Light::Spot(point.face_light(face, map.resolution));
+            let own = face_share(&samples, point, face, map.resolution);
+            let alone =
+                compute_setup_with_samples(technique, camera, &spot, scene, map, &own).unwrap();
+            let nothing = alone.diagnostics.fallbacks.iter().any(|f| {
+                matches!(
+                    f,
+                    Fallback::NoVisibleReceiver
+                        | Fallback::SpotLightMissesView
+                        | Fallback::NoCasterForReceivers
+                )
+            });
+            if !nothing {
+                drawn.push(face);
+            }
+            let Some(k) = faces.faces().iter().position(|f| *f == face) else {
+                continue;
+            };
+            let (a, b) = (
+                shared.maps[k].clip_from_world,
+                alone.maps[0].clip_from_world,
+            );
+            let scale = b.abs().to_cols_array().iter().copied().fold(0.0, f64::max);
+            let diff = (a - b)
+                .abs()
+                .to_cols_array()
+                .iter()
+                .copied()
+                .fold(0.0, f64::max);
+            prop_assert!(diff <= 1e-9 * scale, "face {face:?}: {a} vs {b}");
+        }
+        if !drawn.is_empty() {
+            prop_assert_eq!(faces.faces(), &drawn[..]);
+        }
+        Ok(())
     }
 }

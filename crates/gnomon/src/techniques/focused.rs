@@ -164,7 +164,7 @@ fn choose_frame(
 
 /// B's extents under `projector`, or `None` when B is empty or does not hold the visible
 /// receivers (a flat or numerically broken body: it is then not used).
-fn usable_body_extents(
+pub(crate) fn usable_body_extents(
     body: &[DVec3],
     projector: &Projector,
     receivers: &Extents,
