@@ -623,16 +623,15 @@ impl VisibleScene {
 }
 
 /// A cube face's frustum as its own map sees it: its planes (near, far, then the four sides,
-/// [`crate::light::SpotLight::frustum_planes`]), the tangent of its half-angle, so that its
-/// sides are the map's square `|x|, |y| <= tangent`, and the closed form of a box's part
-/// inside it ([`AxisFrustum`]: a face's frame has world axes). Since the sides are the
-/// light's rays through the square's edges, the image of a part in front of the light
+/// [`crate::light::SpotLight::frustum_planes`]) and the closed form of a box's part inside
+/// it ([`AxisFrustum`]: a face's frame has world axes), whose tangent of the half-angle
+/// makes the sides the map's square `|x|, |y| <= tangent`. Since the sides are the light's
+/// rays through the square's edges, the image of a part in front of the light
 /// (beyond its near plane) cut by the sides is the image of the uncut part clamped to the
 /// square, and a box's part needs no cut at all.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FaceFrustum {
     pub planes: [Plane; 6],
-    pub tangent: f64,
     pub axis: AxisFrustum,
 }
 
@@ -642,7 +641,7 @@ impl FaceFrustum {
 
     /// `e` clamped to the square in x and y, or empty where it misses it.
     pub fn clamp(&self, e: Extents) -> Extents {
-        let c = e.within_square(self.tangent);
+        let c = e.within_square(self.axis.tangent());
         if c.is_empty() { Extents::EMPTY } else { c }
     }
 }

@@ -238,20 +238,30 @@ fn world_axes(frame: &LightFrame) -> Option<[(usize, f64); 3]> {
     Some([axis(frame.right)?, axis(frame.up)?, axis(frame.forward)?])
 }
 
+/// The ranges of a box's frame coordinates x, y and d.
+type FrameRanges = ((f64, f64), (f64, f64), (f64, f64));
+
 /// The ranges of the frame coordinates (x, y, d) of `aabb - position`, for the frame whose
 /// [`world_axes`] are `axes`: each one world coordinate's range times the axis's component.
 #[inline]
-fn axis_ranges(
-    axes: &[(usize, f64); 3],
-    position: DVec3,
-    aabb: &Aabb,
-) -> ((f64, f64), (f64, f64), (f64, f64)) {
-    let (lo, hi) = (aabb.min() - position, aabb.max() - position);
-    let range = |(k, s): (usize, f64)| {
-        let (a, b) = (s * lo[k], s * hi[k]);
-        (a.min(b), a.max(b))
-    };
+fn axis_ranges(axes: &[(usize, f64); 3], position: DVec3, aabb: &Aabb) -> FrameRanges {
+    let (lo, hi) = (
+        (aabb.min() - position).to_array(),
+        (aabb.max() - position).to_array(),
+    );
+    let range = |axis| axis_range(&lo, &hi, axis);
     (range(axes[0]), range(axes[1]), range(axes[2]))
+}
+
+/// The range of one frame coordinate, the world axis and sign `(k, s)` of [`world_axes`],
+/// over the box from `lo` to `hi` (relative to the light).
+#[inline(always)]
+fn axis_range(lo: &[f64; 3], hi: &[f64; 3], (k, s): (usize, f64)) -> (f64, f64) {
+    if s > 0.0 {
+        (lo[k], hi[k])
+    } else {
+        (-hi[k], -lo[k])
+    }
 }
 
 /// A cube face's frustum under its own point projector, whose frame's axes are world axes
@@ -307,13 +317,7 @@ impl AxisFrustum {
             (aabb.min() - self.position).to_array(),
             (aabb.max() - self.position).to_array(),
         );
-        let range = |(k, s): (usize, f64)| {
-            if s > 0.0 {
-                (lo[k], hi[k])
-            } else {
-                (-hi[k], -lo[k])
-            }
-        };
+        let range = |axis| axis_range(&lo, &hi, axis);
         let (d0, d1) = range(self.axes[2]);
         let (near, far) = (max(d0, self.near), min(d1, self.far));
         if near > far {
@@ -351,20 +355,30 @@ impl AxisFrustum {
     /// Whether `aabb` meets the frustum's tip, the pyramid from the light to the near plane:
     /// at some depth d in `[0, near]` both its x and y ranges meet `[-tangent d, tangent d]`.
     pub fn meets_tip(&self, aabb: &Aabb) -> bool {
-        let ((x0, x1), (y0, y1), (d0, d1)) = axis_ranges(&self.axes, self.position, aabb);
+        self.ranges_meet_tip(axis_ranges(&self.axes, self.position, aabb))
+    }
+
+    /// [`Self::meets_tip`] of a box's frame coordinate ranges.
+    fn ranges_meet_tip(&self, ((x0, x1), (y0, y1), (d0, d1)): FrameRanges) -> bool {
         let t = self.tangent;
         let gap = |lo: f64, hi: f64| lo.max(-hi).max(0.0);
         d0.max(0.0).max(gap(x0, x1) / t).max(gap(y0, y1) / t) <= d1.min(self.near)
+    }
+
+    /// The tangent of the frustum's half-angle: its sides are `|x|, |y| <= tangent`.
+    pub fn tangent(&self) -> f64 {
+        self.tangent
     }
 
     /// Whether part of `aabb`'s surface lies in the frustum's tip, which the near plane clips
     /// from the map: the box meets the tip ([`Self::meets_tip`]) and does not hold the whole
     /// tip (the light and the near plane's corners) inside.
     pub fn clips_tip(&self, aabb: &Aabb) -> bool {
-        let ((x0, x1), (y0, y1), (d0, d1)) = axis_ranges(&self.axes, self.position, aabb);
+        let ranges = axis_ranges(&self.axes, self.position, aabb);
+        let ((x0, x1), (y0, y1), (d0, d1)) = ranges;
         let r = self.tangent * self.near;
         let holds = x0 < -r && x1 > r && y0 < -r && y1 > r && d0 < 0.0 && d1 > self.near;
-        !holds && self.meets_tip(aabb)
+        !holds && self.ranges_meet_tip(ranges)
     }
 }
 

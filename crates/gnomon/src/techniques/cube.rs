@@ -117,15 +117,7 @@ fn faces(
         if setup.maps.len() != 1 || setup.selection != MapSelection::Single {
             return Err(SetupError::PointLightUnsupported { technique: name });
         }
-        let nothing_to_shadow = setup.diagnostics.fallbacks.iter().any(|f| {
-            matches!(
-                f,
-                Fallback::NoVisibleReceiver
-                    | Fallback::SpotLightMissesView
-                    | Fallback::NoCasterForReceivers
-            )
-        });
-        Ok((always || !nothing_to_shadow).then_some(setup))
+        Ok((always || !nothing_to_shadow(&setup)).then_some(setup))
     };
     for face in CubeFace::ALL {
         let Some(setup) = face_setup(face, false)? else {
@@ -200,7 +192,6 @@ fn focused_face(
     )?;
     let frustum = FaceFrustum {
         planes: spot.frustum_planes(projector.frame().up),
-        tangent: t,
         axis,
     };
     let mut diagnostics = Diagnostics::new(input.camera, &light, scene);
@@ -258,6 +249,19 @@ fn focused_face(
         selection: MapSelection::Single,
         diagnostics,
     }))
+}
+
+/// Whether a face's setup has nothing to shadow (no visible receiver, or no caster for
+/// them): the face is skipped.
+fn nothing_to_shadow(setup: &ShadowSetup) -> bool {
+    setup.diagnostics.fallbacks.iter().any(|f| {
+        matches!(
+            f,
+            Fallback::NoVisibleReceiver
+                | Fallback::SpotLightMissesView
+                | Fallback::NoCasterForReceivers
+        )
+    })
 }
 
 /// The samples inside the frustum of `face` (for `resolution`-texel maps): its share of the
@@ -481,15 +485,7 @@ mod shared_frame_tests {
             let own = face_share(&samples, point, face, map.resolution);
             let alone =
                 compute_setup_with_samples(technique, camera, &spot, scene, map, &own).unwrap();
-            let nothing = alone.diagnostics.fallbacks.iter().any(|f| {
-                matches!(
-                    f,
-                    Fallback::NoVisibleReceiver
-                        | Fallback::SpotLightMissesView
-                        | Fallback::NoCasterForReceivers
-                )
-            });
-            if !nothing {
+            if !nothing_to_shadow(&alone) {
                 drawn.push(face);
             }
             let Some(k) = faces.faces().iter().position(|f| *f == face) else {
