@@ -265,10 +265,13 @@ impl ViewSamples {
         qs: [f64; N],
     ) -> Option<[f64; N]> {
         let texels = Texels::new(map);
+        // Selected on sigma_min^2, which falls as the undersampling grows: the
+        // undersampling's rank r (ascending) is sigma_min^2's rank last - r, and only the
+        // N values found pay for a square root and a division.
         let mut values: Vec<f64> = self
             .samples
             .iter()
-            .map(|s| texels.undersampling(s))
+            .map(|s| texels.least_squared_scale(s))
             .collect();
         if values.is_empty() {
             return None;
@@ -276,7 +279,8 @@ impl ViewSamples {
         let last = values.len() - 1;
         // Nearest-rank quantiles by selection, largest rank first: each selection leaves the
         // values below its rank in front, where the next one selects.
-        let ranks = qs.map(|q| ((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last));
+        let ranks =
+            qs.map(|q| last - ((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last));
         let mut order: [usize; N] = std::array::from_fn(|i| i);
         order.sort_unstable_by(|a, b| ranks[*b].cmp(&ranks[*a]));
         let mut out = [0.0; N];
@@ -284,7 +288,7 @@ impl ViewSamples {
         for &i in &order {
             let rank = ranks[i];
             let (_, value, _) = values[..end].select_nth_unstable_by(rank, f64::total_cmp);
-            out[i] = *value;
+            out[i] = undersampling_of(*value);
             end = rank + 1;
         }
         Some(out)
@@ -344,10 +348,20 @@ impl Texels {
     /// See [`undersampling`].
     #[inline]
     fn undersampling(&self, sample: &ViewSample) -> f64 {
+        undersampling_of(self.least_squared_scale(sample))
+    }
+
+    /// The least eigenvalue of J^T J (J: the Jacobian from pixels to texels at `sample`),
+    /// the square of J's least singular value sigma_min; 0 where the map does not see the
+    /// point (w <= 0) or the value is not a number. The undersampling, 1 / sigma_min, falls
+    /// as it grows ([`undersampling_of`]), so quantiles can be selected on it and take their
+    /// square root and reciprocal once.
+    #[inline]
+    fn least_squared_scale(&self, sample: &ViewSample) -> f64 {
         let p = sample.position.extend(1.0);
         let (cx, cy, cw) = (self.x.dot(p), self.y.dot(p), self.w.dot(p));
         if cw.is_nan() || cw <= 0.0 {
-            return f64::INFINITY;
+            return 0.0;
         }
         let inv_w = 1.0 / cw;
         let (x, y) = (cx * inv_w, cy * inv_w);
@@ -362,12 +376,20 @@ impl Texels {
         let b = jx0 * jy0 + jx1 * jy1;
         let c = jy0 * jy0 + jy1 * jy1;
         let root = (0.25 * (a - c) * (a - c) + b * b).max(0.0).sqrt();
-        let sigma_min = (0.5 * (a + c) - root).max(0.0).sqrt();
-        if sigma_min > 0.0 {
-            1.0 / sigma_min
-        } else {
-            f64::INFINITY
-        }
+        // f64::max takes the number where one side is NaN: a NaN comes out as 0.
+        (0.5 * (a + c) - root).max(0.0)
+    }
+}
+
+/// The undersampling 1 / sigma_min from sigma_min^2 ([`Texels::least_squared_scale`]);
+/// infinite where it is 0.
+#[inline]
+fn undersampling_of(least_squared_scale: f64) -> f64 {
+    let sigma_min = least_squared_scale.sqrt();
+    if sigma_min > 0.0 {
+        1.0 / sigma_min
+    } else {
+        f64::INFINITY
     }
 }
 
@@ -632,6 +654,41 @@ mod tests {
 
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig { cases: 300, failure_persistence: None, ..proptest::prelude::ProptestConfig::default() })]
+
+        /// The quantiles selected on sigma_min^2 are the nearest-rank quantiles of the
+        /// undersampling itself, sorted: maps with any rows, so that some samples lie behind
+        /// them (w <= 0, infinite undersampling) and many tie there.
+        #[test]
+        fn quantiles_are_those_of_the_sorted_undersampling(
+            rows in proptest::array::uniform16(-1.0f64..1.0),
+            behind in proptest::bool::ANY,
+            qs in proptest::array::uniform3(0.0f64..1.0),
+            eye in proptest::array::uniform3(-50.0f64..50.0),
+        ) {
+            let eye = DVec3::from_array(eye).with_y(eye[1].abs() + 2.0);
+            let camera = Camera::look_at(eye, DVec3::ZERO, DVec3::Y, Lens::default()).unwrap();
+            let sun = Light::Directional(DirectionalLight::new(DVec3::new(0.2, -1.0, 0.1)).unwrap());
+            let samples = ViewSamples::new(&camera, &sun, &ground_scene());
+            proptest::prop_assume!(!samples.is_empty());
+            let mut m = DMat4::from_cols_array(&rows);
+            if !behind {
+                // w = 1 everywhere: an orthographic map, every sample finite.
+                m = DMat4::from_cols(m.x_axis.with_w(0.0), m.y_axis.with_w(0.0), m.z_axis.with_w(0.0), m.w_axis.with_w(1.0));
+            }
+            let map = ShadowMap {
+                clip_from_world: m,
+                depth_from_world: glam::DVec4::ZERO,
+                resolution: 1024,
+                viewport_inset: 1,
+                projection: MapProjection::Orthographic,
+            };
+            let mut sorted: Vec<f64> = samples.samples().iter().map(|s| undersampling(&map, s)).collect();
+            sorted.sort_by(f64::total_cmp);
+            let last = sorted.len() - 1;
+            let want = [qs[0], qs[1], qs[2], 1.0, 0.0].map(|q| sorted[((q * last as f64).round() as usize).min(last)]);
+            let got = samples.undersampling_quantiles(&map, [qs[0], qs[1], qs[2], 1.0, 0.0]).unwrap();
+            proptest::prop_assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{:?} vs {:?}", got, want);
+        }
 
         /// The samples cast through the receivers' hierarchy are those of every ray against
         /// every box: the nearest hit per ray.
