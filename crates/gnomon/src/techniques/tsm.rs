@@ -39,7 +39,8 @@
 //! constant 0.5 (z = 0.5 w), so the rasteriser never clips a caster by depth; the renderer
 //! writes and compares the linear depth.
 //!
-//! Degenerate cases: the view parallel to the light (the centre line has no length; the
+//! Degenerate cases: the view parallel to the light (within the sin(gamma) of 1e-3 below
+//! which LiSPSM and XPSM count it parallel: the centre line has no usable direction; the
 //! miner's lamp) and spot lights fall back to the focused map; when the 80% rule asks for a
 //! projection point at or beyond infinity (delta' >= lambda (1 - xi) / 2) the side lines are
 //! parallel and the map is the focused rectangle turned along the centre line. Each is named
@@ -50,6 +51,7 @@ use glam::{DMat4, DVec2, DVec3, DVec4};
 use crate::error::SetupError;
 use crate::geometry::convex_hull_2d;
 use crate::light::Light;
+use crate::light_space::LightFrame;
 use crate::setup::{Fallback, MapProjection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
@@ -120,6 +122,14 @@ impl LimitedWarp for Tsm {
             |fallback: Fallback| Ok(with_fallback(fallback_setup.clone(), "tsm", fallback));
         if matches!(input.light, Light::Spot(_)) {
             return fall_back(Fallback::SpotLightNotWarped);
+        }
+        // Within LiSPSM's and XPSM's parallel threshold the centre line below is a stub whose
+        // direction is rounding noise: a trapezoid along it would warp toward an arbitrary
+        // side of the view.
+        if let Light::Directional(light) = input.light
+            && LightFrame::view_aligned(light.direction(), input.camera.forward()).is_none()
+        {
+            return fall_back(Fallback::LightParallelToView);
         }
         // A uniform fallback of the focused map (nothing visible) stays as it is.
         if setup
