@@ -488,6 +488,16 @@ pub(crate) fn pad(lo: f64, hi: f64, absolute: f64) -> (f64, f64) {
 /// Builds a shadow map from a projector and the region to cover: `xy` the rectangle in the
 /// projector's (x, y), `depth` the interval along the light. The region is padded slightly
 /// (see [`pad`]), mapped to the inset square, and depth [near, far] to [0, 1].
+/// The clip-space z of a map seen from a point (a spot light's, a cube face's) runs from 0 at
+/// its near plane toward this, never to 1. Their near planes lie at a millionth of the range
+/// ([`crate::SPOT_NEAR_FRACTION`]), so the usual perspective z, 1 - near / d up to a scale,
+/// puts every point farther than a few near distances within a few f32 roundings of 1, where
+/// a rasteriser (which works in f32) clips some of them as beyond the far plane: a whole cube
+/// face of random scene 159 lost its casters that way. Running to 1/2, the far side keeps its
+/// distance from the clip volume's boundary; the depth compared is linear along the light
+/// ([`crate::ShadowMap::depth_from_world`]), so nothing else reads this z.
+pub(crate) const PERSPECTIVE_CLIP_Z: f64 = 0.5;
+
 pub(crate) fn build_map(
     projector: &Projector,
     region: &Extents,
@@ -522,12 +532,13 @@ pub(crate) fn build_map(
             }
             let dz = z1 - z0;
             // With X, Y, d the frame coordinates of p - position:
-            // clip = (ax X + bx d, ay Y + by d, z1 (d - z0) / dz, d).
+            // clip = (ax X + bx d, ay Y + by d, (d - z0) / 2, d). The clip z runs from 0 at
+            // the near plane toward 1/2 (see `PERSPECTIVE_CLIP_Z`).
             let row = |v: DVec3, c: f64| v.extend(c - v.dot(*position));
             let rows = [
                 row(ax * f.right + bx * f.forward, 0.0),
                 row(ay * f.up + by * f.forward, 0.0),
-                row(f.forward * (z1 / dz), -z1 * z0 / dz),
+                row(f.forward * PERSPECTIVE_CLIP_Z, -PERSPECTIVE_CLIP_Z * z0),
                 row(f.forward, 0.0),
             ];
             (

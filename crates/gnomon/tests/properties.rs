@@ -31,8 +31,9 @@
 use glam::{DVec3, DVec4};
 use gnomon::{
     Aabb, Camera, CascadeFit, CascadeSplit, Cascades, Cube, DirectionalLight, DualParaboloid,
-    Focused, Lens, Light, Lispsm, MapSelection, MapSettings, PointLight, Psm, SceneBounds,
-    ShadowMap, ShadowSetup, SpotLight, Sppsm, Technique, Tsm, Uniform, Xpsm, compute_setup,
+    Focused, Lens, Light, Lispsm, MapProjection, MapSelection, MapSettings, PointLight, Psm,
+    SceneBounds, ShadowMap, ShadowSetup, SpotLight, Sppsm, Technique, Tsm, Uniform, Xpsm,
+    compute_setup,
 };
 use proptest::prelude::*;
 use proptest::test_runner::TestRng;
@@ -533,6 +534,7 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
         &[seed as u8; 32],
     );
     let points = visible_receiver_points(cfg, &mut rng);
+    let from_a_point = matches!(cfg.light, Light::Spot(_));
     for setup in [
         &uniform,
         &focused,
@@ -559,7 +561,7 @@ fn check(cfg: &Config, seed: u64) -> Result<(), String> {
             // Cascades: the map of its slice, and the next one in a blend band.
             let casters = shadowing_caster_points(cfg, r);
             for k in maps_read(setup, r) {
-                check_map(setup, &setup.maps[k], r, &casters)?;
+                check_map(setup, &setup.maps[k], r, &casters, from_a_point)?;
             }
         }
     }
@@ -613,7 +615,7 @@ fn check_point(
     for &r in &points {
         let casters = shadowing_caster_points(cfg, r);
         let k = paraboloid.selection.map_for(r).unwrap();
-        check_map(&paraboloid, &paraboloid.maps[k], r, &casters)?;
+        check_map(&paraboloid, &paraboloid.maps[k], r, &casters, true)?;
     }
     for setup in &setups {
         let MapSelection::CubeFaces(faces) = setup.selection else {
@@ -644,7 +646,7 @@ fn check_point(
         for &r in &points {
             let casters = shadowing_caster_points(cfg, r);
             match setup.selection.map_for(r) {
-                Some(k) => check_map(setup, &setup.maps[k], r, &casters)?,
+                Some(k) => check_map(setup, &setup.maps[k], r, &casters, true)?,
                 None if casters.is_empty() => {}
                 None => {
                     return Err(format!(
@@ -680,13 +682,22 @@ fn maps_read(setup: &ShadowSetup, r: DVec3) -> Vec<usize> {
     }
 }
 
+/// How far below 1 the clip-space z of a relevant caster point of a map seen from a point
+/// must stay: far more than the few f32 roundings a rasteriser makes (a spot light's or cube
+/// face's near plane lies at a millionth of the range, and the usual perspective z put every
+/// point beyond a few near distances within 1e-6 of 1, where the rasteriser clipped a whole
+/// face's casters in random scene 159).
+const POINT_MAP_CLIP_Z_MARGIN: f64 = 1e-3;
+
 /// One map read by receiver point `r` (with the caster points shadowing it): see the module
-/// documentation.
+/// documentation. `from_a_point`: the light is a spot or point light (its perspective maps'
+/// clip z must keep [`POINT_MAP_CLIP_Z_MARGIN`] from the far end).
 fn check_map(
     setup: &ShadowSetup,
     map: &ShadowMap,
     r: DVec3,
     casters: &[DVec3],
+    from_a_point: bool,
 ) -> Result<(), String> {
     let ctx = |e: String| {
         format!(
@@ -704,12 +715,21 @@ fn check_map(
         }
     }
     for &q in casters {
-        lands_inside(map, q).map_err(|e| {
+        let ndc = lands_inside(map, q).map_err(|e| {
             format!(
                 "{} ({:?}): caster point shadowing {r}: {e}",
                 setup.technique, setup.diagnostics.fallbacks
             )
         })?;
+        if from_a_point
+            && map.projection == MapProjection::Perspective
+            && ndc.z > 1.0 - POINT_MAP_CLIP_Z_MARGIN
+        {
+            return Err(format!(
+                "{} ({:?}): caster point {q} shadowing {r} lands at clip z {}, within f32 roundings of the far end",
+                setup.technique, setup.diagnostics.fallbacks, ndc.z
+            ));
+        }
     }
     Ok(())
 }

@@ -24,7 +24,8 @@
 //! is clipped. (For a spot light the planes Y = const are world planes through the light,
 //! and casters are also cut to the light's frustum, in front of its near plane.) The depth
 //! compared in the map is linear along the light (`depth_from_world`); the clip-space z is
-//! the warped z, unit-cube clipped so that the rasteriser clips no relevant caster.
+//! the warped z, unit-cube clipped so that the rasteriser clips no relevant caster (for a spot
+//! light onto [0, 1/2], see `warped_map`).
 
 use glam::{DMat4, DVec3, DVec4};
 
@@ -32,7 +33,7 @@ use crate::error::SetupError;
 use crate::focus::{BoxSide, LightCorners, ParallelBoxes, box_cut_vertices, classify_box};
 use crate::geometry::Plane;
 use crate::light::Light;
-use crate::light_space::{Extents, LightFrame, Projector, pad};
+use crate::light_space::{Extents, LightFrame, PERSPECTIVE_CLIP_Z, Projector, pad};
 use crate::setup::{
     Diagnostics, Fallback, LightFrameKind, MapProjection, MapSelection, SetupInput, ShadowMap,
     ShadowSetup,
@@ -811,14 +812,21 @@ fn warped_map(
         let b = if centered {
             -0.5 * a_scale * (hi + lo) / (hi - lo)
         } else {
-            -lo / (hi - lo)
+            -a_scale * lo / (hi - lo)
         };
         row * a + w_row * b
+    };
+    // A spot light's post-perspective Z (-1 / d) crowds everything farther than a few of
+    // its near distances (a millionth of its range) at the far end of the unit cube: its
+    // clip z runs to 1/2 only, as the spot's own maps' do (see `PERSPECTIVE_CLIP_Z`).
+    let z_scale = match warp.space {
+        LightSpace::Spot { .. } => PERSPECTIVE_CLIP_Z,
+        LightSpace::Parallel(_) => 1.0,
     };
     let rows = [
         clip_row(x_row, u0, u1, 2.0 * s, true),
         clip_row(y_row, v0, v1, 2.0 * s, true),
-        clip_row(z_row, z0, z1, 1.0, false),
+        clip_row(z_row, z0, z1, z_scale, false),
         w_row,
     ];
     let perspective = warp.inv_n > 0.0 || matches!(warp.space, LightSpace::Spot { .. });
