@@ -56,7 +56,11 @@ pub struct DepthBias {
     /// [`DepthBias::MAX_SLOPE_WORLD`], scaled in small scenes).
     pub max_slope_world: Option<f64>,
     /// Normal offset: the lookup moves this many texels along the geometric normal (scaled
-    /// by 1 - N.L, so surfaces facing the light move little).
+    /// by 1 - N.L, so surfaces facing the light move little). A texel is measured along the
+    /// normal's image in the map (the step that moves the lookup one texel), at most the
+    /// texel's largest world side: a receding surface changes depth across a texel along that
+    /// image, so that step clears it, and the lookup does not run several texels along a fine
+    /// axis past the focus region's edge.
     pub normal_offset_texels: f64,
 }
 
