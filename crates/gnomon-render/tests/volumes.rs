@@ -415,6 +415,60 @@ fn volumes_shade_like_the_maps() {
     }
 }
 
+/// The volumes draw the scene through an infinite projection (their caps at infinity must not
+/// be clipped), yet the picture ends at the camera's far plane as the maps' does: a far plane
+/// that cuts the ground leaves the same pixels empty in both (the volumes once drew the
+/// ground out to the horizon).
+#[test]
+fn the_volumes_end_at_the_far_plane_as_the_maps_do() {
+    let scene = tower_scene();
+    let mut renderer = common::renderer(&scene);
+    let settings = RenderSettings {
+        width: SIZE,
+        height: SIZE,
+        ..RenderSettings::default()
+    };
+    // Eye 10 m up looking down the ground at 45 degrees: the far plane, 14 m away, cuts the
+    // ground across the middle of the picture.
+    let eye = DVec3::new(-40.0, 10.0, 0.0);
+    let camera = common::square_camera(eye, eye + DVec3::new(10.0, -10.0, 0.0), 1.0, 14.0);
+    let light = sun(0.5, -1.0, 0.3);
+    let (_, map) = common::render(
+        &mut renderer,
+        &scene,
+        &gnomon::Focused,
+        &camera,
+        &light,
+        1024,
+        &settings,
+    );
+    let volumes = renderer
+        .render_volumes(&camera, &light, &settings, StencilMode::ZFail)
+        .unwrap()
+        .frame;
+    let empty = |mask: &[u8]| {
+        mask.iter()
+            .map(|&m| m == gnomon_render::MASK_EMPTY)
+            .collect::<Vec<_>>()
+    };
+    let (map_empty, volumes_empty) = (empty(&map.mask), empty(&volumes.mask));
+    let pixels = map_empty.len();
+    let map_count = map_empty.iter().filter(|&&e| e).count();
+    let differing = map_empty
+        .iter()
+        .zip(&volumes_empty)
+        .filter(|(a, b)| a != b)
+        .count();
+    println!("{map_count} of {pixels} pixels empty in the map's frame, {differing} differ");
+    // The far plane leaves a large part empty (above the cut), and both agree on it up to
+    // the cut's row of pixels.
+    assert!(map_count > pixels / 5, "{map_count} of {pixels}");
+    assert!(
+        differing <= 2 * SIZE as usize,
+        "{differing} of {pixels} pixels empty in one frame only"
+    );
+}
+
 /// A spot light and the camera inside a closed caster (the demo's `block_1_1`): its walls are
 /// lit from inside, and everything outside it is in its shadow. (The closed volume is built
 /// from the light-facing triangles, and inside a closed mesh there are none: the dark cap

@@ -804,8 +804,18 @@ fn with_depth(out: VolumeOut, in: MainOut) -> VolumeDepthOut {
     return VolumeDepthOut(out.color, out.mask, in.depth.x / in.depth.y);
 }
 
+// The volume passes draw the scene through the infinite projection (the volumes' caps at
+// infinity are never clipped), so they drop what lies beyond the camera's far plane
+// themselves: the picture shows what the maps' passes, clipped at the far plane, show.
+fn discard_beyond_far(p: vec3<f32>) {
+    if ((frame.clip_from_camera * vec4<f32>(p, 1.0)).z < 0.0) {
+        discard;
+    }
+}
+
 // The ambient term; the mask as if no light reached (the lights' passes write where they do).
 fn ambient(in: MainOut) -> VolumeOut {
+    discard_beyond_far(in.camera);
     var out: VolumeOut;
     out.color = vec4<f32>(in.color.rgb * frame.shading.x, 1.0);
     out.mask = vec4<f32>(0.0, 0.0, 0.0, 1.0);
@@ -824,6 +834,7 @@ fn fs_ambient_frag_depth(in: MainOut) -> VolumeDepthOut {
 
 fn volume_direct(in: MainOut, shadowed: bool) -> VolumeOut {
     let s = surface(in, dpdx(in.camera), dpdy(in.camera));
+    discard_beyond_far(in.camera);
     let incidence = gnomon_incidence(slot.light, s.p);
     let n_dot_l_geo = dot(s.n_geo, incidence.to_light);
     // Instances that receive no shadows are lit wherever the stencil says.
