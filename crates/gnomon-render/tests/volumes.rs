@@ -367,6 +367,32 @@ fn several_lights_add_up_each_with_exact_shadows() {
 /// Volumes shade like the shadow maps: the ambient pass plus the light's added direct term
 /// give the colours of the maps' single pass (one-tap lookups), for a caster that receives
 /// shadows and for one that does not (never shadowed, lit once).
+/// The frames of the focused map (`map_size` texels) and of the z-fail volumes, one camera
+/// and light.
+fn focused_and_volumes(
+    renderer: &mut Renderer,
+    scene: &RenderScene,
+    camera: &Camera,
+    light: &Light,
+    map_size: u32,
+    settings: &RenderSettings,
+) -> (gnomon_render::Frame, gnomon_render::Frame) {
+    let (_, map) = common::render(
+        renderer,
+        scene,
+        &gnomon::Focused,
+        camera,
+        light,
+        map_size,
+        settings,
+    );
+    let volumes = renderer
+        .render_volumes(camera, light, settings, StencilMode::ZFail)
+        .unwrap()
+        .frame;
+    (map, volumes)
+}
+
 #[test]
 fn volumes_shade_like_the_maps() {
     for receives in [true, false] {
@@ -386,19 +412,8 @@ fn volumes_shade_like_the_maps() {
             200.0,
         );
         let light = sun(0.5, -1.0, -0.3);
-        let (_, map) = common::render(
-            &mut renderer,
-            &scene,
-            &gnomon::Focused,
-            &camera,
-            &light,
-            2048,
-            &settings,
-        );
-        let volumes = renderer
-            .render_volumes(&camera, &light, &settings, StencilMode::ZFail)
-            .unwrap()
-            .frame;
+        let (map, volumes) =
+            focused_and_volumes(&mut renderer, &scene, &camera, &light, 2048, &settings);
         let channels = map.color.len() / 4 * 3;
         let differing = map
             .color
@@ -423,29 +438,14 @@ fn volumes_shade_like_the_maps() {
 fn the_volumes_end_at_the_far_plane_as_the_maps_do() {
     let scene = tower_scene();
     let mut renderer = common::renderer(&scene);
-    let settings = RenderSettings {
-        width: SIZE,
-        height: SIZE,
-        ..RenderSettings::default()
-    };
+    let settings = common::square_settings(SIZE);
     // Eye 10 m up looking down the ground at 45 degrees: the far plane, 14 m away, cuts the
     // ground across the middle of the picture.
     let eye = DVec3::new(-40.0, 10.0, 0.0);
     let camera = common::square_camera(eye, eye + DVec3::new(10.0, -10.0, 0.0), 1.0, 14.0);
     let light = sun(0.5, -1.0, 0.3);
-    let (_, map) = common::render(
-        &mut renderer,
-        &scene,
-        &gnomon::Focused,
-        &camera,
-        &light,
-        1024,
-        &settings,
-    );
-    let volumes = renderer
-        .render_volumes(&camera, &light, &settings, StencilMode::ZFail)
-        .unwrap()
-        .frame;
+    let (map, volumes) =
+        focused_and_volumes(&mut renderer, &scene, &camera, &light, 1024, &settings);
     let empty = |mask: &[u8]| {
         mask.iter()
             .map(|&m| m == gnomon_render::MASK_EMPTY)
