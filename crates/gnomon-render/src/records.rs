@@ -35,6 +35,7 @@ pub(crate) struct GpuMap {
     pub depth_from_camera: [f32; 4],
     pub rect: [f32; 4],
     pub bias: [f32; 4],
+    pub slope_cap: [f32; 4],
     pub info: [u32; 4],
 }
 
@@ -166,6 +167,17 @@ pub(crate) fn map_record(
             bias.slope_texels as f32,
             (max_slope_world * depth_per_world) as f32,
             bias.normal_offset_texels as f32,
+        ],
+        // A paraboloid map's depth is a distance along each texel's own direction: its cap
+        // stays in world units.
+        slope_cap: [
+            match map.projection {
+                MapProjection::Paraboloid => 0.0,
+                _ => bias.max_slope_texels as f32,
+            },
+            0.0,
+            0.0,
+            0.0,
         ],
         info: [
             slot.layer,

@@ -53,8 +53,15 @@ pub struct DepthBias {
     /// Slope-scaled bias: this many texels' worth of the surface's depth slope.
     pub slope_texels: f64,
     /// Upper limit of the slope-scaled bias, in world units (`None`:
-    /// [`DepthBias::MAX_SLOPE_WORLD`], scaled in small scenes).
+    /// [`DepthBias::MAX_SLOPE_WORLD`], scaled in small scenes); where a map's texels are
+    /// wider than `max_slope_world / max_slope_texels`, the cap is `max_slope_texels` texel
+    /// widths instead.
     pub max_slope_world: Option<f64>,
+    /// The slope bias's cap in texel widths (the texel measured across the light where the
+    /// depth pass draws), when that exceeds `max_slope_world`: a cap in metres alone held the
+    /// slope term to a fraction of a texel in a scene kilometres across (the suite's terrain,
+    /// at 2 to 10 m a texel, was speckled with acne over its slopes).
+    pub max_slope_texels: f64,
     /// Normal offset: the lookup moves this many texels along the geometric normal (scaled
     /// by 1 - N.L, so surfaces facing the light move little). A texel is measured along the
     /// normal's image in the map (the step that moves the lookup one texel), at most the
@@ -69,6 +76,9 @@ impl DepthBias {
     pub const CONSTANT_WORLD: f64 = 0.02;
     /// The default cap of the slope bias in such a scene.
     pub const MAX_SLOPE_WORLD: f64 = 1.0;
+    /// The default cap of the slope bias in texel widths, where that is larger: maps whose
+    /// texels are under a third of [`DepthBias::MAX_SLOPE_WORLD`] keep the metre cap.
+    pub const MAX_SLOPE_TEXELS: f64 = 3.0;
     /// Scenes whose box's diagonal is shorter than this have the defaults scaled by their
     /// diagonal over it.
     pub const FULL_SIZE_DIAGONAL: f64 = 10.0;
@@ -85,13 +95,15 @@ impl DepthBias {
 }
 
 impl Default for DepthBias {
-    /// 2 cm constant, 2 texels of slope (at most 1 m), a 1-texel normal offset; the world
-    /// parts scaled down in scenes under 10 m across.
+    /// 2 cm constant, 2 texels of slope (at most 1 m or 3 texel widths, whichever is
+    /// larger), a 1-texel normal offset; the world parts scaled down in scenes under 10 m
+    /// across.
     fn default() -> Self {
         Self {
             constant_world: None,
             slope_texels: 2.0,
             max_slope_world: None,
+            max_slope_texels: Self::MAX_SLOPE_TEXELS,
             normal_offset_texels: 1.0,
         }
     }

@@ -129,6 +129,7 @@ const NO_BIAS: DepthBias = DepthBias {
     constant_world: Some(0.0),
     slope_texels: 0.0,
     max_slope_world: Some(0.0),
+    max_slope_texels: 0.0,
     normal_offset_texels: 0.0,
 };
 

@@ -86,6 +86,9 @@ struct GnomonMap {
     // x: constant bias (depth units), y: slope scale (texels), z: largest slope bias (depth
     // units), w: normal offset (texels).
     bias: vec4<f32>,
+    // x: the largest slope bias in texel widths across the light, where that exceeds bias.z
+    // (0: bias.z alone); yzw: unused.
+    slope_cap: vec4<f32>,
     // x: array layer, y: flags, z: resolution (texels), w: inset (texels).
     info: vec4<u32>,
 };

@@ -67,6 +67,11 @@ struct DepthOut {
     // once per texel (a CPU rasteriser's depth passes took 1.3 to 1.45 times as long).
     @location(5) @interpolate(flat) bias: vec3<f32>,
     @location(6) @interpolate(flat) paraboloid_scale: f32,
+    // The slope bias's cap in texel widths (x) and the map's depth units per world unit (y),
+    // with the point in view space: the texel's width across the light, where the fragment
+    // lies, is the surface's step between neighbouring texels less its part along the light.
+    @location(7) @interpolate(flat) slope_cap: vec2<f32>,
+    @location(8) camera: vec3<f32>,
 };
 
 // Group 2 of the main passes and of the depth passes with holes: the mesh's alpha (an
@@ -108,6 +113,11 @@ fn depth_out(position: vec3<f32>, instance: CasterInstance, index: u32) -> Depth
     out.map_xy = vec2<f32>(0.0);
     let info = gnomon_shadows.maps[slot.map].info;
     out.bias = gnomon_shadows.maps[slot.map].bias.xyz;
+    out.slope_cap = vec2<f32>(
+        gnomon_shadows.maps[slot.map].slope_cap.x,
+        length(gnomon_shadows.maps[slot.map].depth_from_camera.xyz),
+    );
+    out.camera = p.xyz;
     out.paraboloid_scale = 0.0;
     out.clip = gnomon_shadows.maps[slot.map].clip_from_camera * p;
     out.depth = dot(gnomon_shadows.maps[slot.map].depth_from_camera, p);
@@ -159,7 +169,7 @@ fn paraboloid_depth(in: DepthOut) -> vec2<f32> {
 fn biased_depth(in: DepthOut) -> f32 {
     let paraboloid = in.paraboloid_scale > 0.0;
     let exact = select(vec2<f32>(in.depth, 1.0), paraboloid_depth(in), paraboloid);
-    let depth = with_bias(exact.x, in.bias);
+    let depth = with_capped_bias(exact.x, in.bias, texel_slope_cap(exact.x, in));
     if (exact.y == 0.0) {
         discard;
     }
@@ -170,8 +180,25 @@ fn biased_depth(in: DepthOut) -> f32 {
 // depth change across one texel (the pass renders texels). Call it before any discard (it
 // takes screen derivatives).
 fn with_bias(depth: f32, bias: vec3<f32>) -> f32 {
+    return with_capped_bias(depth, bias, bias.z);
+}
+
+// The same with the slope term clamped to `cap` (depth units).
+fn with_capped_bias(depth: f32, bias: vec3<f32>, cap: f32) -> f32 {
     let slope = max(abs(dpdx(depth)), abs(dpdy(depth)));
-    return clamp(depth + bias.x + min(bias.y * slope, bias.z), 0.0, 1.0);
+    return clamp(depth + bias.x + min(bias.y * slope, cap), 0.0, 1.0);
+}
+
+// The slope bias's clamp at a depth pass's fragment: bias.z, raised to in.slope_cap.x texel
+// widths where that is larger. The texel's width across the light is the surface's step to
+// the next texel less its part along the light (the depth's step over the depth units per
+// world unit). Takes screen derivatives.
+fn texel_slope_cap(depth: f32, in: DepthOut) -> f32 {
+    let along = vec2<f32>(dpdx(depth), dpdy(depth)) / max(in.slope_cap.y, 1e-30);
+    let dx = dpdx(in.camera);
+    let dy = dpdy(in.camera);
+    let across_sq = max(dot(dx, dx) - along.x * along.x, dot(dy, dy) - along.y * along.y);
+    return max(in.bias.z, in.slope_cap.x * sqrt(max(across_sq, 0.0)) * in.slope_cap.y);
 }
 
 @fragment
