@@ -26,23 +26,36 @@ fn street() -> RenderScene {
     RenderScene { meshes, instances }
 }
 
+/// A camera at `eye` looking at `target`, up +Y, `fov_y_degrees` high, with the aspect of a
+/// `size` image and the `(near, far)` planes.
+fn camera(
+    eye: DVec3,
+    target: DVec3,
+    fov_y_degrees: f64,
+    size: (u32, u32),
+    (near, far): (f64, f64),
+) -> gnomon::Camera {
+    let lens = gnomon::Lens {
+        fov_y_degrees,
+        aspect: size.0 as f64 / size.1 as f64,
+        near,
+        far,
+    };
+    gnomon::Camera::look_at(eye, target, DVec3::Y, lens).unwrap()
+}
+
 #[test]
 fn nothing_is_shadowed_beyond_the_shadow_distance() {
     let scene = street();
     let mut renderer = common::renderer(&scene);
     let (width, height) = (320, 240);
-    let camera = gnomon::Camera::look_at(
+    let camera = camera(
         DVec3::new(0.0, 15.0, 5.0),
         DVec3::new(0.0, 0.0, -100.0),
-        DVec3::Y,
-        gnomon::Lens {
-            fov_y_degrees: 50.0,
-            aspect: width as f64 / height as f64,
-            near: 0.5,
-            far: 300.0,
-        },
-    )
-    .unwrap();
+        50.0,
+        (width, height),
+        (0.5, 300.0),
+    );
     // The sun from the right: the posts' shadows fall across the street toward -x.
     let light = Light::Directional(DirectionalLight::new(DVec3::new(-1.0, -0.7, 0.1)).unwrap());
     let settings = RenderSettings {
@@ -141,18 +154,13 @@ fn the_ground_at_the_edge_of_a_cascade_keeps_its_shadow_under_a_low_sun() {
     };
     let mut renderer = common::renderer(&scene);
     let (width, height) = (320, 180);
-    let camera = gnomon::Camera::look_at(
+    let camera = camera(
         DVec3::new(0.0, 1.7, 0.0),
         DVec3::new(0.0, 1.7, -100.0),
-        DVec3::Y,
-        gnomon::Lens {
-            fov_y_degrees: 60.0,
-            aspect: width as f64 / height as f64,
-            near: 0.1,
-            far: 100.0,
-        },
-    )
-    .unwrap();
+        60.0,
+        (width, height),
+        (0.1, 100.0),
+    );
     // Travelling toward the camera, 6.5 degrees down: the wall's shadow reaches past it.
     let elevation = 6.5f64.to_radians();
     let light = Light::Directional(
