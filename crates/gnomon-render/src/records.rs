@@ -168,17 +168,7 @@ pub(crate) fn map_record(
             (max_slope_world * depth_per_world) as f32,
             bias.normal_offset_texels as f32,
         ],
-        // A paraboloid map's depth is a distance along each texel's own direction: its cap
-        // stays in world units.
-        slope_cap: [
-            match map.projection {
-                MapProjection::Paraboloid => 0.0,
-                _ => bias.max_slope_texels as f32,
-            },
-            0.0,
-            0.0,
-            0.0,
-        ],
+        slope_cap: [bias.max_slope_texels as f32, 0.0, 0.0, 0.0],
         info: [
             slot.layer,
             match map.projection {

@@ -87,7 +87,7 @@ struct GnomonMap {
     // units), w: normal offset (texels).
     bias: vec4<f32>,
     // x: the largest slope bias in texel widths across the light, where that exceeds bias.z
-    // (0: bias.z alone); yzw: unused.
+    // (0: bias.z alone; a paraboloid map's texel measured across its own ray); yzw: unused.
     slope_cap: vec4<f32>,
     // x: array layer, y: flags, z: resolution (texels), w: inset (texels).
     info: vec4<u32>,

@@ -67,9 +67,10 @@ struct DepthOut {
     // once per texel (a CPU rasteriser's depth passes took 1.3 to 1.45 times as long).
     @location(5) @interpolate(flat) bias: vec3<f32>,
     @location(6) @interpolate(flat) paraboloid_scale: f32,
-    // The slope bias's cap in texel widths (x) and the map's depth units per world unit (y),
-    // with the point in view space: the texel's width across the light, where the fragment
-    // lies, is the surface's step between neighbouring texels less its part along the light.
+    // The slope bias's cap in texel widths (x) and the map's depth units per world unit (y;
+    // a paraboloid map's: its texel's angle, see paraboloid_slope_cap), with the point in view
+    // space: the texel's width across the light, where the fragment lies, is the surface's
+    // step between neighbouring texels less its part along the light.
     @location(7) @interpolate(flat) slope_cap: vec2<f32>,
     @location(8) camera: vec3<f32>,
 };
@@ -134,8 +135,25 @@ fn depth_out(position: vec3<f32>, instance: CasterInstance, index: u32) -> Depth
         out.q = q;
         out.map_xy = xy;
         out.paraboloid_scale = gnomon_paraboloid_scale(info);
+        out.slope_cap.y = paraboloid_texel_angle(info);
     }
     return out;
+}
+
+// A paraboloid map's texel width as an angle at its centre, times 1 + |a|^2 (a: the place in
+// the map over its scale): the map is a stereographic projection of the hemisphere, a
+// direction at angle theta from the axis at |a| = tan(theta / 2), so one texel (2 / resolution
+// of the map's [-1, 1]) spans 4 / (resolution scale (1 + |a|^2)) radians, in every direction
+// (the projection is conformal).
+fn paraboloid_texel_angle(info: vec4<u32>) -> f32 {
+    return 4.0 / (f32(info.z) * gnomon_paraboloid_scale(info));
+}
+
+// A paraboloid map's slope bias's clamp at a texel whose ray, along the place a, hits at
+// distance `depth` (in units of the light's range: the map's depth): bias.z, raised to
+// `slope_cap.x` texel widths across the ray there (`slope_cap.y`: paraboloid_texel_angle).
+fn paraboloid_slope_cap(depth: f32, a: vec2<f32>, bias: vec3<f32>, slope_cap: vec2<f32>) -> f32 {
+    return max(bias.z, slope_cap.x * depth * slope_cap.y / (1.0 + dot(a, a)));
 }
 
 // A paraboloid map's depth at a fragment: the distance, along the direction of the
@@ -169,21 +187,19 @@ fn paraboloid_depth(in: DepthOut) -> vec2<f32> {
 fn biased_depth(in: DepthOut) -> f32 {
     let paraboloid = in.paraboloid_scale > 0.0;
     let exact = select(vec2<f32>(in.depth, 1.0), paraboloid_depth(in), paraboloid);
-    let depth = with_capped_bias(exact.x, in.bias, texel_slope_cap(exact.x, in));
+    let a = in.map_xy / max(in.paraboloid_scale, 1e-30);
+    let cap = select(texel_slope_cap(exact.x, in), paraboloid_slope_cap(exact.x, a, in.bias, in.slope_cap), paraboloid);
+    let depth = with_capped_bias(exact.x, in.bias, cap);
     if (exact.y == 0.0) {
         discard;
     }
     return depth;
 }
 
-// `depth` with the map's bias (x: constant, y: slope scale, z: slope clamp): the slope is the
-// depth change across one texel (the pass renders texels). Call it before any discard (it
-// takes screen derivatives).
-fn with_bias(depth: f32, bias: vec3<f32>) -> f32 {
-    return with_capped_bias(depth, bias, bias.z);
-}
-
-// The same with the slope term clamped to `cap` (depth units).
+// `depth` with the map's bias (x: constant, y: slope scale; z: slope clamp, here `cap` in
+// depth units, which the callers raise with the texels): the slope is the depth change across
+// one texel (the pass renders texels). Call it before any discard (it takes screen
+// derivatives).
 fn with_capped_bias(depth: f32, bias: vec3<f32>, cap: f32) -> f32 {
     let slope = max(abs(dpdx(depth)), abs(dpdy(depth)));
     return clamp(depth + bias.x + min(bias.y * slope, cap), 0.0, 1.0);
@@ -276,6 +292,8 @@ struct ParaboloidOut {
     @location(6) @interpolate(flat) uv2: vec2<f32>,
     // The map's bias (its record's, read once per vertex rather than per texel).
     @location(7) @interpolate(flat) bias: vec3<f32>,
+    // The slope bias's cap in texel widths and the texel's angle (paraboloid_slope_cap).
+    @location(8) @interpolate(flat) slope_cap: vec2<f32>,
 };
 
 // Corner `c` (0, 1, 2) of a triangle that covers the map's image of the triangle whose corners
@@ -452,6 +470,7 @@ fn vs_paraboloid(@builtin(vertex_index) vertex: u32, instance: CasterInstance, @
     out.weight_2 = across;
     out.object = index + 1u;
     out.bias = map.bias.xyz;
+    out.slope_cap = vec2<f32>(map.slope_cap.x, paraboloid_texel_angle(map.info));
     out.uv01 = vec4<f32>(uv[0], uv[1]);
     out.uv2 = uv[2];
     return out;
@@ -480,7 +499,7 @@ fn paraboloid_hit(in: ParaboloidOut) -> vec4<f32> {
 // (y, z); discards a texel whose ray misses the triangle.
 fn paraboloid_texel(in: ParaboloidOut) -> vec3<f32> {
     let hit = paraboloid_hit(in);
-    let depth = with_bias(hit.x, in.bias);
+    let depth = with_capped_bias(hit.x, in.bias, paraboloid_slope_cap(hit.x, in.a, in.bias, in.slope_cap));
     if (hit.w == 0.0) {
         discard;
     }
