@@ -1136,7 +1136,7 @@ pub(crate) fn walk_casters<I: CasterImages>(
 /// The tip of a spot light's frustum: the part nearer to the light than its near plane
 /// (`planes[0]` of a walk's cutting planes) and inside the others, which the near plane clips
 /// from the map.
-struct NearTip {
+pub(crate) struct NearTip {
     /// The cutting planes with the near plane flipped: their inside is the tip.
     planes: Vec<Plane>,
     /// The corners (least, greatest) of the box around the tip's part of the scene box;
@@ -1149,7 +1149,7 @@ struct NearTip {
 }
 
 impl NearTip {
-    fn new(scene: &SceneBounds, cut_planes: &[Plane], tolerance: f64) -> Self {
+    pub(crate) fn new(scene: &SceneBounds, cut_planes: &[Plane], tolerance: f64) -> Self {
         let mut planes = cut_planes.to_vec();
         planes[0] = cut_planes[0].flipped();
         let mut corners = Vec::new();
@@ -1177,7 +1177,7 @@ impl NearTip {
     /// the caster crosses): the part the near plane clips away. A box that crosses the near
     /// plane only outside the light's frustum loses nothing, and nor does one that holds the
     /// whole tip (a lamp inside a box: its walls lie beyond the near plane).
-    fn clips(&mut self, caster: &Aabb, mask: u32, tolerance: f64) -> bool {
+    pub(crate) fn clips(&mut self, caster: &Aabb, mask: u32, tolerance: f64) -> bool {
         let Some((lo, hi)) = self.bounds else {
             return false;
         };

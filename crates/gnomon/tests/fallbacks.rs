@@ -2,8 +2,8 @@
 
 use glam::DVec3;
 use gnomon::{
-    Aabb, Camera, DirectionalLight, Fallback, Focused, Lens, Light, LightFrameKind, MapSettings,
-    SceneBounds, SpotLight, Uniform, compute_setup,
+    Aabb, Camera, DirectionalLight, Fallback, Focused, Lens, Light, LightFrameKind, Lispsm,
+    MapSettings, Psm, SceneBounds, ShadowTechnique, SpotLight, Uniform, compute_setup,
 };
 
 fn lens() -> Lens {
@@ -171,6 +171,34 @@ fn caster_reaching_in_front_of_the_spot_near_plane_is_reported() {
     let setup = focused(&camera, &spot, &scene);
     assert_eq!(setup.diagnostics.casters_clipped_by_light_near, 1);
     assert!(setup.diagnostics.relevant_casters >= 2);
+    // Every technique that fits the spot's frustum counts it: the warps' own maps (no limit,
+    // so that they are not the focused map they fall back to) and every technique as it
+    // comes. (The uniform map covers the whole cone and walks no casters.)
+    let unlimited: [&dyn ShadowTechnique; 2] = [
+        &Psm {
+            limit: false,
+            ..Psm::default()
+        },
+        &Lispsm {
+            limit: false,
+            ..Lispsm::default()
+        },
+    ];
+    let every = gnomon::Technique::all();
+    let fitted = every
+        .iter()
+        .filter(|t| t.takes(&spot) && t.name() != "uniform")
+        .map(|t| t as &dyn ShadowTechnique);
+    for technique in unlimited.into_iter().chain(fitted) {
+        let setup =
+            compute_setup(technique, &camera, &spot, &scene, MapSettings::default()).unwrap();
+        assert_eq!(
+            setup.diagnostics.casters_clipped_by_light_near,
+            1,
+            "{}",
+            technique.name()
+        );
+    }
     // A wall beside the lamp crosses the near plane's height, but a metre from the light,
     // where the frustum is a hair's width: nothing of it is clipped, and nothing is counted.
     let wall = Aabb::new(DVec3::new(1.0, 0.0, -3.0), DVec3::new(1.5, 20.0, 3.0)).unwrap();

@@ -219,15 +219,17 @@ impl LimitedWarp for Psm {
             front.then(|| DVec3::new(x / w, y / w, l))
         })
         .with_max_z(receivers_z);
-        // Casters cut to B's depth range (planes perpendicular to the view) and, for a
-        // perspective map in PPS, to the front of its centre: d = axis . (P - l W) >= d_min W / 2
-        // is a plane of homogeneous PPS coordinates, a world plane through pps_from_world.
-        // A spot light's frustum cuts them too (it keeps them in front of the light).
-        let mut slab = vec![
+        // Casters cut to a spot light's frustum (its near plane first: the walk counts the
+        // casters it clips; the frustum keeps them in front of the light), to B's depth range
+        // (planes perpendicular to the view) and, for a perspective map in PPS, to the front
+        // of its centre: d = axis . (P - l W) >= d_min W / 2 is a plane of homogeneous PPS
+        // coordinates, a world plane through pps_from_world.
+        let mut slab = basis.caster_planes.clone();
+        let light_near_first = !slab.is_empty() && basis.frame.light_planes.is_some();
+        slab.extend([
             Plane::through_point(eye + forward * b0, forward),
             Plane::through_point(eye + forward * b1, -forward),
-        ];
-        slab.extend_from_slice(&basis.caster_planes);
+        ]);
         if let Projector::Point { frame, position } = &projector {
             // Every relevant point has d >= the smallest d over B and the receivers; cutting
             // at half of it keeps them all and keeps cut vertices off the singular plane d = 0.
@@ -269,14 +271,21 @@ impl LimitedWarp for Psm {
             caster: |i: usize| box_on_map(&scene.casters()[i]),
             point: on_map,
         };
+        let walked = walk_casters(
+            scene,
+            &images,
+            &receivers,
+            &slab,
+            light_near_first,
+            tolerance,
+        );
+        walked.count_into(scene, &mut diagnostics);
         let WalkedCasters {
             extents: casters,
             relevant,
             ..
-        } = walk_casters(scene, &images, &receivers, &slab, false, tolerance);
+        } = walked;
         let casters_z = casters.min.z;
-        diagnostics.relevant_casters = relevant;
-        diagnostics.culled_casters = scene.casters().len() - relevant;
         let (region, linear) = if relevant == 0 {
             diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
             (

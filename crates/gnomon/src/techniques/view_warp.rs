@@ -30,7 +30,7 @@
 use glam::{DMat4, DVec3, DVec4};
 
 use crate::error::SetupError;
-use crate::focus::{BoxSide, LightCorners, ParallelBoxes, box_cut_vertices, classify_box};
+use crate::focus::{BoxSide, LightCorners, NearTip, ParallelBoxes, box_cut_vertices, classify_box};
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, PERSPECTIVE_CLIP_Z, Projector, pad};
@@ -287,10 +287,10 @@ enum WarpCasters {
     /// light with nothing else cutting them).
     Tree(TreeCasters),
     /// The vertices of each caster's cut part, as ranges of `points`, with their least
-    /// linear depth.
+    /// linear depth and whether a spot light's near plane clips part of the caster away.
     Points {
         points: Vec<DVec3>,
-        casters: Vec<(u32, u32, f64)>,
+        casters: Vec<(u32, u32, f64, bool)>,
     },
 }
 
@@ -310,6 +310,8 @@ struct WarpedCasters {
     extents: Extents,
     linear_min: f64,
     relevant: usize,
+    /// How many of the relevant casters a spot light's near plane clips.
+    near_clipped: usize,
 }
 
 impl TreeCasters {
@@ -352,6 +354,7 @@ impl TreeCasters {
             },
             linear_min: f64::INFINITY,
             relevant: 0,
+            near_clipped: 0,
         };
         // Nodes with their light-space boxes.
         let mut stack = Vec::with_capacity(64);
@@ -548,24 +551,36 @@ impl WarpSpace {
                 })
             }
             _ => {
-                // Cut each caster by the light's frustum (and a side), and B's Y range: all
-                // world planes.
+                // Cut each caster by the light's frustum (its near plane first) and a side,
+                // and B's Y range: all world planes.
                 let mut planes = basis.caster_planes.clone();
+                let light_near_first = !planes.is_empty() && basis.frame.light_planes.is_some();
                 planes.push(space.y_plane(body_light.min.y, true));
                 planes.push(space.y_plane(body_light.max.y, false));
                 let mut points = Vec::new();
                 let mut casters = Vec::new();
+                let mut near_tip: Option<NearTip> = None;
                 for caster in input.scene.casters() {
                     let start = points.len();
-                    match classify_box(caster, &planes, tolerance) {
+                    let near_clipped = match classify_box(caster, &planes, tolerance) {
                         BoxSide::Outside => continue,
-                        BoxSide::Inside => points.extend_from_slice(&caster.corners()),
+                        BoxSide::Inside => {
+                            points.extend_from_slice(&caster.corners());
+                            false
+                        }
                         BoxSide::Straddles(mask) => {
                             if !box_cut_vertices(caster, &planes, mask, tolerance, &mut points) {
                                 continue;
                             }
+                            light_near_first
+                                && mask & 1 != 0
+                                && near_tip
+                                    .get_or_insert_with(|| {
+                                        NearTip::new(input.scene, &planes, tolerance)
+                                    })
+                                    .clips(caster, mask, tolerance)
                         }
-                    }
+                    };
                     let z_min = points[start..]
                         .iter()
                         .map(|p| linear(*p))
@@ -574,7 +589,7 @@ impl WarpSpace {
                         for p in &mut points[start..] {
                             *p = space.light(*p);
                         }
-                        casters.push((start as u32, points.len() as u32, z_min));
+                        casters.push((start as u32, points.len() as u32, z_min, near_clipped));
                     } else {
                         points.truncate(start);
                     }
@@ -669,11 +684,13 @@ impl WarpSpace {
                     extents: Extents::EMPTY,
                     linear_min: f64::INFINITY,
                     relevant: 0,
+                    near_clipped: 0,
                 };
-                for &(start, end, z_min) in casters {
+                for &(start, end, z_min, near_clipped) in casters {
                     let warped = warp.points_extents(&points[start as usize..end as usize]);
                     if receivers.xy_overlaps(&warped, xy_slack) {
                         out.relevant += 1;
+                        out.near_clipped += usize::from(near_clipped);
                         out.extents = out.extents.union(&warped);
                         out.linear_min = out.linear_min.min(z_min);
                     }
@@ -751,9 +768,11 @@ pub(crate) fn view_warp_setup(
         extents: casters,
         linear_min: casters_z,
         relevant,
+        near_clipped,
     } = ws.casters_under(input.scene, &warp, &receivers);
     diagnostics.relevant_casters = relevant;
     diagnostics.culled_casters = ws.caster_count - relevant;
+    diagnostics.casters_clipped_by_light_near = near_clipped;
 
     // Unit cube clipping in warped space; B bounds the near side as for the focused map.
     let (region, linear_range) = if relevant == 0 {
