@@ -5,9 +5,9 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use glam::DVec3;
 use gnomon::{
-    Camera, CascadeFit, CascadeSplit, DirectionalLight, Lens, Light, MapSettings, PerspectiveMap,
-    PointLight, SceneBounds, ShadowSetup, SpotLight, Technique, ViewSamples, compute_setup,
-    compute_setup_with_samples,
+    Camera, CascadeFit, CascadeSelect, CascadeSplit, DirectionalLight, Lens, Light, MapSettings,
+    PerspectiveMap, PointLight, SceneBounds, ShadowSetup, SpotLight, Technique, ViewSamples,
+    compute_setup, compute_setup_with_samples,
 };
 use gnomon_render::RenderScene;
 use gnomon_scene::{NamedView, ViewLight};
@@ -290,6 +290,17 @@ pub enum CascadeFitArg {
     Psm,
 }
 
+/// How a point picks among the cascades' maps on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CascadeSelectArg {
+    /// Coverage for stable cascades, view depth for the others.
+    Auto,
+    /// The map of the slice the point's view depth falls in (as Bevy, Godot and Unity do).
+    Depth,
+    /// The first (finest) map whose square holds the point (stable cascades only).
+    Coverage,
+}
+
 /// The perspective map of SPPSM on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum SppsmWithArg {
@@ -375,6 +386,11 @@ pub struct TechniqueParams {
     /// shadow-map / sqrt(K) on a side) instead of each having that size.
     #[arg(long)]
     pub equal_texels: bool,
+    /// Cascades: how a point picks its map (default auto: stable cascades by coverage, the
+    /// nearest map whose square holds it, which reads finer texels than its view depth's
+    /// map; fitted cascades by view depth, since a fitted map holds only its slice).
+    #[arg(long, value_enum)]
+    pub cascade_select: Option<CascadeSelectArg>,
 }
 
 /// The `gnomon render` command that draws named view `view` of the scene given by
@@ -511,6 +527,7 @@ pub fn options_read_by(technique: &Technique) -> Vec<&'static str> {
                 "--cascade-blend",
                 "--stable",
                 "--equal-texels",
+                "--cascade-select",
             ];
             // Stable cascades fit a sphere per slice: no fit technique, none of its options.
             if c.stable {
@@ -622,6 +639,17 @@ impl TechniqueParams {
         }
         if self.equal_texels {
             flags.push(("--equal-texels", "--equal-texels".to_string()));
+        }
+        if let Some(select) = self.cascade_select {
+            flags.push((
+                "--cascade-select",
+                format!(
+                    "--cascade-select {}",
+                    select
+                        .to_possible_value()
+                        .map_or("auto".into(), |v| v.get_name().to_string())
+                ),
+            ));
         }
         flags
     }
@@ -736,6 +764,13 @@ impl TechniqueParams {
                 t.blend = self.cascade_blend.unwrap_or(t.blend);
                 t.stable |= self.stable;
                 t.equal_texels |= self.equal_texels;
+                if let Some(select) = self.cascade_select {
+                    t.select = match select {
+                        CascadeSelectArg::Auto => CascadeSelect::Auto,
+                        CascadeSelectArg::Depth => CascadeSelect::ViewDepth,
+                        CascadeSelectArg::Coverage => CascadeSelect::Coverage,
+                    };
+                }
                 Technique::Cascades(t)
             }
             other => other,

@@ -46,7 +46,9 @@ pub const PARABOLOID_CUBE_TEXELS: &str = "paraboloid-cube-texels";
 /// `compare`'s cascade rows, each four cascades sharing the texels of one map (what the
 /// engines ship, and ours), with the options that give them:
 /// - `cascades-stable`: stable focused cascades, the first slice to 10 m then logarithmic to
-///   the far plane, a blend band of 0.2 (Bevy's defaults, as Godot and Unity fit them);
+///   the far plane, a blend band of 0.2 (Bevy's defaults, as Godot and Unity fit them), each
+///   point reading the finest map whose square holds it (stable cascades' default; Bevy picks
+///   by view depth, `--cascade-select depth`);
 /// - `cascades-lispsm`: LiSPSM in each cascade, the practical split with lambda 0.5, a band
 ///   of 0.1 (Filament's way);
 /// - `cascades-best`: gnomon's best measured configuration on the demo's named views:

@@ -39,6 +39,7 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
                 "view_depths": c.depths(),
                 "blend": c.blend,
                 "fade_start": c.fade_start,
+                "select": if c.by_coverage { "coverage" } else { "view_depth" },
             }),
             MapSelection::DualParaboloid { position, axis } => json!({
                 "kind": "dual_paraboloid",
@@ -109,10 +110,15 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
         let depths: Vec<String> = c.depths().iter().map(|d| format!("{d:.3}")).collect();
         let _ = writeln!(
             s,
-            "selection: cascades over view depths {} (map i from z_i to z_i+1), blend {} of a slice, fade from {:.3}",
+            "selection: cascades over view depths {} (map i from z_i to z_i+1), blend {} of a slice, fade from {:.3}{}",
             depths.join(", "),
             c.blend,
-            c.fade_start
+            c.fade_start,
+            if c.by_coverage {
+                "; a point reads the first map whose square holds it (coverage)"
+            } else {
+                ""
+            }
         );
     }
     if let MapSelection::Plane { plane_world: p } = setup.selection {

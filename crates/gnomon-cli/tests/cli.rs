@@ -2127,6 +2127,19 @@ fn cascades_on_the_command_line() {
         .map(|v| v.as_f64().unwrap())
         .collect();
     assert_eq!(depths[1..3], [20.0, 80.0]);
+    assert_eq!(json["selection"]["select"], "view_depth", "{json}");
+    // Stable cascades pick by coverage unless asked for view depth.
+    for (extra, select) in [
+        (vec![], "coverage"),
+        (vec!["--cascade-select", "depth"], "view_depth"),
+        (vec!["--cascade-select", "coverage"], "coverage"),
+    ] {
+        let mut args = vec!["setup", "--technique", "cascades", "--json", "--stable"];
+        args.extend(view);
+        args.extend(&extra);
+        let json: Value = serde_json::from_slice(&gnomon_ok(&args).stdout).unwrap();
+        assert_eq!(json["selection"]["select"], select, "{extra:?}: {json}");
+    }
 
     let dir = temp_dir("cascades");
     let out = dir.join("tinted.png");
@@ -2161,6 +2174,11 @@ fn cascades_on_the_command_line() {
             vec!["--stable", "--cascade-fit", "lispsm"],
             "--cascade-fit does nothing",
         ),
+        (
+            vec!["--cascade-select", "coverage"],
+            "only when they are stable",
+        ),
+        (vec!["--cascade-select", "sideways"], "coverage"),
     ] {
         let mut args = vec!["setup", "--technique", "cascades"];
         args.extend(view);

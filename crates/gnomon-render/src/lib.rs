@@ -100,4 +100,10 @@ mod tests {
         assert!((wgsl_constant("GNOMON_PARABOLOID_RIM") + margin.sin()).abs() < 1e-9);
         assert!((1.0 / (0.5 * (90f64.to_radians() + margin)).tan() - scale).abs() < 1e-9);
     }
+
+    #[test]
+    fn the_shader_s_cascade_cover_matches_the_core_s() {
+        let margin = wgsl_constant("GNOMON_COVER_MARGIN_TEXELS");
+        assert_eq!(margin, gnomon::CascadeSlices::COVER_MARGIN_TEXELS as f64);
+    }
 }

@@ -23,6 +23,7 @@ pub(crate) const SELECT_SINGLE: u32 = 0;
 pub(crate) const SELECT_PLANE: u32 = 1;
 pub(crate) const SELECT_CASCADES: u32 = 2;
 pub(crate) const SELECT_CUBE: u32 = 3;
+pub(crate) const SELECT_CASCADES_BY_COVER: u32 = 4;
 /// `GnomonMap.info.y`.
 pub(crate) const MAP_PERSPECTIVE: u32 = 1;
 pub(crate) const MAP_PARABOLOID: u32 = 2;
@@ -242,7 +243,12 @@ pub(crate) fn light_record(
             params[3] = row_in_camera(c.depth_row_world, world_from_camera)
                 .as_vec4()
                 .to_array();
-            SELECT_CASCADES
+            // By coverage, the shader reads each map's square from its record.
+            if c.by_coverage {
+                SELECT_CASCADES_BY_COVER
+            } else {
+                SELECT_CASCADES
+            }
         }
         Some((_, MapSelection::CubeFaces(faces), n)) if n == faces.faces().len() => {
             // params[0..3].xyz: the world axes x, y, z in view space (a direction's major

@@ -1,7 +1,7 @@
 //! Cascades in the renderer: shadows end at the shadow distance (nothing beyond it is
 //! shadowed; before it the one-tap mask agrees with the oracle, in the last 10% too, where
-//! only the picture fades), and each pixel reads the
-//! map of its slice (the tinted image changes colour at the slices' view depths).
+//! only the picture fades), the ground at a cascade's edge keeps its shadow under a low sun,
+//! and stable cascades' pixels read the finest map that holds them (the tint shows the map).
 
 mod common;
 
@@ -218,4 +218,114 @@ fn the_ground_at_the_edge_of_a_cascade_keeps_its_shadow_under_a_low_sun() {
             "{lit} of {ground} shadowed ground pixels read lit"
         );
     }
+}
+
+/// Stable cascades picked by coverage: each ground pixel reads the map the core picks for its
+/// point (`MapSelection::map_for`, shown by the tint), which for a good share of the pixels is
+/// a nearer slice's (finer) map than their view depth's, and the one-tap mask agrees with the
+/// oracle.
+#[test]
+fn stable_cascades_read_the_finest_map_that_holds_a_point() {
+    let scene = street();
+    let mut renderer = common::renderer(&scene);
+    let (width, height) = (320, 240);
+    let camera = camera(
+        DVec3::new(0.0, 15.0, 5.0),
+        DVec3::new(0.0, 0.0, -100.0),
+        50.0,
+        (width, height),
+        (0.5, 300.0),
+    );
+    let light = Light::Directional(DirectionalLight::new(DVec3::new(-1.0, -0.7, 0.1)).unwrap());
+    let technique = Technique::Cascades(Cascades {
+        stable: true,
+        blend: 0.0,
+        ..Cascades::default()
+    });
+    let settings = RenderSettings {
+        width,
+        height,
+        ..RenderSettings::default()
+    };
+    let tinted = RenderSettings {
+        tint: true,
+        ..settings
+    };
+    let (setup, frame) = common::render(
+        &mut renderer,
+        &scene,
+        &technique,
+        &camera,
+        &light,
+        1024,
+        &tinted,
+    );
+    let MapSelection::Cascades(slices) = setup.selection else {
+        panic!("{:?}", setup.selection);
+    };
+    assert!(slices.by_coverage, "stable cascades pick by coverage");
+    // The shader's palette for maps 0 to 3, as directions in colour space.
+    let palette = [
+        [0.55, 0.7, 1.0],
+        [1.0, 0.55, 0.5],
+        [0.55, 1.0, 0.55],
+        [1.0, 0.9, 0.45],
+    ]
+    .map(|c| DVec3::from_array(c).normalize());
+    let tan_y = (25.0f64).to_radians().tan();
+    let (mut ground, mut agree, mut finer) = (0, 0, 0);
+    for y in 0..height {
+        for x in 0..width {
+            let i = (y * width + x) as usize;
+            let ndc_x = (2.0 * x as f64 + 1.0) / width as f64 - 1.0;
+            let ndc_y = 1.0 - (2.0 * y as f64 + 1.0) / height as f64;
+            let d = camera.forward()
+                + camera.right() * (ndc_x * tan_y * camera.lens().aspect)
+                + camera.up() * (ndc_y * tan_y);
+            let t = -camera.eye().y / d.y;
+            let p = camera.eye() + d * t;
+            // Lit ground on the street (|x| < 30) clear of the posts (they stand at x = 2 to
+            // 4), within the shadow distance.
+            if d.y >= 0.0 || p.x.abs() > 30.0 || p.x > 1.0 || t > 290.0 || frame.mask[i] != MASK_LIT
+            {
+                continue;
+            }
+            let px = &frame.color[4 * i..4 * i + 3];
+            let colour = DVec3::new(px[0] as f64, px[1] as f64, px[2] as f64).normalize();
+            let read = (0..setup.maps.len())
+                .max_by(|a, b| colour.dot(palette[*a]).total_cmp(&colour.dot(palette[*b])))
+                .unwrap();
+            let expected = setup.map_for(p).unwrap();
+            ground += 1;
+            agree += usize::from(read == expected);
+            finer += usize::from(expected < slices.slice_of(t));
+        }
+    }
+    println!("{agree} of {ground} ground pixels read the core's map, {finer} a finer one");
+    assert!(ground > 10_000, "{ground}");
+    assert!(agree * 1000 >= ground * 995, "{agree} of {ground}");
+    assert!(finer * 10 >= ground, "{finer} of {ground}");
+    // The one-tap mask (untinted) against the oracle, over the interior pixels.
+    let (_, frame) = common::render(
+        &mut renderer,
+        &scene,
+        &technique,
+        &camera,
+        &light,
+        1024,
+        &settings,
+    );
+    let oracle = common::oracle(&scene, &camera, &light, width, height);
+    let (mut judged, mut same) = (0, 0);
+    for i in 0..frame.mask.len() {
+        if common::interior_at_height(&oracle, i, 0.0) {
+            judged += 1;
+            same += usize::from(frame.mask[i] == oracle.mask[i]);
+        }
+    }
+    println!("{same} of {judged} interior ground pixels agree with the oracle");
+    assert!(
+        judged > 10_000 && same * 100 >= judged * 99,
+        "{same} of {judged}"
+    );
 }

@@ -196,7 +196,7 @@ fn view_axis_dp_ds_of(
 ) -> Result<f64, SetupError> {
     let z = check_scalar("z", z)?.clamp(config.z_near, config.z_far);
     let map = selection
-        .map_for(DVec3::new(0.0, 0.0, -z))
+        .map_for(maps, DVec3::new(0.0, 0.0, -z))
         .and_then(|k| maps.get(k))
         .ok_or(SetupError::Unmeasurable {
             what: "the setup has no map for the view axis",

@@ -106,6 +106,9 @@ pub enum SetupError {
         /// The technique.
         technique: &'static str,
     },
+    /// Cascades picked by coverage that are not stable: a fitted cascade's map holds only its
+    /// slice's depths and casters.
+    CoverageNeedsStable,
     /// The technique is for point lights only (`cube`).
     NeedsPointLight {
         /// The technique.
@@ -208,6 +211,10 @@ impl fmt::Display for SetupError {
             SetupError::PointLightUnsupported { technique } => write!(
                 f,
                 "technique {technique} has several maps per light and does not take point lights (use cube, focused, lispsm, psm, tsm, xpsm or uniform)"
+            ),
+            SetupError::CoverageNeedsStable => write!(
+                f,
+                "cascades pick a map by coverage only when they are stable (a fitted cascade's map holds only its slice)"
             ),
             SetupError::NeedsPointLight { technique } => {
                 write!(f, "technique {technique} needs a point light")

@@ -180,7 +180,8 @@ pub enum MapSelection {
         /// The plane, world space.
         plane_world: DVec4,
     },
-    /// One map per slice of the view by depth along the camera's forward axis (cascades).
+    /// One map per slice of the view by depth along the camera's forward axis (cascades);
+    /// stable cascades may pick by coverage instead ([`CascadeSlices::by_coverage`]).
     Cascades(CascadeSlices),
     /// A point light's dual paraboloid maps: `maps[0]` is the hemisphere around `axis`,
     /// `maps[1]` the other; a point reads `maps[0]` where (p - position) . axis >= 0.
@@ -243,7 +244,9 @@ pub const MAX_CASCADES: usize = 8;
 /// How cascaded maps split the view: map i covers view depth (distance along the camera's
 /// forward axis) from `view_depths[i]` to `view_depths[i + 1]`; in the last `blend` fraction of
 /// a slice the next map is blended in; from `fade_start` to the last depth (the shadow
-/// distance) shadows fade out, and beyond it nothing is shadowed.
+/// distance) shadows fade out, and beyond it nothing is shadowed. With `by_coverage` (stable
+/// cascades), a point reads the first map whose square holds it, which may be a nearer
+/// slice's (finer) map than its view depth's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CascadeSlices {
     /// The number of slices (maps), 1 to [`MAX_CASCADES`].
@@ -256,6 +259,13 @@ pub struct CascadeSlices {
     pub fade_start: f64,
     /// The world row whose dot with (p, 1) is p's view depth (the camera's forward axis).
     pub depth_row_world: DVec4,
+    /// Selection by coverage (stable cascades): a point reads the first map up to its view
+    /// depth's slice's that holds it ([`CascadeSlices::covers`]); `false` picks by view depth
+    /// alone. The nearer slices' maps are finer, and a stable map's square (around its
+    /// slice's bounding sphere) reaches past its slice's far plane, so picking by coverage
+    /// reads finer texels there than picking by depth; the squares are fixed in the world as
+    /// the maps are, so what a point reads changes only where a square moves by a texel.
+    pub by_coverage: bool,
 }
 
 impl CascadeSlices {
@@ -275,6 +285,34 @@ impl CascadeSlices {
             .take_while(|&i| depth >= self.view_depths[i])
             .count()
     }
+
+    /// The texels a map picked by coverage keeps clear of its square's edge (a 5x5 filter
+    /// reaches 2, the normal offset 1).
+    pub const COVER_MARGIN_TEXELS: u32 = 4;
+
+    /// Whether `map` (orthographic, as stable cascades' are) holds world point `p` for the
+    /// selection by coverage: its clip x and y within the map's inset square less
+    /// [`CascadeSlices::COVER_MARGIN_TEXELS`] texels on every side, so that a filter or the
+    /// normal offset around the point stays inside.
+    pub fn covers(map: &ShadowMap, p: DVec3) -> bool {
+        let border = (map.viewport_inset + Self::COVER_MARGIN_TEXELS) as f64;
+        let limit = 1.0 - 2.0 * border / map.resolution as f64;
+        let h = p.extend(1.0);
+        let (x, y) = (map.clip_from_world.row(0), map.clip_from_world.row(1));
+        x.dot(h).abs().max(y.dot(h).abs()) <= limit
+    }
+
+    /// The map of `maps` (the cascades') world point `p` reads, outside any blend band: its
+    /// view depth's slice's, or by coverage the first up to that one that holds it.
+    pub fn map_of(&self, maps: &[ShadowMap], p: DVec3) -> usize {
+        let slice = self.slice_of(self.depth_row_world.dot(p.extend(1.0)));
+        if !self.by_coverage {
+            return slice;
+        }
+        (0..slice.min(maps.len()))
+            .find(|&i| Self::covers(&maps[i], p))
+            .unwrap_or(slice)
+    }
 }
 
 impl MapSelection {
@@ -289,18 +327,16 @@ impl MapSelection {
         }
     }
 
-    /// Which map the world point `p` reads (an index into [`ShadowSetup::maps`]); `None`
-    /// where no map covers it (a cube face without a map: the point reads as lit).
-    pub fn map_for(&self, p: DVec3) -> Option<usize> {
+    /// Which of `maps` (the setup's, [`ShadowSetup::maps`]) the world point `p` reads;
+    /// `None` where no map covers it (a cube face without a map: the point reads as lit).
+    pub fn map_for(&self, maps: &[ShadowMap], p: DVec3) -> Option<usize> {
         match self {
             MapSelection::Single => Some(0),
             MapSelection::Plane { .. } | MapSelection::DualParaboloid { .. } => {
                 let plane = self.two_map_plane()?;
                 Some(usize::from(plane.dot(p.extend(1.0)) > 0.0))
             }
-            MapSelection::Cascades(slices) => {
-                Some(slices.slice_of(slices.depth_row_world.dot(p.extend(1.0))))
-            }
+            MapSelection::Cascades(slices) => Some(slices.map_of(maps, p)),
             MapSelection::CubeFaces(faces) => faces.map_of(PointLight::face_of(p - faces.position)),
         }
     }
@@ -532,6 +568,11 @@ impl ShadowSetup {
     /// The first fallback that fired, if any.
     pub fn fallback(&self) -> Option<Fallback> {
         self.diagnostics.fallbacks.first().copied()
+    }
+
+    /// Which map the world point `p` reads ([`MapSelection::map_for`] over these maps).
+    pub fn map_for(&self, p: DVec3) -> Option<usize> {
+        self.selection.map_for(&self.maps, p)
     }
 }
 

@@ -4,8 +4,9 @@
 
 use glam::{DMat3, DVec3};
 use gnomon::{
-    Aabb, Camera, CascadeFit, CascadeSlices, CascadeSplit, Cascades, DirectionalLight, Lens, Light,
-    MapSelection, MapSettings, SceneBounds, SetupError, ShadowMap, ShadowSetup, compute_setup,
+    Aabb, Camera, CascadeFit, CascadeSelect, CascadeSlices, CascadeSplit, Cascades,
+    DirectionalLight, Lens, Light, MapSelection, MapSettings, SceneBounds, SetupError, ShadowMap,
+    ShadowSetup, SpotLight, compute_setup,
 };
 
 /// A 2 km ground with a few buildings: a camera at street level sees it from its near plane
@@ -94,7 +95,7 @@ fn the_split_rules_cut_the_view_as_their_formulas_say() {
         // Each view depth's map is its slice's.
         for (i, window) in depths.windows(2).enumerate() {
             let p = camera.eye() + camera.forward() * (0.5 * (window[0] + window[1]));
-            assert_eq!(s.selection.map_for(p), Some(i));
+            assert_eq!(s.map_for(p), Some(i));
         }
     }
     // Explicit distances, a shadow distance that cuts the view (and fades over its last 10%),
@@ -192,6 +193,108 @@ fn bad_cascade_parameters_are_typed_errors() {
             matches!(result, Err(SetupError::InvalidParameter { .. })),
             "{cascades:?}: {result:?}"
         );
+    }
+    // Coverage needs stable maps: a fitted map holds only its slice.
+    let fitted_by_coverage = Cascades {
+        select: CascadeSelect::Coverage,
+        ..Cascades::default()
+    };
+    let result = compute_setup(
+        &fitted_by_coverage,
+        &camera,
+        &sun(),
+        &city(),
+        MapSettings::default(),
+    );
+    assert_eq!(result.unwrap_err(), SetupError::CoverageNeedsStable);
+}
+
+/// Stable cascades pick by coverage (unless asked for view depth): a point reads the first
+/// map whose square, less the margin, holds it, never a later map than its view depth's
+/// slice's; points beyond a slice's far plane read a nearer (finer) slice's map where its
+/// square reaches them, and every map a point reads holds it. Fitted cascades, stable ones
+/// asked for view depth and stable ones under a spot light (which fall back to fitted maps)
+/// pick by view depth.
+#[test]
+fn stable_cascades_pick_the_finest_map_that_holds_a_point() {
+    let camera = street_camera(DVec3::new(-30.0, 2.0, 20.0), DVec3::new(0.2, -0.05, -1.0));
+    let stable = Cascades {
+        stable: true,
+        ..Cascades::default()
+    };
+    let s = setup(stable, &camera);
+    let c = slices(&s);
+    assert!(c.by_coverage, "stable cascades pick by coverage");
+    // A map holds what lies COVER_MARGIN_TEXELS texels and its inset inside its square's edge.
+    for map in &s.maps {
+        let border = (map.viewport_inset + CascadeSlices::COVER_MARGIN_TEXELS) as f64;
+        let edge = 1.0 - 2.0 * border / map.resolution as f64;
+        let world_from_clip = map.clip_from_world.inverse();
+        for (x, y, held) in [
+            (edge - 1e-6, 0.0, true),
+            (edge + 1e-6, 0.0, false),
+            (0.3, -edge + 1e-6, true),
+            (0.3, -edge - 1e-6, false),
+        ] {
+            let p = world_from_clip.project_point3(DVec3::new(x, y, 0.5));
+            assert_eq!(CascadeSlices::covers(map, p), held, "({x}, {y})");
+        }
+    }
+    let covers = |i: usize, p: DVec3| CascadeSlices::covers(&s.maps[i], p);
+    let (mut finer, mut judged) = (0, 0);
+    let lens = camera.lens();
+    for a in 0..40 {
+        for b in 0..40 {
+            for d in 0..40 {
+                // Points over the view frustum, out to the shadow distance.
+                let depth = lens.near + (lens.far - lens.near) * ((d as f64 + 0.5) / 40.0).powi(2);
+                let ndc = glam::DVec2::new(a as f64 / 19.5 - 1.0, b as f64 / 19.5 - 1.0);
+                let tan_y = (0.5 * lens.fov_y_degrees.to_radians()).tan();
+                let view = DVec3::new(ndc.x * tan_y * lens.aspect, ndc.y * tan_y, -1.0) * depth;
+                let p = camera.view_from_world().inverse().transform_point3(view);
+                let slice = c.slice_of(c.depth_row_world.dot(p.extend(1.0)));
+                let i = s.map_for(p).unwrap();
+                judged += 1;
+                assert!(i <= slice, "{p}: map {i} beyond slice {slice}");
+                assert!((0..i).all(|j| !covers(j, p)), "{p}: a finer map holds it");
+                if i < slice {
+                    finer += 1;
+                    assert!(covers(i, p));
+                }
+                // The map read holds the point in its square (its own slice's by the sphere).
+                let q = s.maps[i].clip_from_world.project_point3(p);
+                assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0, "{p}: {q}");
+            }
+        }
+    }
+    println!("{finer} of {judged} points read a finer map than their slice's");
+    assert!(
+        finer * 10 > judged,
+        "{finer} of {judged} points read a finer map than their slice's"
+    );
+    // View depth on request, for fitted cascades, and where stable falls back to fitted maps.
+    let spot =
+        Light::Spot(SpotLight::new(DVec3::new(0.0, 80.0, 0.0), DVec3::NEG_Y, 70.0, 500.0).unwrap());
+    for (cascades, light) in [
+        (
+            Cascades {
+                select: CascadeSelect::ViewDepth,
+                ..stable
+            },
+            sun(),
+        ),
+        (Cascades::default(), sun()),
+        (stable, spot),
+    ] {
+        let s = compute_setup(
+            &cascades,
+            &camera,
+            &light,
+            &city(),
+            MapSettings::with_resolution(1024),
+        )
+        .unwrap();
+        assert!(!slices(&s).by_coverage, "{cascades:?}");
     }
 }
 

@@ -276,7 +276,7 @@ fn shadowed_points_in_the_ideal_configuration_land_inside_every_map() {
                 MapSettings::with_resolution(2048),
             )
             .unwrap();
-            let map = &setup.maps[setup.selection.map_for(c.point).unwrap()];
+            let map = &setup.maps[setup.map_for(c.point).unwrap()];
             let ndc = map.project(c.point);
             let s = map.inset_ndc() + 1e-9;
             assert!(

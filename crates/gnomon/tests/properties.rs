@@ -614,7 +614,7 @@ fn check_point(
     let paraboloid = setup(Technique::Paraboloid(DualParaboloid))?;
     for &r in &points {
         let casters = shadowing_caster_points(cfg, r);
-        let k = paraboloid.selection.map_for(r).unwrap();
+        let k = paraboloid.map_for(r).unwrap();
         check_map(&paraboloid, &paraboloid.maps[k], r, &casters, true)?;
     }
     for setup in &setups {
@@ -645,7 +645,7 @@ fn check_point(
         }
         for &r in &points {
             let casters = shadowing_caster_points(cfg, r);
-            match setup.selection.map_for(r) {
+            match setup.map_for(r) {
                 Some(k) => check_map(setup, &setup.maps[k], r, &casters, true)?,
                 None if casters.is_empty() => {}
                 None => {
@@ -665,7 +665,7 @@ fn check_point(
 /// The maps a receiver point reads: the one its selection picks and, in a cascade's blend
 /// band, the next; none beyond a cascade's shadow distance.
 fn maps_read(setup: &ShadowSetup, r: DVec3) -> Vec<usize> {
-    let k = setup.selection.map_for(r).unwrap();
+    let k = setup.map_for(r).unwrap();
     let MapSelection::Cascades(c) = setup.selection else {
         return vec![k];
     };

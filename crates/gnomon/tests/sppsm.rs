@@ -471,7 +471,7 @@ fn reads_the_better_technique_everywhere(iterations: u32) {
         let mut rng = TestRng::from_seed(RngAlgorithm::ChaCha, &seed.to_le_bytes().repeat(4));
         for p in visible_points(&cfg, &mut rng, 300) {
             let density = |m: &ShadowMap| ray_area_density(m, &cfg.light, p);
-            let chosen = density(&both.maps[both.selection.map_for(p).unwrap()]);
+            let chosen = density(&both.maps[both.map_for(p).unwrap()]);
             let best_alone = density(&focused.maps[0]).max(density(&psm.maps[0]));
             checked += 1;
             if chosen < (1.0 - 1e-9) * best_alone {
@@ -538,7 +538,7 @@ fn refocused_maps_are_no_coarser_than_the_techniques_alone() {
             let mut rng = TestRng::from_seed(RngAlgorithm::ChaCha, &seed.to_le_bytes().repeat(4));
             for p in visible_points(&cfg, &mut rng, 200) {
                 checked += 1;
-                if both.selection.map_for(p) == Some(1) {
+                if both.map_for(p) == Some(1) {
                     let v = unit(&mut rng);
                     let (mine, theirs) = (
                         ndc_derivative(&both.maps[1], p, v).length(),

@@ -33,6 +33,12 @@ const GNOMON_SELECT_CASCADES: u32 = 2u;
 // 2 in params[0..3].w, 3 to 5 in params[3].xyz. A point reads the face of its direction's
 // major world axis; a face without a map reads as lit.
 const GNOMON_SELECT_CUBE: u32 = 3u;
+// Stable cascades picked by coverage (gnomon::CascadeSlices::covers): the cascades'
+// parameters, and a point reads the first map up to its view depth's slice's whose square
+// (less GNOMON_COVER_MARGIN_TEXELS) holds it; the blend band is then the outer `blend`
+// fraction of that square, toward the next map where it holds the point.
+const GNOMON_SELECT_CASCADES_BY_COVER: u32 = 4u;
+const GNOMON_COVER_MARGIN_TEXELS: f32 = 4.0;
 // GnomonShadows.info.y: the filter.
 const GNOMON_FILTER_ONE_TAP: u32 = 0u;
 const GNOMON_FILTER_HARDWARE_2X2: u32 = 1u;
@@ -173,7 +179,7 @@ fn gnomon_select(light: u32, p: vec3<f32>) -> GnomonSelection {
         out.map = info.z + u32(max(k, 0));
         // A face without a map: nothing there is shadowed.
         out.fade = select(0.0, 1.0, k < 0);
-    } else if (info.y != GNOMON_SELECT_CASCADES) {
+    } else if (info.y != GNOMON_SELECT_CASCADES && info.y != GNOMON_SELECT_CASCADES_BY_COVER) {
         out.map = gnomon_plane_map_index(light, p);
     } else {
         // Without indexing by a computed value (a gather per fragment on a CPU rasteriser):
@@ -199,6 +205,20 @@ fn gnomon_select(light: u32, p: vec3<f32>) -> GnomonSelection {
         if (k + 1u < count && band > 0.0) {
             out.next_weight = clamp((depth - (z1 - band)) / band, 0.0, 1.0);
         }
+        if (info.y == GNOMON_SELECT_CASCADES_BY_COVER) {
+            // The first map before k's that holds p, with how far out in its square p lies
+            // (1: at the held square's edge).
+            for (var j = 0u; j < k; j++) {
+                let r = gnomon_cover_extent(info.z + j, p);
+                if (r <= 1.0) {
+                    out.map = info.z + j;
+                    let blend = extra.y;
+                    let next_holds = j + 1u == k || gnomon_cover_extent(info.z + j + 1u, p) <= 1.0;
+                    out.next_weight = select(0.0, clamp((r - (1.0 - blend)) / blend, 0.0, 1.0), blend > 0.0 && next_holds);
+                    break;
+                }
+            }
+        }
         let fade_start = extra.z;
         if (depth >= end) {
             out.fade = 1.0;
@@ -207,6 +227,16 @@ fn gnomon_select(light: u32, p: vec3<f32>) -> GnomonSelection {
         }
     }
     return out;
+}
+
+// How far out in map `map`'s square point p lies: the larger of its |clip x| and |clip y|
+// over the held square's (the inset square less GNOMON_COVER_MARGIN_TEXELS texels); at most 1
+// where the map holds p.
+fn gnomon_cover_extent(map: u32, p: vec3<f32>) -> f32 {
+    let c = gnomon_shadows.maps[map].clip_from_camera * vec4<f32>(p, 1.0);
+    let info = gnomon_shadows.maps[map].info;
+    let limit = 1.0 - 2.0 * (f32(info.w) + GNOMON_COVER_MARGIN_TEXELS) / f32(info.z);
+    return max(abs(c.x), abs(c.y)) / limit;
 }
 
 // The map of `light` that point `p` reads for the single and plane selections (without the
@@ -225,7 +255,8 @@ fn gnomon_plane_map_index(light: u32, p: vec3<f32>) -> u32 {
 // nearer one; for a cube face without a map, the first).
 fn gnomon_map_index(light: u32, p: vec3<f32>) -> u32 {
     let selection = gnomon_shadows.lights[light].info.y;
-    if (selection == GNOMON_SELECT_CASCADES || selection == GNOMON_SELECT_CUBE) {
+    if (selection == GNOMON_SELECT_CASCADES || selection == GNOMON_SELECT_CASCADES_BY_COVER
+        || selection == GNOMON_SELECT_CUBE) {
         return gnomon_select(light, p).map;
     }
     return gnomon_plane_map_index(light, p);

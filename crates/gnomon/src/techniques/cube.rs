@@ -359,7 +359,7 @@ mod tests {
         assert!(faces.faces().contains(&CubeFace::NegY));
         assert_eq!(cube.maps.len() + cube.diagnostics.cube_faces_skipped, 6);
         // A point of the block's wall facing the lamp reads the +x face's map.
-        let k = cube.selection.map_for(DVec3::new(4.0, 3.0, 1.0)).unwrap();
+        let k = cube.map_for(DVec3::new(4.0, 3.0, 1.0)).unwrap();
         assert_eq!(faces.faces()[k], CubeFace::PosX);
         let sun = Light::Directional(DirectionalLight::new(-DVec3::Y).unwrap());
         assert!(matches!(

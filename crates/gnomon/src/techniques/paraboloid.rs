@@ -99,7 +99,7 @@ mod tests {
             let r = (1.0 - z * z).sqrt();
             let d = DVec3::new(r * phi.cos(), z, r * phi.sin());
             let p = lamp.position() + d * (1.0 + 29.0 * t);
-            let map = &setup.maps[setup.selection.map_for(p).unwrap()];
+            let map = &setup.maps[setup.map_for(p).unwrap()];
             let ndc = map.project(p).expect("in its hemisphere");
             assert!(ndc.x.abs() <= s && ndc.y.abs() <= s, "{p}: {ndc}");
             assert!(ndc.truncate().length() <= s * crate::setup::PARABOLOID_SCALE + 1e-12);
@@ -108,7 +108,7 @@ mod tests {
         }
         // The margin: just past 90 degrees the first map still holds the point.
         let p = lamp.position() + DVec3::new(1.0, 0.03, 0.0);
-        assert_eq!(setup.selection.map_for(p), Some(1));
+        assert_eq!(setup.map_for(p), Some(1));
         assert!(setup.maps[0].project(p).is_some());
     }
 }
