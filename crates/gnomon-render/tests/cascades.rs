@@ -44,25 +44,60 @@ fn camera(
     gnomon::Camera::look_at(eye, target, DVec3::Y, lens).unwrap()
 }
 
+/// The street seen from 15 m up at 320x240, under a sun from the right (the posts' shadows
+/// fall across the street toward -x), with a renderer of it.
+struct StreetView {
+    scene: RenderScene,
+    renderer: gnomon_render::Renderer,
+    camera: gnomon::Camera,
+    light: Light,
+    settings: RenderSettings,
+}
+
+fn street_view() -> StreetView {
+    let scene = street();
+    let renderer = common::renderer(&scene);
+    let (width, height) = (320, 240);
+    StreetView {
+        camera: camera(
+            DVec3::new(0.0, 15.0, 5.0),
+            DVec3::new(0.0, 0.0, -100.0),
+            50.0,
+            (width, height),
+            (0.5, 300.0),
+        ),
+        light: Light::Directional(DirectionalLight::new(DVec3::new(-1.0, -0.7, 0.1)).unwrap()),
+        settings: RenderSettings {
+            width,
+            height,
+            ..RenderSettings::default()
+        },
+        scene,
+        renderer,
+    }
+}
+
+/// The ray through pixel `(x, y)`'s centre of a `size` image, scaled to view depth 1
+/// (forward . d = 1).
+fn pixel_ray(camera: &gnomon::Camera, (x, y): (u32, u32), (width, height): (u32, u32)) -> DVec3 {
+    let tan_y = (0.5 * camera.lens().fov_y_degrees).to_radians().tan();
+    let ndc_x = (2.0 * x as f64 + 1.0) / width as f64 - 1.0;
+    let ndc_y = 1.0 - (2.0 * y as f64 + 1.0) / height as f64;
+    camera.forward()
+        + camera.right() * (ndc_x * tan_y * camera.lens().aspect)
+        + camera.up() * (ndc_y * tan_y)
+}
+
 #[test]
 fn nothing_is_shadowed_beyond_the_shadow_distance() {
-    let scene = street();
-    let mut renderer = common::renderer(&scene);
-    let (width, height) = (320, 240);
-    let camera = camera(
-        DVec3::new(0.0, 15.0, 5.0),
-        DVec3::new(0.0, 0.0, -100.0),
-        50.0,
-        (width, height),
-        (0.5, 300.0),
-    );
-    // The sun from the right: the posts' shadows fall across the street toward -x.
-    let light = Light::Directional(DirectionalLight::new(DVec3::new(-1.0, -0.7, 0.1)).unwrap());
-    let settings = RenderSettings {
-        width,
-        height,
-        ..RenderSettings::default()
-    };
+    let StreetView {
+        scene,
+        mut renderer,
+        camera,
+        light,
+        settings,
+    } = street_view();
+    let (width, height) = (settings.width, settings.height);
     let distance = 50.0;
     let technique = Technique::Cascades(Cascades {
         shadow_distance: Some(distance),
@@ -84,17 +119,12 @@ fn nothing_is_shadowed_beyond_the_shadow_distance() {
     assert_eq!(slices.shadow_distance(), distance);
     let oracle = common::oracle(&scene, &camera, &light, width, height);
     // Each ground pixel's view depth, from the ray through its centre.
-    let tan_y = (25.0f64).to_radians().tan();
     let (mut near_shadowed, mut near_agree, mut far_shadowed, mut far_lit) = (0, 0, 0, 0);
     let (mut band_shadowed, mut band_agree) = (0, 0);
     for y in 0..height {
         for x in 0..width {
             let i = (y * width + x) as usize;
-            let ndc_x = (2.0 * x as f64 + 1.0) / width as f64 - 1.0;
-            let ndc_y = 1.0 - (2.0 * y as f64 + 1.0) / height as f64;
-            let d = camera.forward()
-                + camera.right() * (ndc_x * tan_y * camera.lens().aspect)
-                + camera.up() * (ndc_y * tan_y);
+            let d = pixel_ray(&camera, (x, y), (width, height));
             // Shadowed in the oracle, on a surface facing the light (the ground: the posts'
             // faces the camera sees face away from the sun).
             if d.y >= 0.0 || oracle.mask[i] != 0 || oracle.n_dot_l[i] <= 0.1 {
@@ -226,27 +256,19 @@ fn the_ground_at_the_edge_of_a_cascade_keeps_its_shadow_under_a_low_sun() {
 /// oracle.
 #[test]
 fn stable_cascades_read_the_finest_map_that_holds_a_point() {
-    let scene = street();
-    let mut renderer = common::renderer(&scene);
-    let (width, height) = (320, 240);
-    let camera = camera(
-        DVec3::new(0.0, 15.0, 5.0),
-        DVec3::new(0.0, 0.0, -100.0),
-        50.0,
-        (width, height),
-        (0.5, 300.0),
-    );
-    let light = Light::Directional(DirectionalLight::new(DVec3::new(-1.0, -0.7, 0.1)).unwrap());
+    let StreetView {
+        scene,
+        mut renderer,
+        camera,
+        light,
+        settings,
+    } = street_view();
+    let (width, height) = (settings.width, settings.height);
     let technique = Technique::Cascades(Cascades {
         stable: true,
         blend: 0.0,
         ..Cascades::default()
     });
-    let settings = RenderSettings {
-        width,
-        height,
-        ..RenderSettings::default()
-    };
     let tinted = RenderSettings {
         tint: true,
         ..settings
@@ -272,16 +294,11 @@ fn stable_cascades_read_the_finest_map_that_holds_a_point() {
         [1.0, 0.9, 0.45],
     ]
     .map(|c| DVec3::from_array(c).normalize());
-    let tan_y = (25.0f64).to_radians().tan();
     let (mut ground, mut agree, mut finer) = (0, 0, 0);
     for y in 0..height {
         for x in 0..width {
             let i = (y * width + x) as usize;
-            let ndc_x = (2.0 * x as f64 + 1.0) / width as f64 - 1.0;
-            let ndc_y = 1.0 - (2.0 * y as f64 + 1.0) / height as f64;
-            let d = camera.forward()
-                + camera.right() * (ndc_x * tan_y * camera.lens().aspect)
-                + camera.up() * (ndc_y * tan_y);
+            let d = pixel_ray(&camera, (x, y), (width, height));
             let t = -camera.eye().y / d.y;
             let p = camera.eye() + d * t;
             // Lit ground on the street (|x| < 30) clear of the posts (they stand at x = 2 to
