@@ -133,6 +133,9 @@ def command(map_sizes, shadow_distance, on_surfaces):
             args += ["--shadow-distance", f"{rng.choice([0.5, 10, 1e3, 1e7]):g}"]
         if rng.random() < 0.3:
             args += ["--cascade-blend", f"{rng.choice([0, 0.25, 0.5]):g}"]
+        if rng.random() < 0.3:
+            # coverage needs --stable: refused (one line, exit 2) without it
+            args += ["--cascade-select", rng.choice(["auto", "depth", "coverage"])]
     if technique == "sppsm" and rng.random() < 0.5 or wild:
         args += ["--sppsm-with", rng.choice(["psm", "lispsm", "tsm", "xpsm"])]
     warped = technique in ("psm", "lispsm", "tsm", "xpsm", "cascades")
