@@ -71,7 +71,19 @@ fn focused_with_oracle(
     light: &Light,
     settings: &RenderSettings,
 ) -> (gnomon_render::Frame, common::OracleMask) {
-    let (_, frame) = common::render(renderer, scene, &Focused, cam, light, 1024, settings);
+    with_oracle(renderer, scene, &Focused, cam, light, settings)
+}
+
+/// `technique`'s frame of `scene` (1024 maps) and the oracle's mask.
+fn with_oracle(
+    renderer: &mut gnomon_render::Renderer,
+    scene: &RenderScene,
+    technique: &dyn ShadowTechnique,
+    cam: &Camera,
+    light: &Light,
+    settings: &RenderSettings,
+) -> (gnomon_render::Frame, common::OracleMask) {
+    let (_, frame) = common::render(renderer, scene, technique, cam, light, 1024, settings);
     (frame, common::oracle(scene, cam, light, SIZE, SIZE))
 }
 
@@ -329,16 +341,7 @@ fn acne_under(unit: f64, light: &Light, technique: &dyn ShadowTechnique) -> (usi
         0.5 * unit,
         300.0 * unit,
     );
-    let (_, frame) = common::render(
-        &mut renderer,
-        &scene,
-        technique,
-        &cam,
-        light,
-        1024,
-        &settings,
-    );
-    let oracle = common::oracle(&scene, &cam, light, SIZE, SIZE);
+    let (frame, oracle) = with_oracle(&mut renderer, &scene, technique, &cam, light, &settings);
     let judged: Vec<usize> = (0..frame.mask.len())
         .filter(|&i| oracle.mask[i] == gnomon_render::MASK_LIT && oracle.n_dot_l[i] > 0.3)
         .collect();

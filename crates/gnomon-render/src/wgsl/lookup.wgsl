@@ -213,8 +213,9 @@ fn gnomon_select(light: u32, p: vec3<f32>) -> GnomonSelection {
                 if (r <= 1.0) {
                     out.map = info.z + j;
                     let blend = extra.y;
-                    let next_holds = j + 1u == k || gnomon_cover_extent(info.z + j + 1u, p) <= 1.0;
-                    out.next_weight = select(0.0, clamp((r - (1.0 - blend)) / blend, 0.0, 1.0), blend > 0.0 && next_holds);
+                    // The next map's square is read only where there is a band.
+                    let blends = blend > 0.0 && (j + 1u == k || gnomon_cover_extent(info.z + j + 1u, p) <= 1.0);
+                    out.next_weight = select(0.0, clamp((r - (1.0 - blend)) / blend, 0.0, 1.0), blends);
                     break;
                 }
             }

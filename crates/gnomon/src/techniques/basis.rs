@@ -138,6 +138,12 @@ impl<'f> FocusBasis<'f> {
     pub fn cuts_casters(&self) -> bool {
         !self.caster_planes.is_empty()
     }
+
+    /// Whether `caster_planes` begin with a spot light's near plane (a caster walk then
+    /// counts the casters it clips).
+    pub fn light_near_first(&self) -> bool {
+        self.frame.light_planes.is_some()
+    }
 }
 
 /// The visible scene of a part of `frame` whose P is `body`: the frame's receiver codes

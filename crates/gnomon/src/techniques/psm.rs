@@ -225,7 +225,6 @@ impl LimitedWarp for Psm {
         // of its centre: d = axis . (P - l W) >= d_min W / 2 is a plane of homogeneous PPS
         // coordinates, a world plane through pps_from_world.
         let mut slab = basis.caster_planes.clone();
-        let light_near_first = !slab.is_empty() && basis.frame.light_planes.is_some();
         slab.extend([
             Plane::through_point(eye + forward * b0, forward),
             Plane::through_point(eye + forward * b1, -forward),
@@ -276,7 +275,7 @@ impl LimitedWarp for Psm {
             &images,
             &receivers,
             &slab,
-            light_near_first,
+            basis.light_near_first(),
             tolerance,
         );
         walked.count_into(scene, &mut diagnostics);

@@ -554,7 +554,7 @@ impl WarpSpace {
                 // Cut each caster by the light's frustum (its near plane first) and a side,
                 // and B's Y range: all world planes.
                 let mut planes = basis.caster_planes.clone();
-                let light_near_first = !planes.is_empty() && basis.frame.light_planes.is_some();
+                let light_near_first = basis.light_near_first();
                 planes.push(space.y_plane(body_light.min.y, true));
                 planes.push(space.y_plane(body_light.max.y, false));
                 let mut points = Vec::new();
