@@ -435,15 +435,6 @@ impl Extents {
         s.x * s.y
     }
 
-    /// The same box with its least depth `z`.
-    #[inline]
-    pub fn with_min_z(&self, z: f64) -> Extents {
-        Extents {
-            min: self.min.with_z(z),
-            max: self.max,
-        }
-    }
-
     /// The same box with its greatest depth `z`.
     #[inline]
     pub fn with_max_z(&self, z: f64) -> Extents {

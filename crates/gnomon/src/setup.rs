@@ -503,10 +503,15 @@ pub struct Diagnostics {
     pub gamma_degrees: f64,
     /// Receiver boxes with a visible part.
     pub visible_receivers: usize,
-    /// Caster boxes that can shadow a visible receiver (after culling in light space).
+    /// Caster boxes not culled in light space: every caster that can shadow a visible
+    /// receiver is among them. A subtree of the casters' hierarchy whose image adds nothing
+    /// to the map's extents is counted whole without being opened (telling its boxes apart
+    /// would open every subtree along the receivers' edges), so the count may include boxes
+    /// of such a subtree that lie just beside the receivers, and depends on the hierarchy's
+    /// shape.
     pub relevant_casters: usize,
     /// Caster boxes culled: outside the light frustum, beside the visible receivers as seen
-    /// from the light, or behind them all.
+    /// from the light, or behind them all (the casters less the relevant ones).
     pub culled_casters: usize,
     /// Relevant casters whose boxes' surfaces reach in front of a spot light's near plane
     /// inside its frustum, where the map clips them (their part within
