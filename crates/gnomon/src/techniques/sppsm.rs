@@ -26,7 +26,8 @@
 //! Iterative focusing (section 6): each map is refocused on the part of I (the scene seen by
 //! the camera and the light) on its side of the plane, and the plane recomputed; in the last
 //! iteration the plane is kept, so that I's part on the plane stays inside both focus regions
-//! and the sign of the plane alone picks the map.
+//! and the sign of the plane alone picks the map. (Ours, not the paper's: after two moves the
+//! plane jumps to where its moves converge, `next_plane`.)
 //! - The focused map is re-evaluated as the paper does, on the frame's part on its side of
 //!   the plane ([`crate::techniques::basis::Part::Side`]: P, the visible receivers and the
 //!   casters cut by it; the plane contains the light's rays, so a caster's part on the other
@@ -383,12 +384,11 @@ fn converged(plane: DVec4, next: DVec4, settle: f64) -> bool {
 /// to remember (`last_step`: the offset's previous move along the same normal, if any). The
 /// offset converges geometrically, each move about the same ratio r (|r| < 1/2; in the
 /// benches' city -0.19: the plane swings across its limit) of the one before, so from two
-/// moves it settles at
-/// `next + step r / (1 - r)` (Aitken's extrapolation): the plane jumps there, which saves a
-/// refocusing of the focused map (of 4, in the benches' city), and the moves start again.
-/// Where the moves do not shrink so (the normal turns, |r| >= 1/2), `next`. Where
-/// the jump overshoots, the maps there are kept only as any iteration's are (when no point
-/// reads a coarser map than either technique alone).
+/// moves it settles at `next + step r / (1 - r)` (Aitken's extrapolation): the plane jumps
+/// there, which saves a refocusing of the focused map (of 4, in the benches' city), and the
+/// moves start again. Where the moves do not shrink so (the normal turns, |r| >= 1/2),
+/// `next`. Where the jump overshoots, the maps there are kept only as any iteration's are
+/// (when no point reads a coarser map than either technique alone).
 fn next_plane(plane: DVec4, next: DVec4, last_step: Option<f64>) -> (DVec4, Option<f64>) {
     let same_normal = (next.truncate() - plane.truncate()).length() <= 1e-9;
     let step = next.w - plane.w;
