@@ -274,15 +274,15 @@ fn cut_vertices<const N: usize>(
             }
         }
     }
-    // One box face and two planes; three planes.
-    let face_planes = crate::focus::box_planes(aabb);
+    // One box face and two planes: where the two planes' line enters and leaves the box;
+    // three planes.
     for j in 0..k {
         for l in j + 1..k {
-            for face in &face_planes {
-                if let Some(p) = meet(&cut[j], &cut[l], face)
-                    && aabb.contains_point(p, tolerance)
-                    && in_cut(p, &[j, l])
-                {
+            for p in line_through_box(&cut[j], &cut[l], aabb, tolerance)
+                .into_iter()
+                .flatten()
+            {
+                if in_cut(p, &[j, l]) {
                     out.push(p);
                 }
             }
@@ -297,6 +297,35 @@ fn cut_vertices<const N: usize>(
         }
     }
     out.len() > start
+}
+
+/// Where the line of two planes enters and leaves a box: the points where it meets the
+/// box's faces inside the box (the line clipped by the box's three slabs; a line parallel to
+/// a slab counts as inside it within `tolerance`). `None` where the planes are parallel or
+/// their line misses the box.
+fn line_through_box(a: &Plane, b: &Plane, aabb: &Aabb, tolerance: f64) -> Option<[DVec3; 2]> {
+    let dir = a.normal.cross(b.normal);
+    let dd = dir.length_squared();
+    if dd < 1e-24 {
+        return None;
+    }
+    // The point of the line nearest the origin.
+    let p0 = (b.normal.cross(dir) * -a.offset + dir.cross(a.normal) * -b.offset) / dd;
+    let (lo, hi) = (aabb.min(), aabb.max());
+    let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
+    for i in 0..3 {
+        if dir[i] == 0.0 {
+            if p0[i] < lo[i] - tolerance || p0[i] > hi[i] + tolerance {
+                return None;
+            }
+        } else {
+            let (u, v) = ((lo[i] - p0[i]) / dir[i], (hi[i] - p0[i]) / dir[i]);
+            t0 = t0.max(u.min(v));
+            t1 = t1.min(u.max(v));
+        }
+    }
+    (t0 <= t1 && t0.is_finite() && t1.is_finite() && p0.is_finite())
+        .then(|| [p0 + dir * t0, p0 + dir * t1])
 }
 
 /// The point where three planes meet, if they meet in one point.
