@@ -180,11 +180,11 @@ impl BoxTree {
         out.nodes.reserve(32);
         out.boxes.reserve(64);
         out.cut.reserve(64);
+        let planes = BoxPlanes::new(planes);
         while let Some((node, active)) = stack.pop() {
-            let Some(mask) = straddled(
+            let Some(mask) = planes.straddled(
                 self.nodes.center_of(node),
                 self.nodes.half_of(node),
-                planes,
                 active,
                 tolerance,
             ) else {
@@ -195,7 +195,7 @@ impl BoxTree {
             } else if self.is_leaf(node) {
                 for &i in self.boxes_of(node) {
                     let (c, h) = (boxes.center_of(i as usize), boxes.half_of(i as usize));
-                    match straddled(c, h, planes, mask, tolerance) {
+                    match planes.straddled(c, h, mask, tolerance) {
                         None => {}
                         Some(0) => out.boxes.push(i),
                         Some(cut) => out.cut.push((i, cut)),
@@ -327,14 +327,29 @@ pub(crate) fn straddled(
     active: u32,
     tolerance: f64,
 ) -> Option<u32> {
+    straddled_by(c, h, active, tolerance, |k| {
+        let plane = &planes[k];
+        (plane.normal, plane.normal.abs(), plane.offset)
+    })
+}
+
+/// [`straddled`] with plane `k` given as (normal, |normal|, offset).
+#[inline]
+fn straddled_by(
+    c: DVec3,
+    h: DVec3,
+    active: u32,
+    tolerance: f64,
+    plane: impl Fn(usize) -> (DVec3, DVec3, f64),
+) -> Option<u32> {
     let mut mask = 0u32;
     let mut bits = active;
     while bits != 0 {
         let k = bits.trailing_zeros() as usize;
         bits &= bits - 1;
-        let plane = &planes[k];
-        let r = plane.normal.abs().dot(h);
-        let s = plane.distance(c);
+        let (normal, abs_normal, offset) = plane(k);
+        let r = abs_normal.dot(h);
+        let s = normal.dot(c) + offset;
         if s + r <= tolerance {
             return None;
         }
@@ -343,6 +358,29 @@ pub(crate) fn straddled(
         }
     }
     Some(mask)
+}
+
+/// Planes ready for [`straddled`]'s test of many boxes: each normal with its absolute value
+/// (a box's reach across the plane is |n| . h), made once per walk.
+pub(crate) struct BoxPlanes {
+    planes: Vec<(DVec3, DVec3, f64)>,
+}
+
+impl BoxPlanes {
+    pub fn new(planes: &[Plane]) -> Self {
+        Self {
+            planes: planes
+                .iter()
+                .map(|p| (p.normal, p.normal.abs(), p.offset))
+                .collect(),
+        }
+    }
+
+    /// [`straddled`] against these planes.
+    #[inline]
+    pub fn straddled(&self, c: DVec3, h: DVec3, active: u32, tolerance: f64) -> Option<u32> {
+        straddled_by(c, h, active, tolerance, |k| self.planes[k])
+    }
 }
 
 /// The bits of planes `0..count`.

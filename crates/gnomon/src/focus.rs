@@ -15,7 +15,7 @@ use std::cell::OnceCell;
 use glam::DVec3;
 
 use crate::bounds::{Aabb, BoxArrays, SceneBounds};
-use crate::bvh::{BoxTree, Classified, all_planes, straddled};
+use crate::bvh::{BoxPlanes, BoxTree, Classified, all_planes, straddled};
 use crate::geometry::{ConvexPolyhedron, Plane};
 
 use crate::light_space::{AxisFrustum, Extents, LightFrame, Projector};
@@ -75,10 +75,11 @@ pub(crate) fn refine(
         &mut out,
     );
     let all = all_planes(planes.len());
+    let box_planes = BoxPlanes::new(planes);
     let boxes = frame.boxes.iter().map(|&i| (i, changed));
     for (i, active) in boxes.chain(frame.cut.iter().map(|&(i, _)| (i, all))) {
         let (c, h) = (arrays.center_of(i as usize), arrays.half_of(i as usize));
-        match straddled(c, h, planes, active, tolerance) {
+        match box_planes.straddled(c, h, active, tolerance) {
             None => {}
             Some(0) => out.boxes.push(i),
             Some(mask) => out.cut.push((i, mask)),
