@@ -17,6 +17,7 @@ use crate::camera::Camera;
 use crate::focus::{ReuseCuts, VisibleScene, refine};
 use crate::frame::{Frame, frame_planes};
 use crate::geometry::Plane;
+use crate::light_space::{Extents, Projector};
 use crate::samples::ViewSamples;
 use crate::setup::{Fallback, SetupInput, ShadowSetup};
 use crate::techniques::focused::Focused;
@@ -56,6 +57,9 @@ pub(crate) struct FocusBasis<'f> {
     warp: OnceCell<Result<WarpSpace, Fallback>>,
     /// The part's samples (a slice's share of the frame's), made on first use.
     samples: OnceCell<ViewSamples>,
+    /// The visible receivers' extents under the first projector asked for: the focused map
+    /// and the view warp's light space both take them in the view-aligned light frame.
+    receivers: OnceCell<(Projector, Extents)>,
 }
 
 impl<'f> FocusBasis<'f> {
@@ -110,6 +114,22 @@ impl<'f> FocusBasis<'f> {
             focused: OnceCell::new(),
             warp: OnceCell::new(),
             samples: OnceCell::new(),
+            receivers: OnceCell::new(),
+        }
+    }
+
+    /// The visible receivers' extents under `projector`
+    /// ([`VisibleScene::receiver_extents`]), made once for the first projector asked for.
+    pub fn receiver_extents(&self, projector: &Projector) -> Extents {
+        let scene = self.frame.input.scene;
+        match self.receivers.get() {
+            Some((cached, extents)) if cached == projector => *extents,
+            Some(_) => self.visible.receiver_extents(scene, projector),
+            None => {
+                let extents = self.visible.receiver_extents(scene, projector);
+                let _ = self.receivers.set((*projector, extents));
+                extents
+            }
         }
     }
 

@@ -108,7 +108,7 @@ pub(crate) fn focus(
     let body = &basis.body;
     diagnostics.focus_body_vertices = body.len();
     let projector = choose_frame(input, body, basis.frame.fixed, diagnostics);
-    let mut receivers = visible.receiver_extents(input.scene, &projector);
+    let mut receivers = basis.receiver_extents(&projector);
     if let Light::Spot(spot) = input.light {
         receivers = within_cone(receivers, spot);
     }

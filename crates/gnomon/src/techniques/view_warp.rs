@@ -525,8 +525,7 @@ impl WarpSpace {
             LightSpace::Parallel(frame) => {
                 // Light space's Z is the linear depth along a directional light. The receivers
                 // stay in the scene's hierarchy (see `view_warp_setup`).
-                receivers_light =
-                    visible.receiver_extents(input.scene, &Projector::Parallel(frame));
+                receivers_light = basis.receiver_extents(&Projector::Parallel(frame));
                 receivers_linear = (receivers_light.min.z, receivers_light.max.z);
             }
             LightSpace::Spot { .. } => visible.for_each_vertex(input.scene, |p| {
