@@ -1085,16 +1085,12 @@ pub(crate) fn walk_casters<I: CasterImages>(
                     relevant += tree.size(node);
                     continue;
                 }
-                let held = ext.contains(&image);
-                if active == 0
-                    && over.contains(&image)
-                    && image.min.z >= ext.min.z
-                    && (held || !strict)
-                {
+                // Wholly over the receivers (so not held: the test above took it), no nearer
+                // than what is gathered: only its x and y may add, which the extents may
+                // hold once they have grown. Put off.
+                if active == 0 && !strict && over.contains(&image) && image.min.z >= ext.min.z {
                     relevant += tree.size(node);
-                    if !held {
-                        deferred.push((node, image));
-                    }
+                    deferred.push((node, image));
                     continue;
                 }
             }

@@ -319,12 +319,7 @@ impl TreeCasters {
     /// Whether a light-space box meets the columns.
     #[inline]
     fn meets(&self, l: &Extents) -> bool {
-        let c = &self.columns;
-        c.min.x <= l.max.x
-            && l.min.x <= c.max.x
-            && c.min.y <= l.max.y
-            && l.min.y <= c.max.y
-            && l.min.z <= c.max.z
+        self.columns.xy_overlaps(l, 0.0) && l.min.z <= self.columns.max.z
     }
 
     /// The casters under `warp` whose warped boxes overlap `receivers` (the receivers'
