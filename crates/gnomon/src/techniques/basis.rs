@@ -48,9 +48,8 @@ pub(crate) struct FocusBasis<'f> {
     /// P (the part's view frustum clipped by the scene box and a spot's frustum) and the
     /// visible parts of the receivers.
     pub visible: Cow<'f, VisibleScene>,
-    /// B's vertices (LiSPSM paper, section 3.3), built in the fixed frame (B does not depend
-    /// on the rotation about the light direction); empty when no receiver is visible.
-    pub body: Vec<DVec3>,
+    /// B's vertices (LiSPSM paper, section 3.3), made on first use ([`Self::body`]).
+    body: OnceCell<Vec<DVec3>>,
     /// The focused map on this basis, made on first use.
     focused: OnceCell<ShadowSetup>,
     /// The view warp's light space, made on first use.
@@ -99,23 +98,39 @@ impl<'f> FocusBasis<'f> {
                 )
             }
         };
-        let body = if visible.visible_receivers() > 0 && !visible.view_body.is_empty() {
-            focus_body(&visible.view_body, &frame.region, &frame.fixed, tolerance)
-                .vertices(tolerance)
-        } else {
-            Vec::new()
-        };
         Self {
             frame,
             caster_planes,
             depth_range,
             visible,
-            body,
+            body: OnceCell::new(),
             focused: OnceCell::new(),
             warp: OnceCell::new(),
             samples: OnceCell::new(),
             receivers: OnceCell::new(),
         }
+    }
+
+    /// B's vertices (LiSPSM paper, section 3.3), built in the fixed frame (B does not depend
+    /// on the rotation about the light direction); empty when no receiver is visible. Made
+    /// on first use: the warps and a spot light's focused map read it, a directional
+    /// light's focused map does not (see [`crate::Focused`]), and B's dozen plane clips are
+    /// a quarter of that map's setup.
+    pub fn body(&self) -> &[DVec3] {
+        self.body.get_or_init(|| {
+            let (visible, frame) = (&self.visible, self.frame);
+            if visible.visible_receivers() > 0 && !visible.view_body.is_empty() {
+                focus_body(
+                    &visible.view_body,
+                    &frame.region,
+                    &frame.fixed,
+                    frame.tolerance,
+                )
+                .vertices(frame.tolerance)
+            } else {
+                Vec::new()
+            }
+        })
     }
 
     /// The visible receivers' extents under `projector`
@@ -259,8 +274,55 @@ mod tests {
             prop_assert_eq!(refined.visible.visible_receivers(), direct.visible.visible_receivers());
             let eps = 1e-6 * (1.0 + eye.length());
             prop_assert!(close_sets(&vertices(&refined, &scene), &vertices(&direct, &scene), eps));
-            prop_assert!(close_sets(&refined.body, &direct.body, 1e-5 * (1.0 + eye.length())),
-                "B {:?} vs {:?}", refined.body, direct.body);
+            prop_assert!(close_sets(refined.body(), direct.body(), 1e-5 * (1.0 + eye.length())),
+                "B {:?} vs {:?}", refined.body(), direct.body());
+        }
+
+        /// Under a directional light, B's rectangle in either light frame is P's (each point of
+        /// B lies on a ray from P toward the light), which is what lets the focused map pick
+        /// its frame from P; and a focused map leaves B unbuilt.
+        #[test]
+        fn b_has_p_s_rectangle_under_a_parallel_projection(
+            boxes in prop::collection::vec((prop::array::uniform3(-40.0f64..40.0), prop::array::uniform3(0.5f64..15.0)), 1..30),
+            eye in prop::array::uniform3(-60.0f64..60.0),
+            target in prop::array::uniform3(-20.0f64..20.0),
+            light in prop::array::uniform3(-1.0f64..1.0),
+            far in 5.0f64..400.0,
+        ) {
+            let boxes: Vec<Aabb> = boxes.iter().map(|(lo, size)| {
+                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.2);
+                Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap()
+            }).collect();
+            let ground = Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
+            let mut receivers = boxes.clone();
+            receivers.push(ground);
+            let scene = SceneBounds::new(boxes, receivers, None).unwrap();
+            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
+            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
+            let lens = Lens { near: 0.5, far, ..Lens::default() };
+            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+            let direction = DVec3::from_array(light);
+            prop_assume!(direction.length() > 0.1);
+            let sun = DirectionalLight::new(direction.with_y(-direction.y.abs() - 0.1)).unwrap();
+            let light = Light::Directional(sun);
+            let input = SetupInput { camera: &camera, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
+            let frame = Frame::new(&input);
+            let basis = FocusBasis::new(&frame, Part::Whole);
+            let _ = basis.focused(&input);
+            prop_assert!(basis.body.get().is_none(), "the focused map built B");
+            prop_assume!(basis.visible.visible_receivers() > 0);
+            let mut projectors = vec![frame.fixed];
+            if let Some(aligned) = crate::light_space::LightFrame::view_aligned(sun.direction(), camera.forward()) {
+                projectors.push(Projector::Parallel(aligned));
+            }
+            let eps = 1e-6 * (1.0 + eye.length() + 100.0);
+            for projector in &projectors {
+                let p = projector.points_extents(basis.visible.view_body.points());
+                let b = projector.points_extents(basis.body());
+                prop_assert!((p.min - b.min).truncate().abs().max_element() <= eps
+                    && (p.max - b.max).truncate().abs().max_element() <= eps,
+                    "P {:?} vs B {:?}", p, b);
+            }
         }
     }
 }

@@ -7,6 +7,8 @@
 
 use glam::DVec3;
 
+use crate::geometry::ConvexPolyhedron;
+
 use crate::error::SetupError;
 use crate::focus::{caster_extents, unit_cube_clip};
 use crate::light::Light;
@@ -21,14 +23,15 @@ use crate::techniques::{ANGULAR_PADDING, on_whole_frame};
 /// Focused shadow map (FSM): the light's projection (orthographic for a directional light,
 /// the spot light's perspective for a spot light) fitted to what the camera sees, by unit
 /// cube clipping: XY = the intersection of the relevant casters' and the visible receivers'
-/// extents, near = the casters' minimum depth (raised to the convex body B's nearest point),
-/// far = the receivers' maximum depth; a one-texel border (the viewport inset) stays clear so
-/// that lookups outside the focus region read as lit.
+/// extents, near = the casters' minimum depth (for a spot light raised to the convex body B's
+/// nearest point), far = the receivers' maximum depth; a one-texel border (the viewport
+/// inset) stays clear so that lookups outside the focus region read as lit.
 ///
 /// Light frame (directional light): the LiSPSM paper's light space (map +y = the view
-/// direction projected onto the map plane) when B's rectangle in it is no larger than in the
-/// frame fixed by the light alone, else the fixed frame; so the map is never coarser than
-/// the uniform map. Spot lights use the fixed frame.
+/// direction projected onto the map plane) when B's rectangle in it (which is P's, the view
+/// frustum's in the scene box) is no larger than in the frame fixed by the light alone, else
+/// the fixed frame; so the map is never coarser than the uniform map. Spot lights use the
+/// fixed frame.
 ///
 /// Degenerate cases, each named in the diagnostics:
 /// - view parallel to the light: the fixed frame ([`Fallback::LightParallelToView`]);
@@ -36,7 +39,7 @@ use crate::techniques::{ANGULAR_PADDING, on_whole_frame};
 ///   ([`Fallback::NoVisibleReceiver`], [`Fallback::SpotLightMissesView`]);
 /// - no caster that can shadow a visible receiver: the map is fitted to the receivers alone
 ///   ([`Fallback::NoCasterForReceivers`]);
-/// - B empty or flat: the near plane is the casters' minimum alone
+/// - a spot light's B empty or flat: the near plane is the casters' minimum alone
 ///   ([`Fallback::DegenerateFocusBody`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Focused;
@@ -105,17 +108,27 @@ pub(crate) fn focus(
     {
         diagnostics.fallbacks.push(Fallback::LightParallelToView);
     }
-    let body = &basis.body;
-    diagnostics.focus_body_vertices = body.len();
-    let projector = choose_frame(input, body, basis.frame.fixed, diagnostics);
+    let projector = choose_frame(input, &visible.view_body, basis.frame.fixed, diagnostics);
     let mut receivers = basis.receiver_extents(&projector);
     if let Light::Spot(spot) = input.light {
         receivers = within_cone(receivers, spot);
     }
-    let body_extents = usable_body_extents(body, &projector, &receivers, tolerance);
-    if body_extents.is_none() {
-        diagnostics.fallbacks.push(Fallback::DegenerateFocusBody);
-    }
+    // B raises a spot light's near plane, where a perspective depth wants it as far from the
+    // light as it can be. An orthographic depth has even precision over its range, so a
+    // directional light's map does not build B (its dozen plane clips were a quarter of the
+    // setup).
+    let body_extents = match input.light {
+        Light::Directional(_) => None,
+        _ => {
+            let body = basis.body();
+            diagnostics.focus_body_vertices = body.len();
+            let extents = usable_body_extents(body, &projector, &receivers, tolerance);
+            if extents.is_none() {
+                diagnostics.fallbacks.push(Fallback::DegenerateFocusBody);
+            }
+            extents
+        }
+    };
 
     let casters = caster_extents(
         input.scene,
@@ -135,13 +148,15 @@ pub(crate) fn focus(
     }
 }
 
-/// Picks the light frame: for a directional light the view-aligned frame when B's
-/// rectangle in it is no larger than in the fixed frame (the map is "fitted to B"). Since
-/// the visible receivers lie in B and B in the scene box, the focused map is then never
-/// coarser than the uniform map.
+/// Picks the light frame: for a directional light the view-aligned frame when P's rectangle
+/// in it is no larger than in the fixed frame. P (the view frustum in the scene box) has the
+/// rectangle of B under a parallel projection (each point of B lies on a ray from P toward the
+/// light), so this is the map "fitted to B" without building B. Since the visible receivers
+/// lie in P and P in the scene box, the focused map is then never coarser than the uniform
+/// map.
 fn choose_frame(
     input: &SetupInput<'_>,
-    body: &[DVec3],
+    view_body: &ConvexPolyhedron,
     fixed: Projector,
     diagnostics: &mut Diagnostics,
 ) -> Projector {
@@ -153,8 +168,9 @@ fn choose_frame(
         return fixed;
     };
     let aligned = Projector::Parallel(frame);
-    let area = |projector: &Projector| projector.points_extents(body).xy_area();
-    if !body.is_empty() && area(&aligned) <= area(&fixed) {
+    let points = view_body.points();
+    let area = |projector: &Projector| projector.points_extents(points).xy_area();
+    if !points.is_empty() && area(&aligned) <= area(&fixed) {
         diagnostics.light_frame = LightFrameKind::ViewAligned;
         aligned
     } else {

@@ -117,7 +117,7 @@ impl LimitedWarp for Psm {
             Ok(diagnostics) => diagnostics,
             Err(uniform) => return Ok(*uniform),
         };
-        let (visible, body, tolerance) = (&basis.visible, &basis.body, basis.frame.tolerance);
+        let (visible, body, tolerance) = (&basis.visible, basis.body(), basis.frame.tolerance);
         let (eye, forward, near) = (camera.eye(), camera.forward(), camera.lens().near);
         let depth = |p: DVec3| (p - eye).dot(forward);
         let b0 = body.iter().map(|p| depth(*p)).fold(f64::INFINITY, f64::min);

@@ -254,7 +254,7 @@ pub(crate) fn warp_diagnostics(
             diagnostics,
         }));
     }
-    diagnostics.focus_body_vertices = basis.body.len();
+    diagnostics.focus_body_vertices = basis.body().len();
     Ok(diagnostics)
 }
 
@@ -464,7 +464,7 @@ impl WarpSpace {
                 )
             }
         };
-        let (visible, body, tolerance) = (&basis.visible, &basis.body, basis.frame.tolerance);
+        let (visible, body, tolerance) = (&basis.visible, basis.body(), basis.frame.tolerance);
         let linear_row = input.light.linear_depth_row();
         let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
 
@@ -765,7 +765,7 @@ pub(crate) fn view_warp_setup(
     let receivers_linear = ws.receivers_linear;
     let receivers_z = receivers_linear.1;
     let mut body_warped = Extents::EMPTY;
-    for p in &basis.body {
+    for p in basis.body() {
         body_warped.add(warp.warp(warp.light(*p)).0);
     }
 
