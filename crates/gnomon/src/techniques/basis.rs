@@ -228,6 +228,22 @@ mod tests {
         out
     }
 
+    /// Boxes (lowest corner, size) that cast and receive over a ground slab that receives.
+    fn city(boxes: &[([f64; 3], [f64; 3])]) -> SceneBounds {
+        let boxes: Vec<Aabb> = boxes
+            .iter()
+            .map(|(lo, size)| {
+                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.2);
+                Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap()
+            })
+            .collect();
+        let ground =
+            Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
+        let mut receivers = boxes.clone();
+        receivers.push(ground);
+        SceneBounds::new(boxes, receivers, None).unwrap()
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
 
@@ -242,14 +258,7 @@ mod tests {
             spot in any::<bool>(),
             cut in (0.0f64..1.0, 0.0f64..1.0),
         ) {
-            let boxes: Vec<Aabb> = boxes.iter().map(|(lo, size)| {
-                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.2);
-                Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap()
-            }).collect();
-            let ground = Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
-            let mut receivers = boxes.clone();
-            receivers.push(ground);
-            let scene = SceneBounds::new(boxes, receivers, None).unwrap();
+            let scene = city(&boxes);
             let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
             prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
             let lens = Lens { near: 0.5, far: 150.0, ..Lens::default() };
@@ -289,14 +298,7 @@ mod tests {
             light in prop::array::uniform3(-1.0f64..1.0),
             far in 5.0f64..400.0,
         ) {
-            let boxes: Vec<Aabb> = boxes.iter().map(|(lo, size)| {
-                let lo = DVec3::from_array(*lo).with_y(lo[1].abs() * 0.2);
-                Aabb::new(lo, lo + DVec3::from_array(*size)).unwrap()
-            }).collect();
-            let ground = Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
-            let mut receivers = boxes.clone();
-            receivers.push(ground);
-            let scene = SceneBounds::new(boxes, receivers, None).unwrap();
+            let scene = city(&boxes);
             let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
             prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
             let lens = Lens { near: 0.5, far, ..Lens::default() };
