@@ -202,19 +202,46 @@ fn cut_by_one(aabb: &Aabb, plane: &Plane, tolerance: f64, out: &mut Vec<DVec3>) 
             out.push(*c);
         }
     }
-    for a in 0..8 {
-        for bit in [1, 2, 4] {
-            let b = a | bit;
-            if a & bit != 0 {
-                continue;
-            }
+    let crossing = crossing_edges(&dist);
+    for_each_edge(crossing.iter().fold(0, |m, x| m | x), |a, axis| {
+        if crossing[axis] >> a & 1 != 0 {
+            let b = a | 1 << axis;
             let (da, db) = (dist[a], dist[b]);
-            if (da < 0.0) != (db < 0.0) && da != db {
-                out.push(corners[a] + (corners[b] - corners[a]) * (da / (da - db)));
+            out.push(corners[a] + (corners[b] - corners[a]) * (da / (da - db)));
+        }
+    });
+    out.len() > start
+}
+
+/// The box's edges that cross a plane, from its corners' signed distances (corner `c` at
+/// bit `c`, as [`Aabb::corners`] orders them): for each axis, bit `a` set where the edge from
+/// corner `a` to corner `a` + that axis's bit has one end below 0 and the other not.
+fn crossing_edges(dist: &[f64; 8]) -> [u8; 3] {
+    let below = dist
+        .iter()
+        .enumerate()
+        .fold(0u8, |m, (c, d)| m | u8::from(*d < 0.0) << c);
+    // The corners without the axis's bit: x 0, 2, 4, 6; y 0, 1, 4, 5; z 0, 1, 2, 3.
+    [
+        (below ^ below >> 1) & 0b0101_0101,
+        (below ^ below >> 2) & 0b0011_0011,
+        (below ^ below >> 4) & 0b0000_1111,
+    ]
+}
+
+/// Calls `f(a, axis)` for each corner `a` in `corners` (a bit mask), in increasing order, and
+/// each axis 0, 1, 2 whose edge starts there (bit `axis` of `a` clear): the order in which a
+/// walk over every edge would meet them.
+fn for_each_edge(mut corners: u8, mut f: impl FnMut(usize, usize)) {
+    while corners != 0 {
+        let a = corners.trailing_zeros() as usize;
+        corners &= corners - 1;
+        for axis in 0..3 {
+            if a & 1 << axis == 0 {
+                f(a, axis);
             }
         }
     }
-    out.len() > start
 }
 
 /// [`box_cut_vertices`] with room for `N` cutting planes (at least the bits of `mask`).
@@ -258,23 +285,24 @@ fn cut_vertices<const N: usize>(
         }
     }
     // Two box faces and a plane: box edges crossing a plane.
-    for a in 0..8 {
-        for bit in [1, 2, 4] {
-            if a & bit != 0 {
-                continue;
-            }
-            let b = a | bit;
-            for (j, d) in dist[..k].iter().enumerate() {
+    let mut crossing = [[0u8; 3]; N];
+    let mut any = 0;
+    for (j, d) in dist[..k].iter().enumerate() {
+        crossing[j] = crossing_edges(d);
+        any |= crossing[j].iter().fold(0, |m, x| m | x);
+    }
+    for_each_edge(any, |a, axis| {
+        let b = a | 1 << axis;
+        for (j, d) in dist[..k].iter().enumerate() {
+            if crossing[j][axis] >> a & 1 != 0 {
                 let (da, db) = (d[a], d[b]);
-                if (da < 0.0) != (db < 0.0) && da != db {
-                    let p = corners[a] + (corners[b] - corners[a]) * (da / (da - db));
-                    if in_cut(p, &[j]) {
-                        out.push(p);
-                    }
+                let p = corners[a] + (corners[b] - corners[a]) * (da / (da - db));
+                if in_cut(p, &[j]) {
+                    out.push(p);
                 }
             }
         }
-    }
+    });
     // One box face and two planes: where the two planes' line enters and leaves the box;
     // three planes.
     for j in 0..k {
