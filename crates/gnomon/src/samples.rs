@@ -47,9 +47,50 @@ pub struct ViewSample {
 }
 
 /// The samples of one frame; see the module documentation.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct ViewSamples {
     samples: Vec<ViewSample>,
+    /// What the undersampling measure reads of each sample, a column per coordinate, so that
+    /// the measure's loop runs over several samples at once ([`Texels::least_squared_scales`]).
+    columns: Columns,
+}
+
+impl PartialEq for ViewSamples {
+    /// The same samples (the columns are made from them).
+    fn eq(&self, other: &Self) -> bool {
+        self.samples == other.samples
+    }
+}
+
+/// The samples' positions and pixel footprints, one column per coordinate.
+#[derive(Debug, Clone, Default)]
+struct Columns {
+    position: [Vec<f64>; 3],
+    dp_dx: [Vec<f64>; 3],
+    dp_dy: [Vec<f64>; 3],
+}
+
+impl Columns {
+    fn new(samples: &[ViewSample]) -> Self {
+        let column = |f: &dyn Fn(&ViewSample) -> f64| samples.iter().map(f).collect::<Vec<_>>();
+        Self {
+            position: [
+                column(&|s| s.position.x),
+                column(&|s| s.position.y),
+                column(&|s| s.position.z),
+            ],
+            dp_dx: [
+                column(&|s| s.dp_dx.x),
+                column(&|s| s.dp_dx.y),
+                column(&|s| s.dp_dx.z),
+            ],
+            dp_dy: [
+                column(&|s| s.dp_dy.x),
+                column(&|s| s.dp_dy.y),
+                column(&|s| s.dp_dy.z),
+            ],
+        }
+    }
 }
 
 impl ViewSamples {
@@ -215,7 +256,12 @@ impl ViewSamples {
                 })
             })
             .collect();
-        Self { samples }
+        Self::from_vec(samples)
+    }
+
+    fn from_vec(samples: Vec<ViewSample>) -> Self {
+        let columns = Columns::new(&samples);
+        Self { samples, columns }
     }
 
     /// The samples.
@@ -235,21 +281,12 @@ impl ViewSamples {
 
     /// The samples that `keep` accepts.
     pub(crate) fn filtered(&self, keep: impl Fn(&ViewSample) -> bool) -> ViewSamples {
-        Self {
-            samples: self.samples.iter().filter(|s| keep(s)).copied().collect(),
-        }
+        Self::from_vec(self.samples.iter().filter(|s| keep(s)).copied().collect())
     }
 
     /// The samples whose view depth lies in [near, far] (a cascade's slice).
     pub fn within_depth(&self, near: f64, far: f64) -> ViewSamples {
-        Self {
-            samples: self
-                .samples
-                .iter()
-                .filter(|s| (near..=far).contains(&s.view_depth))
-                .copied()
-                .collect(),
-        }
+        self.filtered(|s| (near..=far).contains(&s.view_depth))
     }
 
     /// The `q` quantile (0 to 1, nearest rank) of `map`'s undersampling over the samples;
@@ -268,11 +305,7 @@ impl ViewSamples {
         // Selected on sigma_min^2, which falls as the undersampling grows: the
         // undersampling's rank r (ascending) is sigma_min^2's rank last - r, and only the
         // N values found pay for a square root and a division.
-        let mut values: Vec<f64> = self
-            .samples
-            .iter()
-            .map(|s| texels.least_squared_scale(s))
-            .collect();
+        let mut values = texels.least_squared_scales(&self.columns);
         if values.is_empty() {
             return None;
         }
@@ -378,6 +411,47 @@ impl Texels {
         let root = (0.25 * (a - c) * (a - c) + b * b).max(0.0).sqrt();
         // f64::max takes the number where one side is NaN: a NaN comes out as 0.
         (0.5 * (a + c) - root).max(0.0)
+    }
+
+    /// [`Self::least_squared_scale`] of every sample, from the columns: the same arithmetic in
+    /// the same order (so the same values to the last bit), written without branches so that
+    /// the compiler runs it on several samples at once.
+    fn least_squared_scales(&self, columns: &Columns) -> Vec<f64> {
+        let n = columns.position[0].len();
+        let [px, py, pz] = columns.position.each_ref().map(|c| &c[..n]);
+        let [dxx, dxy, dxz] = columns.dp_dx.each_ref().map(|c| &c[..n]);
+        let [dyx, dyy, dyz] = columns.dp_dy.each_ref().map(|c| &c[..n]);
+        let (rx, ry, rw, scale) = (self.x, self.y, self.w, self.scale);
+        let mut out = vec![0.0; n];
+        for (i, out) in out.iter_mut().enumerate() {
+            let (x0, y0, z0) = (px[i], py[i], pz[i]);
+            // DVec4::dot with w = 1, term by term in its order.
+            let cx = rx.x * x0 + rx.y * y0 + rx.z * z0 + rx.w * 1.0;
+            let cy = ry.x * x0 + ry.y * y0 + ry.z * z0 + ry.w * 1.0;
+            let cw = rw.x * x0 + rw.y * y0 + rw.z * z0 + rw.w * 1.0;
+            let inv_w = 1.0 / cw;
+            let (x, y) = (cx * inv_w, cy * inv_w);
+            let g = |r: DVec4, t: f64| {
+                (
+                    (r.x - rw.x * t) * inv_w,
+                    (r.y - rw.y * t) * inv_w,
+                    (r.z - rw.z * t) * inv_w,
+                )
+            };
+            let (gx, gy) = (g(rx, x), g(ry, y));
+            let dot = |g: (f64, f64, f64), d: (f64, f64, f64)| g.0 * d.0 + g.1 * d.1 + g.2 * d.2;
+            let (dx, dy) = ((dxx[i], dxy[i], dxz[i]), (dyx[i], dyy[i], dyz[i]));
+            let (jx0, jx1) = (scale * dot(gx, dx), scale * dot(gy, dx));
+            let (jy0, jy1) = (scale * dot(gx, dy), scale * dot(gy, dy));
+            let a = jx0 * jx0 + jx1 * jx1;
+            let b = jx0 * jy0 + jx1 * jy1;
+            let c = jy0 * jy0 + jy1 * jy1;
+            let root = (0.25 * (a - c) * (a - c) + b * b).max(0.0).sqrt();
+            let value = (0.5 * (a + c) - root).max(0.0);
+            // Where the map does not see the point (w <= 0, or not a number): 0.
+            *out = if cw > 0.0 { value } else { 0.0 };
+        }
+        out
     }
 }
 
