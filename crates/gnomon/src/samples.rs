@@ -391,67 +391,63 @@ impl Texels {
     /// square root and reciprocal once.
     #[inline]
     fn least_squared_scale(&self, sample: &ViewSample) -> f64 {
-        let p = sample.position.extend(1.0);
-        let (cx, cy, cw) = (self.x.dot(p), self.y.dot(p), self.w.dot(p));
-        if cw.is_nan() || cw <= 0.0 {
-            return 0.0;
+        self.least_squared_scale_at(
+            sample.position.to_array(),
+            sample.dp_dx.to_array(),
+            sample.dp_dy.to_array(),
+        )
+    }
+
+    /// [`Self::least_squared_scale`] of every sample, from the columns, in a loop that the
+    /// compiler runs on several samples at once.
+    fn least_squared_scales(&self, columns: &Columns) -> Vec<f64> {
+        let n = columns.position[0].len();
+        let [px, py, pz] = columns.position.each_ref().map(|c| &c[..n]);
+        let [dxx, dxy, dxz] = columns.dp_dx.each_ref().map(|c| &c[..n]);
+        let [dyx, dyy, dyz] = columns.dp_dy.each_ref().map(|c| &c[..n]);
+        let mut out = vec![0.0; n];
+        for (i, out) in out.iter_mut().enumerate() {
+            *out = self.least_squared_scale_at(
+                [px[i], py[i], pz[i]],
+                [dxx[i], dxy[i], dxz[i]],
+                [dyx[i], dyy[i], dyz[i]],
+            );
         }
+        out
+    }
+
+    /// [`Self::least_squared_scale`] at a point with its pixel footprints, written without
+    /// branches (so that [`Self::least_squared_scales`] vectorises).
+    #[inline(always)]
+    fn least_squared_scale_at(&self, p: [f64; 3], dp_dx: [f64; 3], dp_dy: [f64; 3]) -> f64 {
+        let (rx, ry, rw) = (self.x, self.y, self.w);
+        // The rows times (p, 1).
+        let row = |r: DVec4| r.x * p[0] + r.y * p[1] + r.z * p[2] + r.w;
+        let (cx, cy, cw) = (row(rx), row(ry), row(rw));
         let inv_w = 1.0 / cw;
         let (x, y) = (cx * inv_w, cy * inv_w);
-        let w = self.w.truncate();
-        let gx = (self.x.truncate() - w * x) * inv_w;
-        let gy = (self.y.truncate() - w * y) * inv_w;
+        // The gradients of the map's x and y over world space, dotted with a footprint.
+        let gradient = |r: DVec4, t: f64| {
+            [
+                (r.x - rw.x * t) * inv_w,
+                (r.y - rw.y * t) * inv_w,
+                (r.z - rw.z * t) * inv_w,
+            ]
+        };
+        let (gx, gy) = (gradient(rx, x), gradient(ry, y));
+        let dot = |g: [f64; 3], d: [f64; 3]| g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
         let scale = self.scale;
-        let (jx0, jx1) = (scale * gx.dot(sample.dp_dx), scale * gy.dot(sample.dp_dx));
-        let (jy0, jy1) = (scale * gx.dot(sample.dp_dy), scale * gy.dot(sample.dp_dy));
+        let (jx0, jx1) = (scale * dot(gx, dp_dx), scale * dot(gy, dp_dx));
+        let (jy0, jy1) = (scale * dot(gx, dp_dy), scale * dot(gy, dp_dy));
         // J^T J = [[a, b], [b, c]]: its eigenvalues are the squared singular values.
         let a = jx0 * jx0 + jx1 * jx1;
         let b = jx0 * jy0 + jx1 * jy1;
         let c = jy0 * jy0 + jy1 * jy1;
         let root = (0.25 * (a - c) * (a - c) + b * b).max(0.0).sqrt();
         // f64::max takes the number where one side is NaN: a NaN comes out as 0.
-        (0.5 * (a + c) - root).max(0.0)
-    }
-
-    /// [`Self::least_squared_scale`] of every sample, from the columns: the same arithmetic in
-    /// the same order (so the same values to the last bit), written without branches so that
-    /// the compiler runs it on several samples at once.
-    fn least_squared_scales(&self, columns: &Columns) -> Vec<f64> {
-        let n = columns.position[0].len();
-        let [px, py, pz] = columns.position.each_ref().map(|c| &c[..n]);
-        let [dxx, dxy, dxz] = columns.dp_dx.each_ref().map(|c| &c[..n]);
-        let [dyx, dyy, dyz] = columns.dp_dy.each_ref().map(|c| &c[..n]);
-        let (rx, ry, rw, scale) = (self.x, self.y, self.w, self.scale);
-        let mut out = vec![0.0; n];
-        for (i, out) in out.iter_mut().enumerate() {
-            let (x0, y0, z0) = (px[i], py[i], pz[i]);
-            // DVec4::dot with w = 1, term by term in its order.
-            let cx = rx.x * x0 + rx.y * y0 + rx.z * z0 + rx.w * 1.0;
-            let cy = ry.x * x0 + ry.y * y0 + ry.z * z0 + ry.w * 1.0;
-            let cw = rw.x * x0 + rw.y * y0 + rw.z * z0 + rw.w * 1.0;
-            let inv_w = 1.0 / cw;
-            let (x, y) = (cx * inv_w, cy * inv_w);
-            let g = |r: DVec4, t: f64| {
-                (
-                    (r.x - rw.x * t) * inv_w,
-                    (r.y - rw.y * t) * inv_w,
-                    (r.z - rw.z * t) * inv_w,
-                )
-            };
-            let (gx, gy) = (g(rx, x), g(ry, y));
-            let dot = |g: (f64, f64, f64), d: (f64, f64, f64)| g.0 * d.0 + g.1 * d.1 + g.2 * d.2;
-            let (dx, dy) = ((dxx[i], dxy[i], dxz[i]), (dyx[i], dyy[i], dyz[i]));
-            let (jx0, jx1) = (scale * dot(gx, dx), scale * dot(gy, dx));
-            let (jy0, jy1) = (scale * dot(gx, dy), scale * dot(gy, dy));
-            let a = jx0 * jx0 + jx1 * jx1;
-            let b = jx0 * jy0 + jx1 * jy1;
-            let c = jy0 * jy0 + jy1 * jy1;
-            let root = (0.25 * (a - c) * (a - c) + b * b).max(0.0).sqrt();
-            let value = (0.5 * (a + c) - root).max(0.0);
-            // Where the map does not see the point (w <= 0, or not a number): 0.
-            *out = if cw > 0.0 { value } else { 0.0 };
-        }
-        out
+        let value = (0.5 * (a + c) - root).max(0.0);
+        // Where the map does not see the point (w <= 0, or not a number): 0.
+        if cw > 0.0 { value } else { 0.0 }
     }
 }
 
