@@ -182,19 +182,15 @@ impl BoxTree {
         out.cut.reserve(64);
         let planes = BoxPlanes::new(planes);
         while let Some((node, active)) = stack.pop() {
-            let Some(mask) = planes.straddled(
-                self.nodes.center_of(node),
-                self.nodes.half_of(node),
-                active,
-                tolerance,
-            ) else {
+            let (c, h) = self.nodes.center_half(node);
+            let Some(mask) = planes.straddled(c, h, active, tolerance) else {
                 continue;
             };
             if mask == 0 {
                 out.nodes.push(node as u32);
             } else if self.is_leaf(node) {
                 for &i in self.boxes_of(node) {
-                    let (c, h) = (boxes.center_of(i as usize), boxes.half_of(i as usize));
+                    let (c, h) = boxes.center_half(i as usize);
                     match planes.straddled(c, h, mask, tolerance) {
                         None => {}
                         Some(0) => out.boxes.push(i),
@@ -363,23 +359,25 @@ fn straddled_by(
 /// Planes ready for [`straddled`]'s test of many boxes: each normal with its absolute value
 /// (a box's reach across the plane is |n| . h), made once per walk.
 pub(crate) struct BoxPlanes {
-    planes: Vec<(DVec3, DVec3, f64)>,
+    /// Room for the 32 planes a mask can name, so that a plane is read by its bit's index
+    /// without a bounds check (and the planes need no allocation).
+    planes: [(DVec3, DVec3, f64); 32],
 }
 
 impl BoxPlanes {
+    /// The first 32 of `planes` (a mask names no more).
     pub fn new(planes: &[Plane]) -> Self {
-        Self {
-            planes: planes
-                .iter()
-                .map(|p| (p.normal, p.normal.abs(), p.offset))
-                .collect(),
+        let mut out = [(DVec3::ZERO, DVec3::ZERO, 0.0); 32];
+        for (slot, p) in out.iter_mut().zip(planes) {
+            *slot = (p.normal, p.normal.abs(), p.offset);
         }
+        Self { planes: out }
     }
 
     /// [`straddled`] against these planes.
     #[inline]
     pub fn straddled(&self, c: DVec3, h: DVec3, active: u32, tolerance: f64) -> Option<u32> {
-        straddled_by(c, h, active, tolerance, |k| self.planes[k])
+        straddled_by(c, h, active, tolerance, |k| self.planes[k & 31])
     }
 }
 
