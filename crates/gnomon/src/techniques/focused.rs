@@ -7,10 +7,9 @@
 
 use glam::DVec3;
 
-use crate::geometry::ConvexPolyhedron;
-
 use crate::error::SetupError;
 use crate::focus::{caster_extents, unit_cube_clip};
+use crate::geometry::ConvexPolyhedron;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, Projector, build_map};
 use crate::setup::{
