@@ -57,7 +57,8 @@ pub(crate) fn classify_box(aabb: &Aabb, planes: &[Plane], tolerance: f64) -> Box
 /// planes, `planes` the part's, which equal the frame's except those named in `changed`
 /// (bits; a part lies inside the frame). What lies outside the frame lies outside the part;
 /// what lies wholly inside is tested against the changed planes only (subtrees stay
-/// subtrees); a box that crosses some planes, against all.
+/// subtrees); a box that crosses some of the frame's planes, against those and the changed
+/// ones.
 pub(crate) fn refine(
     frame: &Classified,
     scene: &SceneBounds,
@@ -67,6 +68,10 @@ pub(crate) fn refine(
 ) -> Classified {
     let (tree, arrays) = (scene.receiver_tree(), scene.receiver_arrays());
     let mut out = Classified::default();
+    // Room for every box the frame lists, so that the pushes below do not grow the lists.
+    let listed = frame.boxes.len() + frame.cut.len();
+    out.boxes.reserve(listed);
+    out.cut.reserve(listed);
     tree.classify(
         arrays,
         planes,
@@ -74,10 +79,12 @@ pub(crate) fn refine(
         frame.nodes.iter().map(|&n| (n as usize, changed)),
         &mut out,
     );
-    let all = all_planes(planes.len());
     let box_planes = BoxPlanes::new(planes);
+    // A box the frame cuts is tested again against the planes it crosses and the changed
+    // ones: it lies inside the others, which are the frame's.
     let boxes = frame.boxes.iter().map(|&i| (i, changed));
-    for (i, active) in boxes.chain(frame.cut.iter().map(|&(i, _)| (i, all))) {
+    let cut = frame.cut.iter().map(|&(i, mask)| (i, mask | changed));
+    for (i, active) in boxes.chain(cut) {
         let (c, h) = (arrays.center_of(i as usize), arrays.half_of(i as usize));
         match box_planes.straddled(c, h, active, tolerance) {
             None => {}
