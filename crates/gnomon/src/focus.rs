@@ -10,7 +10,7 @@
 //!   receiver nearer than every caster compares below 0 and comes out lit;
 //! - far = the receivers' maximum depth: every visible receiver compares inside [0, 1].
 
-use std::cell::OnceCell;
+use std::sync::OnceLock;
 
 use glam::DVec3;
 
@@ -403,7 +403,7 @@ pub(crate) struct VisibleScene {
     tolerance: f64,
     /// The visible part of each receiver in `cuts`, as a polyhedron, each made on first
     /// use: a point light's faces cut it further by their frusta, each from the same part.
-    cut_bodies: OnceCell<Vec<OnceCell<ConvexPolyhedron>>>,
+    cut_bodies: OnceLock<Vec<OnceLock<ConvexPolyhedron>>>,
 }
 
 /// A frame's cut receivers that a part of it may take instead of cutting them again: the
@@ -436,7 +436,7 @@ impl VisibleScene {
             cuts: Vec::new(),
             cut_once: Vec::new(),
             tolerance,
-            cut_bodies: OnceCell::new(),
+            cut_bodies: OnceLock::new(),
         };
         if visible.view_body.is_empty() {
             return visible;
@@ -769,7 +769,7 @@ impl VisibleScene {
         // shared by every face.
         let cut_body = |k: usize| {
             self.cut_bodies
-                .get_or_init(|| vec![OnceCell::new(); self.cuts.len()])[k]
+                .get_or_init(|| vec![OnceLock::new(); self.cuts.len()])[k]
                 .get_or_init(|| {
                     let (i, view_mask, _, _) = self.cuts[k];
                     let cut = (0..view_planes.len())

@@ -12,7 +12,7 @@
 //! through their hierarchy ([`crate::bvh`]): whole subtrees inside or outside the view, boxes
 //! one by one only near its planes.
 
-use std::cell::OnceCell;
+use std::sync::OnceLock;
 
 use crate::bounds::SceneBounds;
 use crate::bvh::{Classified, all_planes};
@@ -49,9 +49,9 @@ pub(crate) struct Frame<'a> {
     /// planes.
     parent: Option<(&'a VisibleScene, u32)>,
     /// The whole view's visible scene, made on first use.
-    visible: OnceCell<VisibleScene>,
+    visible: OnceLock<VisibleScene>,
     /// The view samples when the input has none, cast on first use.
-    cast_samples: OnceCell<ViewSamples>,
+    cast_samples: OnceLock<ViewSamples>,
 }
 
 impl<'a> Frame<'a> {
@@ -82,8 +82,8 @@ impl<'a> Frame<'a> {
             receiver_planes,
             receiver_codes,
             parent: None,
-            visible: OnceCell::new(),
-            cast_samples: OnceCell::new(),
+            visible: OnceLock::new(),
+            cast_samples: OnceLock::new(),
         }
     }
 
@@ -122,8 +122,8 @@ impl<'a> Frame<'a> {
             receiver_planes,
             receiver_codes,
             parent,
-            visible: OnceCell::new(),
-            cast_samples: OnceCell::new(),
+            visible: OnceLock::new(),
+            cast_samples: OnceLock::new(),
         }
     }
 

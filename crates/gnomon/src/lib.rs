@@ -50,6 +50,7 @@ mod frame;
 pub mod geometry;
 mod light;
 mod light_space;
+mod parallel;
 pub mod planar;
 mod samples;
 mod setup;

@@ -21,7 +21,8 @@
 //! Shared work: the frame's facts ([`crate::frame`]: P, each receiver against the view, the
 //! casters in light space, the view samples) are computed once; each slice is a
 //! [`crate::techniques::basis::Part::Slice`] of them, whose receivers are only tested again
-//! against its near and far planes.
+//! against its near and far planes. The slices share nothing they write, so they are fitted
+//! in parallel where the `parallel` feature is on (`crate::parallel`), with the same maps.
 //!
 //! Blending: map i + 1 also covers the last `blend` fraction of slice i, where a pixel mixes
 //! both (the renderer's blend band), so its slice camera starts there.
@@ -383,8 +384,9 @@ impl ShadowTechnique for Cascades {
                 .push(Fallback::StableNeedsDirectionalLight);
         }
         let depths = slices.view_depths;
-        let mut maps = Vec::with_capacity(k);
-        for i in 0..k {
+        // The slices are independent given the frame: fitted in parallel (see
+        // `crate::parallel`), merged in order.
+        let fitted = crate::parallel::map_in_order(k, |i| -> Result<_, SetupError> {
             // Map i also covers the blend band at the end of slice i - 1.
             let near = if i == 0 {
                 depths[0]
@@ -395,9 +397,7 @@ impl ShadowTechnique for Cascades {
             if let Some(direction) = stable_sun {
                 let camera =
                     Camera::from_view_from_world(view_from_world, Lens { near, far, ..lens })?;
-                maps.push(stable_map(&camera, direction, input.scene, settings));
-                diagnostics.light_frame = LightFrameKind::Fixed;
-                continue;
+                return Ok((stable_map(&camera, direction, input.scene, settings), None));
             }
             // A fitted map covers its slice and a millionth of the slice's length beyond each
             // end (within the view), so that a point the selection routes to it at a border
@@ -419,8 +419,16 @@ impl ShadowTechnique for Cascades {
             };
             let basis = FocusBasis::new(&frame, Part::Slice(&camera));
             let setup = self.fit.setup_with(&slice_input, &basis)?;
-            merge(&mut diagnostics, &setup.diagnostics, i == 0);
-            maps.push(setup.maps[0]);
+            Ok((setup.maps[0], Some(setup.diagnostics)))
+        });
+        let mut maps = Vec::with_capacity(k);
+        for (i, slice) in fitted.into_iter().enumerate() {
+            let (map, slice_diagnostics) = slice?;
+            match slice_diagnostics {
+                Some(d) => merge(&mut diagnostics, &d, i == 0),
+                None => diagnostics.light_frame = LightFrameKind::Fixed,
+            }
+            maps.push(map);
         }
         // Stable maps hold every caster over their squares: picked by coverage unless asked
         // otherwise (a spot light's fitted maps, which stable falls back to, by depth).
