@@ -51,16 +51,17 @@ mod tests {
         assert_eq!(out, (0..50).map(|i| i * i).collect::<Vec<_>>());
     }
 
-    /// Eight cascades over a city of 900 boxes from many views and suns are the same to the
-    /// bit on one thread as on rayon's pool: the slices share nothing they write.
+    /// Eight cascades over a city of 900 boxes from many views and suns, and LiSPSM on the
+    /// cube faces of a lamp among the buildings, are the same to the bit on one thread as on
+    /// rayon's pool: the slices and the faces share nothing they write.
     #[cfg(feature = "parallel")]
     #[test]
     fn cascades_do_not_depend_on_the_threads() {
         use glam::DVec3;
 
         use crate::{
-            Aabb, Camera, Cascades, DirectionalLight, Lens, Light, MapSettings, SceneBounds,
-            compute_setup,
+            Aabb, Camera, Cascades, DirectionalLight, Lens, Light, Lispsm, MapSettings, PointLight,
+            SceneBounds, ShadowTechnique, compute_setup,
         };
 
         let mut boxes = Vec::new();
@@ -92,18 +93,26 @@ mod tests {
             let camera =
                 Camera::look_at(eye, DVec3::new(0.0, 0.0, 0.0), DVec3::Y, Lens::default()).unwrap();
             let sun = DVec3::new((a * 3.0).sin(), -0.3 - 0.05 * view as f64, (a * 2.0).cos());
-            let light = Light::Directional(DirectionalLight::new(sun).unwrap());
-            let setup = || {
-                compute_setup(&technique, &camera, &light, &scene, MapSettings::default()).unwrap()
-            };
-            let (serial, parallel) = (one.install(setup), many.install(setup));
-            assert_eq!(serial.maps, parallel.maps, "view {view}");
-            assert_eq!(serial.selection, parallel.selection, "view {view}");
-            assert_eq!(serial.diagnostics.fallbacks, parallel.diagnostics.fallbacks);
-            assert_eq!(
-                serial.diagnostics.warp_strength,
-                parallel.diagnostics.warp_strength
-            );
+            let sun = Light::Directional(DirectionalLight::new(sun).unwrap());
+            let lamp = DVec3::new(30.0 * (a * 5.0).sin(), 3.0 + view as f64, 30.0 * a.cos());
+            let lamp = Light::Point(PointLight::new(lamp, 150.0).unwrap());
+            let cases: [(&(dyn ShadowTechnique + Sync), &Light); 2] =
+                [(&technique, &sun), (&Lispsm::default(), &lamp)];
+            for (technique, light) in cases {
+                let setup = || {
+                    compute_setup(technique, &camera, light, &scene, MapSettings::default())
+                        .unwrap()
+                };
+                let (serial, parallel) = (one.install(setup), many.install(setup));
+                let name = technique.name();
+                assert_eq!(serial.maps, parallel.maps, "{name}, view {view}");
+                assert_eq!(serial.selection, parallel.selection, "{name}, view {view}");
+                assert_eq!(serial.diagnostics.fallbacks, parallel.diagnostics.fallbacks);
+                assert_eq!(
+                    serial.diagnostics.warp_strength,
+                    parallel.diagnostics.warp_strength
+                );
+            }
         }
     }
 }
