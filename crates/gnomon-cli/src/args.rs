@@ -386,6 +386,11 @@ pub struct TechniqueParams {
     /// shadow-map / sqrt(K) on a side) instead of each having that size.
     #[arg(long)]
     pub equal_texels: bool,
+    /// Cascades: choose the number of cascades per view, up to --cascades: each number is
+    /// set up and the one whose maps undersample the view samples least at the median is
+    /// kept (not with explicit --cascade-split distances).
+    #[arg(long)]
+    pub cascade_adaptive: bool,
     /// Cascades: how a point picks its map (default auto: stable cascades by coverage, the
     /// nearest map whose square holds it, which reads finer texels than its view depth's
     /// map; fitted cascades by view depth, since a fitted map holds only its slice).
@@ -527,6 +532,7 @@ pub fn options_read_by(technique: &Technique) -> Vec<&'static str> {
                 "--cascade-blend",
                 "--stable",
                 "--equal-texels",
+                "--cascade-adaptive",
                 "--cascade-select",
             ];
             // Stable cascades fit a sphere per slice: no fit technique, none of its options.
@@ -639,6 +645,9 @@ impl TechniqueParams {
         }
         if self.equal_texels {
             flags.push(("--equal-texels", "--equal-texels".to_string()));
+        }
+        if self.cascade_adaptive {
+            flags.push(("--cascade-adaptive", "--cascade-adaptive".to_string()));
         }
         if let Some(select) = self.cascade_select {
             flags.push((
@@ -764,6 +773,7 @@ impl TechniqueParams {
                 t.blend = self.cascade_blend.unwrap_or(t.blend);
                 t.stable |= self.stable;
                 t.equal_texels |= self.equal_texels;
+                t.adaptive |= self.cascade_adaptive;
                 if let Some(select) = self.cascade_select {
                     t.select = match select {
                         CascadeSelectArg::Auto => CascadeSelect::Auto,

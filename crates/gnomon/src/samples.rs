@@ -29,7 +29,7 @@ use glam::{DVec3, DVec4};
 use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::light::Light;
-use crate::setup::ShadowMap;
+use crate::setup::{ShadowMap, ShadowSetup};
 
 /// A visible, lit receiver point as one pixel sees it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -287,6 +287,27 @@ impl ViewSamples {
     /// The samples whose view depth lies in [near, far] (a cascade's slice).
     pub fn within_depth(&self, near: f64, far: f64) -> ViewSamples {
         self.filtered(|s| (near..=far).contains(&s.view_depth))
+    }
+
+    /// The `q` quantile (0 to 1, nearest rank) of a setup's undersampling over the samples,
+    /// each sample measured on the map it reads ([`crate::MapSelection::map_for`]; a sample
+    /// no map covers is left out); `None` when no sample is measured.
+    pub fn setup_undersampling_quantile(&self, setup: &ShadowSetup, q: f64) -> Option<f64> {
+        let mut values = Vec::with_capacity(self.len());
+        for (k, map) in setup.maps.iter().enumerate() {
+            let reads =
+                self.filtered(|s| setup.selection.map_for(&setup.maps, s.position) == Some(k));
+            values.extend(Texels::new(map).least_squared_scales(&reads.columns));
+        }
+        if values.is_empty() {
+            return None;
+        }
+        // Selected on sigma_min^2, which falls as the undersampling grows (see
+        // `undersampling_quantiles`).
+        let last = values.len() - 1;
+        let rank = last - ((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last);
+        let (_, value, _) = values.select_nth_unstable_by(rank, f64::total_cmp);
+        Some(undersampling_of(*value))
     }
 
     /// The `q` quantile (0 to 1, nearest rank) of `map`'s undersampling over the samples;

@@ -370,3 +370,98 @@ fn stable_cascades_keep_their_texel_grid_in_the_world() {
         assert!(moved > 10, "{name}: {moved}");
     }
 }
+
+/// Adaptive cascades are the setup of the number of cascades (1 to K) whose median
+/// undersampling over the view samples is least, the fewest on a tie: the same maps, to the
+/// bit, as that number's setup; over street views and suns, both a grazing sun (where slicing
+/// at equal texels does not pay) and a high one.
+#[test]
+fn adaptive_cascades_keep_the_count_with_the_least_median_undersampling() {
+    let scene = city();
+    let mut counts = Vec::new();
+    for (i, (eye, forward, sun)) in [
+        (
+            DVec3::new(0.0, 2.0, 50.0),
+            DVec3::new(0.0, -0.05, -1.0),
+            DVec3::new(0.4, -0.8, -0.3),
+        ),
+        (
+            DVec3::new(-30.0, 40.0, 80.0),
+            DVec3::new(0.3, -0.4, -1.0),
+            DVec3::new(-0.2, -1.0, 0.1),
+        ),
+        (
+            DVec3::new(10.0, 1.7, 0.0),
+            DVec3::new(-1.0, 0.0, -0.6),
+            DVec3::new(-0.97, -0.08, -0.2),
+        ),
+        (
+            DVec3::new(0.0, 120.0, 150.0),
+            DVec3::new(0.0, -0.6, -1.0),
+            DVec3::new(0.1, -0.05, -1.0),
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let camera = street_camera(eye, forward);
+        let light = Light::Directional(DirectionalLight::new(sun).unwrap());
+        let settings = MapSettings::with_resolution(1024);
+        let samples = gnomon::ViewSamples::new(&camera, &light, &scene);
+        let base = Cascades {
+            count: 4,
+            equal_texels: true,
+            blend: 0.0,
+            ..Cascades::default()
+        };
+        let run = |c: Cascades| {
+            gnomon::compute_setup_with_samples(&c, &camera, &light, &scene, settings, &samples)
+                .unwrap()
+        };
+        let adaptive = run(Cascades {
+            adaptive: true,
+            ..base
+        });
+        let medians: Vec<f64> = (1..=4)
+            .map(|count| {
+                let fixed = run(Cascades { count, ..base });
+                samples.setup_undersampling_quantile(&fixed, 0.5).unwrap()
+            })
+            .collect();
+        let least = medians.iter().copied().fold(f64::INFINITY, f64::min);
+        let count = 1 + medians.iter().position(|m| *m == least).unwrap();
+        assert_eq!(adaptive.maps.len(), count, "view {i}: medians {medians:?}");
+        assert_eq!(
+            adaptive.maps,
+            run(Cascades { count, ..base }).maps,
+            "view {i}"
+        );
+        counts.push(count);
+    }
+    // The views do not all pick the same number: the choice depends on the view.
+    assert!(counts.iter().any(|c| *c != counts[0]), "counts {counts:?}");
+}
+
+#[test]
+fn adaptive_cascades_refuse_explicit_split_distances() {
+    let camera = street_camera(DVec3::new(0.0, 2.0, 50.0), DVec3::new(0.0, -0.05, -1.0));
+    let mut depths = [0.0; gnomon::MAX_CASCADES - 1];
+    depths[0] = 20.0;
+    let c = Cascades {
+        count: 2,
+        split: CascadeSplit::Distances { count: 1, depths },
+        adaptive: true,
+        ..Cascades::default()
+    };
+    let result = compute_setup(
+        &c,
+        &camera,
+        &sun(),
+        &city(),
+        MapSettings::with_resolution(1024),
+    );
+    assert!(
+        matches!(result, Err(SetupError::InvalidParameter { .. })),
+        "{result:?}"
+    );
+}

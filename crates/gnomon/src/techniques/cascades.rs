@@ -53,6 +53,7 @@ use crate::frame::Frame;
 use crate::geometry::ConvexPolyhedron;
 use crate::light::Light;
 use crate::light_space::LightFrame;
+use crate::samples::ViewSamples;
 use crate::setup::{
     CascadeSlices, Diagnostics, Fallback, LightFrameKind, MAX_CASCADES, MIN_RESOLUTION,
     MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
@@ -190,6 +191,14 @@ pub struct Cascades {
     pub equal_texels: bool,
     /// How a point picks its map.
     pub select: CascadeSelect,
+    /// The number of cascades chosen per view, up to `count`: each number from 1 to `count`
+    /// is set up, and the setup whose maps undersample the frame's view samples least at the
+    /// median (each sample on the map it reads) is kept, the fewest cascades on a tie. With
+    /// `equal_texels`, slicing the view pays only where it shrinks the maps' footprints more
+    /// than their texel counts; under a grazing sun, or a view along the light, the slices'
+    /// maps cover nearly the whole view's area with fewer texels each. Not with explicit
+    /// split distances.
+    pub adaptive: bool,
 }
 
 impl Default for Cascades {
@@ -204,6 +213,7 @@ impl Default for Cascades {
             stable: false,
             equal_texels: false,
             select: CascadeSelect::Auto,
+            adaptive: false,
         }
     }
 }
@@ -224,6 +234,12 @@ impl Cascades {
             && !(d.is_finite() && d > lens.near)
         {
             return Err(invalid("shadow distance (beyond the near plane)", d));
+        }
+        if self.adaptive && matches!(self.split, CascadeSplit::Distances { .. }) {
+            return Err(SetupError::InvalidParameter {
+                name: "adaptive cascades with split distances (the distances fix the count)",
+                value: self.count as f64,
+            });
         }
         match self.split {
             CascadeSplit::Practical { lambda } if !(0.0..=1.0).contains(&lambda) => {
@@ -345,6 +361,9 @@ impl ShadowTechnique for Cascades {
         input.map.validate()?;
         let lens = input.camera.lens();
         self.validate(&lens)?;
+        if self.adaptive && self.count > 1 {
+            return self.adaptive_setup(input);
+        }
         // The frame's facts (P, the receivers against the view, the casters in light space,
         // the samples) once; each slice refines them.
         // Slices are cameras made from the view matrix; the frame's camera is made the same
@@ -440,6 +459,42 @@ impl ShadowTechnique for Cascades {
             selection: MapSelection::Cascades(slices),
             diagnostics,
         })
+    }
+}
+
+impl Cascades {
+    /// [`Cascades::adaptive`]: the setups of 1 to `count` cascades, the one whose median
+    /// undersampling over the view samples is least kept.
+    fn adaptive_setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        let cast;
+        let samples = match input.samples {
+            Some(samples) => samples,
+            None => {
+                cast = ViewSamples::new(input.camera, input.light, input.scene);
+                &cast
+            }
+        };
+        let input = SetupInput {
+            samples: Some(samples),
+            ..*input
+        };
+        let mut best: Option<(f64, ShadowSetup)> = None;
+        for count in 1..=self.count {
+            let fixed = Cascades {
+                count,
+                adaptive: false,
+                ..*self
+            };
+            let setup = fixed.setup(&input)?;
+            let median = samples
+                .setup_undersampling_quantile(&setup, 0.5)
+                .unwrap_or(f64::INFINITY);
+            if best.as_ref().is_none_or(|(least, _)| median < *least) {
+                best = Some((median, setup));
+            }
+        }
+        let (_, setup) = best.expect("count is at least 1");
+        Ok(setup)
     }
 }
 
