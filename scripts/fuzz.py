@@ -134,6 +134,9 @@ def command(map_sizes, shadow_distance, on_surfaces):
         if rng.random() < 0.3:
             args += ["--cascade-blend", f"{rng.choice([0, 0.25, 0.5]):g}"]
         if rng.random() < 0.3:
+            # with split distances: refused (one line, exit 2)
+            args += ["--cascade-adaptive"]
+        if rng.random() < 0.3:
             # coverage needs --stable: refused (one line, exit 2) without it
             args += ["--cascade-select", rng.choice(["auto", "depth", "coverage"])]
     if technique == "sppsm" and rng.random() < 0.5 or wild:
