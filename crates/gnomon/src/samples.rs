@@ -302,10 +302,8 @@ impl ViewSamples {
         if values.is_empty() {
             return None;
         }
-        // Selected on sigma_min^2, which falls as the undersampling grows (see
-        // `undersampling_quantiles`).
-        let last = values.len() - 1;
-        let rank = last - ((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last);
+        // Selected on sigma_min^2, as in `undersampling_quantiles`.
+        let rank = scale_rank(q, values.len() - 1);
         let (_, value, _) = values.select_nth_unstable_by(rank, f64::total_cmp);
         Some(undersampling_of(*value))
     }
@@ -333,8 +331,7 @@ impl ViewSamples {
         let last = values.len() - 1;
         // Nearest-rank quantiles by selection, largest rank first: each selection leaves the
         // values below its rank in front, where the next one selects.
-        let ranks =
-            qs.map(|q| last - ((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last));
+        let ranks = qs.map(|q| scale_rank(q, last));
         let mut order: [usize; N] = std::array::from_fn(|i| i);
         order.sort_unstable_by(|a, b| ranks[*b].cmp(&ranks[*a]));
         let mut out = [0.0; N];
@@ -475,6 +472,12 @@ impl Texels {
 /// The undersampling 1 / sigma_min from sigma_min^2 ([`Texels::least_squared_scale`]);
 /// infinite where it is 0.
 #[inline]
+/// The rank, among least squared scales sorted ascending (`last` the highest rank), of the
+/// undersampling's nearest-rank `q` quantile: the undersampling falls as the scale grows.
+fn scale_rank(q: f64, last: usize) -> usize {
+    last - ((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last)
+}
+
 fn undersampling_of(least_squared_scale: f64) -> f64 {
     let sigma_min = least_squared_scale.sqrt();
     if sigma_min > 0.0 {

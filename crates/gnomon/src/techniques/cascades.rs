@@ -344,6 +344,40 @@ impl Cascades {
             by_coverage: false,
         })
     }
+
+    /// [`Cascades::adaptive`]: the setups of 1 to `count` cascades, the one whose median
+    /// undersampling over the view samples is least kept.
+    fn adaptive_setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
+        let cast;
+        let samples = match input.samples {
+            Some(samples) => samples,
+            None => {
+                cast = ViewSamples::new(input.camera, input.light, input.scene);
+                &cast
+            }
+        };
+        let input = SetupInput {
+            samples: Some(samples),
+            ..*input
+        };
+        let mut best: Option<(f64, ShadowSetup)> = None;
+        for count in 1..=self.count {
+            let fixed = Cascades {
+                count,
+                adaptive: false,
+                ..*self
+            };
+            let setup = fixed.setup(&input)?;
+            let median = samples
+                .setup_undersampling_quantile(&setup, 0.5)
+                .unwrap_or(f64::INFINITY);
+            if best.as_ref().is_none_or(|(least, _)| median < *least) {
+                best = Some((median, setup));
+            }
+        }
+        let (_, setup) = best.expect("count is at least 1");
+        Ok(setup)
+    }
 }
 
 impl ShadowTechnique for Cascades {
@@ -459,42 +493,6 @@ impl ShadowTechnique for Cascades {
             selection: MapSelection::Cascades(slices),
             diagnostics,
         })
-    }
-}
-
-impl Cascades {
-    /// [`Cascades::adaptive`]: the setups of 1 to `count` cascades, the one whose median
-    /// undersampling over the view samples is least kept.
-    fn adaptive_setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        let cast;
-        let samples = match input.samples {
-            Some(samples) => samples,
-            None => {
-                cast = ViewSamples::new(input.camera, input.light, input.scene);
-                &cast
-            }
-        };
-        let input = SetupInput {
-            samples: Some(samples),
-            ..*input
-        };
-        let mut best: Option<(f64, ShadowSetup)> = None;
-        for count in 1..=self.count {
-            let fixed = Cascades {
-                count,
-                adaptive: false,
-                ..*self
-            };
-            let setup = fixed.setup(&input)?;
-            let median = samples
-                .setup_undersampling_quantile(&setup, 0.5)
-                .unwrap_or(f64::INFINITY);
-            if best.as_ref().is_none_or(|(least, _)| median < *least) {
-                best = Some((median, setup));
-            }
-        }
-        let (_, setup) = best.expect("count is at least 1");
-        Ok(setup)
     }
 }
 
