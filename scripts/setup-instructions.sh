@@ -30,9 +30,9 @@ if [ ${#setups[@]} -eq 0 ]; then
         cascades_4_lispsm_directional_given_samples sppsm_directional cube_point_given_samples
         cube_point_over_city_given_samples)
 fi
-# Without the `parallel` feature: the count is the setup's work, done on the calling thread
-# (rayon's idle workers spin before they sleep, and callgrind would count that too).
-cargo build -q --release -p gnomon --example setup_loop --no-default-features
+# Without the opt-in `parallel` feature: the count is the setup's work, done on the calling
+# thread (rayon's idle workers spin before they sleep, and callgrind would count that too).
+cargo build -q --release -p gnomon --example setup_loop
 bin=target/release/examples/setup_loop
 # About 2 * 10^8 instructions per run at most.
 n=$(( 200000 / boxes ))

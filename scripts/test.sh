@@ -44,9 +44,9 @@ echo "test.sh: cargo fmt --check"
 cargo fmt --all --check
 echo "test.sh: cargo clippy"
 cargo clippy --workspace --all-targets --locked -- -D warnings
-echo "test.sh: the core without its default feature (parallel): clippy and tests"
-cargo clippy -p gnomon --no-default-features --all-targets --locked -- -D warnings
-cargo test -p gnomon --no-default-features --locked --lib
+echo "test.sh: the core with its opt-in feature (parallel): clippy and tests"
+cargo clippy -p gnomon --features parallel --all-targets --locked -- -D warnings
+cargo test -p gnomon --features parallel --locked --lib
 echo "test.sh: cargo test (GPU tests on Vulkan)"
 cargo test --workspace --locked
 # The GPU tests again on GL (llvmpipe through EGL): what a machine without a Vulkan driver

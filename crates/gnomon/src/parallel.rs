@@ -1,16 +1,19 @@
-//! Independent parts of one setup (a cascade's slices) on several threads.
+//! Independent parts of one setup (a cascade's fitted slices) on several threads.
 //!
-//! With the `parallel` feature (on by default) the parts run on rayon's global thread pool;
-//! without it, in turn on the calling thread. Each part reads the frame's shared facts
+//! With the opt-in `parallel` feature the parts run on rayon's global thread pool; without
+//! it (the default), in turn on the calling thread. Each part reads the frame's shared facts
 //! ([`crate::frame::Frame`], whose lazily made parts are `OnceLock`s) and makes its own
 //! basis, so the results do not depend on the threads: they are the same to the bit either
-//! way, and come back in the parts' order. An engine that runs setups on its own job system
-//! can turn the feature off (`default-features = false`); `RAYON_NUM_THREADS=1` keeps rayon
-//! to one thread.
+//! way, and come back in the parts' order.
 //!
-//! Why: the four LiSPSM cascades of the criterion bench's city (1000 boxes) cost about 1.07 M
-//! instructions, 93% of them in the slices; on two cores the slices in parallel take the
-//! setup from about 125 µs to about 80 µs (README, "Setup at scale").
+//! When it pays: the four LiSPSM cascades of the criterion bench's city (1000 boxes) cost
+//! about 1.07 M instructions, 93% of them in the slices, and on this project's 2-core machine
+//! setups run back to back take about 90 µs in parallel against 140 µs on one thread. But in
+//! a frame loop, where the pool's threads go to sleep between frames, waking them costs
+//! about what the second core saves there (with 16 ms between setups: 487 against 454 µs),
+//! and a cube face's or a stable slice's work is less than a wake-up. So the feature is off
+//! by default: an engine that sets up several lights back to back, or whose threads wake
+//! cheaply, turns it on (README, "A city of 10^4 buildings").
 
 /// `f(0), f(1), ... f(count - 1)`, in that order, computed in parallel where the feature is
 /// on.
@@ -53,7 +56,7 @@ mod tests {
 
     /// Eight cascades over a city of 900 boxes from many views and suns, and LiSPSM on the
     /// cube faces of a lamp among the buildings, are the same to the bit on one thread as on
-    /// rayon's pool: the slices and the faces share nothing they write.
+    /// rayon's pool: the slices share nothing they write.
     #[cfg(feature = "parallel")]
     #[test]
     fn cascades_do_not_depend_on_the_threads() {

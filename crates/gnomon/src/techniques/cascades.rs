@@ -21,8 +21,9 @@
 //! Shared work: the frame's facts ([`crate::frame`]: P, each receiver against the view, the
 //! casters in light space, the view samples) are computed once; each slice is a
 //! [`crate::techniques::basis::Part::Slice`] of them, whose receivers are only tested again
-//! against its near and far planes. The slices share nothing they write, so they are fitted
-//! in parallel where the `parallel` feature is on (`crate::parallel`), with the same maps.
+//! against its near and far planes. The slices share nothing they write, so fitted slices
+//! run in parallel where the (opt-in) `parallel` feature is on (`crate::parallel`), with the
+//! same maps.
 //!
 //! Blending: map i + 1 also covers the last `blend` fraction of slice i, where a pixel mixes
 //! both (the renderer's blend band), so its slice camera starts there.
@@ -437,9 +438,10 @@ impl ShadowTechnique for Cascades {
                 .push(Fallback::StableNeedsDirectionalLight);
         }
         let depths = slices.view_depths;
-        // The slices are independent given the frame: fitted in parallel (see
-        // `crate::parallel`), merged in order.
-        let fitted = crate::parallel::map_in_order(k, |i| -> Result<_, SetupError> {
+        // The slices are independent given the frame: fitted slices in parallel with the
+        // `parallel` feature (see `crate::parallel`; a stable slice is too little work to hand
+        // to another thread), merged in order.
+        let slice = |i: usize| -> Result<_, SetupError> {
             // Map i also covers the blend band at the end of slice i - 1.
             let near = if i == 0 {
                 depths[0]
@@ -473,7 +475,12 @@ impl ShadowTechnique for Cascades {
             let basis = FocusBasis::new(&frame, Part::Slice(&camera));
             let setup = self.fit.setup_with(&slice_input, &basis)?;
             Ok((setup.maps[0], Some(setup.diagnostics)))
-        });
+        };
+        let fitted = if stable_sun.is_some() {
+            (0..k).map(slice).collect()
+        } else {
+            crate::parallel::map_in_order(k, slice)
+        };
         let mut maps = Vec::with_capacity(k);
         for (i, slice) in fitted.into_iter().enumerate() {
             let (map, slice_diagnostics) = slice?;

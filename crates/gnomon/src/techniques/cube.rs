@@ -57,7 +57,7 @@ pub(crate) fn per_face(
     name: &'static str,
     input: &SetupInput<'_>,
     point: &PointLight,
-    fit: impl Fn(&SetupInput<'_>, &FocusBasis<'_>) -> Result<ShadowSetup, SetupError> + Sync,
+    fit: impl Fn(&SetupInput<'_>, &FocusBasis<'_>) -> Result<ShadowSetup, SetupError>,
 ) -> Result<ShadowSetup, SetupError> {
     faces(name, input, point, false, fit)
 }
@@ -82,7 +82,7 @@ fn faces(
     input: &SetupInput<'_>,
     point: &PointLight,
     quick: bool,
-    fit: impl Fn(&SetupInput<'_>, &FocusBasis<'_>) -> Result<ShadowSetup, SetupError> + Sync,
+    fit: impl Fn(&SetupInput<'_>, &FocusBasis<'_>) -> Result<ShadowSetup, SetupError>,
 ) -> Result<ShadowSetup, SetupError> {
     input.map.validate()?;
     let view = Frame::new(input);
@@ -119,12 +119,8 @@ fn faces(
         }
         Ok((always || !nothing_to_shadow(&setup)).then_some(setup))
     };
-    // The faces are independent given the view's frame: made in parallel (see
-    // `crate::parallel`), taken in order.
-    let made =
-        crate::parallel::map_in_order(CubeFace::ALL.len(), |k| face_setup(CubeFace::ALL[k], false));
-    for (face, setup) in CubeFace::ALL.into_iter().zip(made) {
-        let Some(setup) = setup? else {
+    for face in CubeFace::ALL {
+        let Some(setup) = face_setup(face, false)? else {
             diagnostics.cube_faces_skipped += 1;
             continue;
         };
