@@ -469,15 +469,15 @@ impl Texels {
     }
 }
 
-/// The undersampling 1 / sigma_min from sigma_min^2 ([`Texels::least_squared_scale`]);
-/// infinite where it is 0.
-#[inline]
 /// The rank, among least squared scales sorted ascending (`last` the highest rank), of the
 /// undersampling's nearest-rank `q` quantile: the undersampling falls as the scale grows.
 fn scale_rank(q: f64, last: usize) -> usize {
     last - ((q.clamp(0.0, 1.0) * last as f64).round() as usize).min(last)
 }
 
+/// The undersampling 1 / sigma_min from sigma_min^2 ([`Texels::least_squared_scale`]);
+/// infinite where it is 0.
+#[inline]
 fn undersampling_of(least_squared_scale: f64) -> f64 {
     let sigma_min = least_squared_scale.sqrt();
     if sigma_min > 0.0 {
