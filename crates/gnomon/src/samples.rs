@@ -293,10 +293,16 @@ impl ViewSamples {
     /// each sample measured on the map it reads ([`crate::MapSelection::map_for`]; a sample
     /// no map covers is left out); `None` when no sample is measured.
     pub fn setup_undersampling_quantile(&self, setup: &ShadowSetup, q: f64) -> Option<f64> {
+        // Each sample to the map it reads, in one pass (in the samples' order per map).
+        let mut reads = vec![Vec::new(); setup.maps.len()];
+        for s in &self.samples {
+            if let Some(k) = setup.selection.map_for(&setup.maps, s.position) {
+                reads[k].push(*s);
+            }
+        }
         let mut values = Vec::with_capacity(self.len());
-        for (k, map) in setup.maps.iter().enumerate() {
-            let reads =
-                self.filtered(|s| setup.selection.map_for(&setup.maps, s.position) == Some(k));
+        for (map, reads) in setup.maps.iter().zip(reads) {
+            let reads = Self::from_vec(reads);
             values.extend(Texels::new(map).least_squared_scales(&reads.columns));
         }
         if values.is_empty() {
