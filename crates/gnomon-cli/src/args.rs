@@ -386,9 +386,9 @@ pub struct TechniqueParams {
     /// shadow-map / sqrt(K) on a side) instead of each having that size.
     #[arg(long)]
     pub equal_texels: bool,
-    /// Cascades: choose the number of cascades per view, up to --cascades: each number is
-    /// set up and the one whose maps undersample the view samples least at the median is
-    /// kept (not with explicit --cascade-split distances).
+    /// Cascades: choose the number of cascades per view, up to --cascades: 1, 2, ... are set
+    /// up in turn while each undersamples the view samples less at the median than the one
+    /// before, and the last that did is kept (not with explicit --cascade-split distances).
     #[arg(long)]
     pub cascade_adaptive: bool,
     /// Cascades: how a point picks its map (default auto: stable cascades by coverage, the

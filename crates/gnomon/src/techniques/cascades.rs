@@ -192,13 +192,17 @@ pub struct Cascades {
     pub equal_texels: bool,
     /// How a point picks its map.
     pub select: CascadeSelect,
-    /// The number of cascades chosen per view, up to `count`: each number from 1 to `count`
-    /// is set up, and the setup whose maps undersample the frame's view samples least at the
-    /// median (each sample on the map it reads) is kept, the fewest cascades on a tie. With
-    /// `equal_texels`, slicing the view pays only where it shrinks the maps' footprints more
-    /// than their texel counts; under a grazing sun, or a view along the light, the slices'
-    /// maps cover nearly the whole view's area with fewer texels each. Not with explicit
-    /// split distances.
+    /// The number of cascades chosen per view, up to `count`: 1, 2, ... cascades are set up
+    /// in turn while each number's maps undersample the frame's view samples less at the
+    /// median (each sample on the map it reads) than the number before; the last that did
+    /// is kept. With `equal_texels`, slicing the view pays only where it shrinks the maps'
+    /// footprints more than their texel counts; under a grazing sun, or a view along the
+    /// light, the slices' maps cover nearly the whole view's area with fewer texels each.
+    /// Why stop at the first number that does not help, rather than try them all: most
+    /// views keep one or two cascades, so this sets up 3 of the 10 slices of 1 to 4 on most
+    /// views, and on the scene suite's random sun views the first such number was the better
+    /// pick (0.414% wrong pixels against 0.431% for the least median over all; see the
+    /// README's cascades section). Not with explicit split distances.
     pub adaptive: bool,
 }
 
@@ -346,8 +350,8 @@ impl Cascades {
         })
     }
 
-    /// [`Cascades::adaptive`]: the setups of 1 to `count` cascades, the one whose median
-    /// undersampling over the view samples is least kept.
+    /// [`Cascades::adaptive`]: the setups of 1, 2, ... cascades while each lowers the median
+    /// undersampling over the view samples; the last that lowered it is kept.
     fn adaptive_setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
         let cast;
         let samples = match input.samples {
@@ -372,9 +376,11 @@ impl Cascades {
             let median = samples
                 .setup_undersampling_quantile(&setup, 0.5)
                 .unwrap_or(f64::INFINITY);
-            if best.as_ref().is_none_or(|(least, _)| median < *least) {
-                best = Some((median, setup));
+            if best.as_ref().is_some_and(|(least, _)| median >= *least) {
+                // Slicing finer stopped paying (see `Cascades::adaptive`).
+                break;
             }
+            best = Some((median, setup));
         }
         let (_, setup) = best.expect("count is at least 1");
         Ok(setup)
