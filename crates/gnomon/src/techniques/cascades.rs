@@ -352,19 +352,12 @@ impl Cascades {
 
     /// [`Cascades::adaptive`]: the setups of 1, 2, ... cascades while each lowers the median
     /// undersampling over the view samples; the last that lowered it is kept.
-    fn adaptive_setup(&self, input: &SetupInput<'_>) -> Result<ShadowSetup, SetupError> {
-        let cast;
-        let samples = match input.samples {
-            Some(samples) => samples,
-            None => {
-                cast = ViewSamples::new(input.camera, input.light, input.scene);
-                &cast
-            }
-        };
-        let input = SetupInput {
-            samples: Some(samples),
-            ..*input
-        };
+    fn adaptive_setup(
+        &self,
+        input: &SetupInput<'_>,
+        frame: &Frame<'_>,
+        samples: &ViewSamples,
+    ) -> Result<ShadowSetup, SetupError> {
         let mut best: Option<(f64, ShadowSetup)> = None;
         for count in 1..=self.count {
             let fixed = Cascades {
@@ -372,7 +365,7 @@ impl Cascades {
                 adaptive: false,
                 ..*self
             };
-            let setup = fixed.setup(&input)?;
+            let setup = fixed.setup_on(input, frame)?;
             let median = samples
                 .setup_undersampling_quantile(&setup, 0.5)
                 .unwrap_or(f64::INFINITY);
@@ -402,20 +395,47 @@ impl ShadowTechnique for Cascades {
         input.map.validate()?;
         let lens = input.camera.lens();
         self.validate(&lens)?;
-        if self.adaptive && self.count > 1 {
-            return self.adaptive_setup(input);
-        }
+        let adaptive = self.adaptive && self.count > 1;
+        // Adaptive cascades read the view samples of every count tried: cast once.
+        let cast;
+        let input = match input.samples {
+            None if adaptive => {
+                cast = ViewSamples::new(input.camera, input.light, input.scene);
+                SetupInput {
+                    samples: Some(&cast),
+                    ..*input
+                }
+            }
+            _ => *input,
+        };
+        let adaptive_samples = input.samples.filter(|_| adaptive);
         // The frame's facts (P, the receivers against the view, the casters in light space,
-        // the samples) once; each slice refines them.
+        // the samples) once, for every count tried; each slice refines them.
         // Slices are cameras made from the view matrix; the frame's camera is made the same
         // way, so that their eye and axes (and so the view frustum's side planes and the
         // view-aligned light frame) are the same to the last bit.
-        let view_from_world = input.camera.view_from_world();
-        let whole = Camera::from_view_from_world(view_from_world, lens)?;
+        let whole = Camera::from_view_from_world(input.camera.view_from_world(), lens)?;
         let frame = Frame::new(&SetupInput {
             camera: &whole,
-            ..*input
+            ..input
         });
+        if let Some(samples) = adaptive_samples {
+            return self.adaptive_setup(&input, &frame, samples);
+        }
+        self.setup_on(&input, &frame)
+    }
+}
+
+impl Cascades {
+    /// The setup of `self.count` cascades on `frame` (`input`'s, its camera the whole view's
+    /// made from the view matrix).
+    fn setup_on(
+        &self,
+        input: &SetupInput<'_>,
+        frame: &Frame<'_>,
+    ) -> Result<ShadowSetup, SetupError> {
+        let lens = input.camera.lens();
+        let view_from_world = input.camera.view_from_world();
         let Some(slices) = self.slices(input.camera, &frame.view_body) else {
             // The view does not reach the scene: one map, as the fit gives it.
             let mut setup = self.fit.as_dyn().setup(input)?;
@@ -478,7 +498,7 @@ impl ShadowTechnique for Cascades {
                 map: settings,
                 ..*input
             };
-            let basis = FocusBasis::new(&frame, Part::Slice(&camera));
+            let basis = FocusBasis::new(frame, Part::Slice(&camera));
             let setup = self.fit.setup_with(&slice_input, &basis)?;
             Ok((setup.maps[0], Some(setup.diagnostics)))
         };
