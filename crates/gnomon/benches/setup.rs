@@ -136,6 +136,31 @@ fn bench(c: &mut Criterion) {
                 })
             },
         );
+        // compare's `cascades-best`: 1 to 4 LiSPSM cascades chosen per view at one map's
+        // texels.
+        let adaptive = Cascades {
+            adaptive: true,
+            equal_texels: true,
+            blend: 0.0,
+            ..Cascades::default()
+        };
+        group.bench_with_input(
+            BenchmarkId::new("cascades_adaptive_directional_given_samples", n),
+            &scene,
+            |b, s| {
+                b.iter(|| {
+                    compute_setup_with_samples(
+                        &adaptive,
+                        black_box(&camera),
+                        &sun,
+                        s,
+                        settings,
+                        &samples,
+                    )
+                    .unwrap()
+                })
+            },
+        );
         group.bench_with_input(
             BenchmarkId::new("lispsm_directional_given_samples", n),
             &scene,

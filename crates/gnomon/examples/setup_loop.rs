@@ -19,11 +19,12 @@ use gnomon::{
 };
 
 /// The setups, named as the criterion bench names them (at 1000 boxes, `setup/NAME/1000`).
-const SETUPS: [&str; 9] = [
+const SETUPS: [&str; 10] = [
     "focused_directional",
     "lispsm_directional",
     "lispsm_directional_given_samples",
     "cascades_4_lispsm_directional_given_samples",
+    "cascades_adaptive_directional_given_samples",
     "cascades_4_stable_directional",
     "sppsm_directional",
     "cube_point_given_samples",
@@ -68,6 +69,12 @@ fn main() -> ExitCode {
             "lispsm_directional" => casting(&Lispsm::default()),
             "lispsm_directional_given_samples" => given(&Lispsm::default()),
             "cascades_4_lispsm_directional_given_samples" => given(&Cascades::default()),
+            "cascades_adaptive_directional_given_samples" => given(&Cascades {
+                adaptive: true,
+                equal_texels: true,
+                blend: 0.0,
+                ..Cascades::default()
+            }),
             "cascades_4_stable_directional" => casting(&Cascades {
                 stable: true,
                 ..Cascades::default()
