@@ -27,7 +27,8 @@ shift || true
 setups=("$@")
 if [ ${#setups[@]} -eq 0 ]; then
     setups=(focused_directional lispsm_directional_given_samples
-        cascades_4_lispsm_directional_given_samples sppsm_directional cube_point_given_samples
+        cascades_4_lispsm_directional_given_samples cascades_adaptive_directional_given_samples
+        sppsm_directional cube_point_given_samples
         cube_point_over_city_given_samples)
 fi
 # Without the opt-in `parallel` feature: the count is the setup's work, done on the calling
