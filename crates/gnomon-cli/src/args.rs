@@ -388,7 +388,9 @@ pub struct TechniqueParams {
     pub equal_texels: bool,
     /// Cascades: choose the number of cascades per view, up to --cascades: 1, 2, ... are set
     /// up in turn while each undersamples the view samples less at the median than the one
-    /// before, and the last that did is kept (not with explicit --cascade-split distances).
+    /// before, and the last that did is kept (not with explicit --cascade-split distances);
+    /// `flicker` and `view` keep the previous frame's number unless that one samples the
+    /// view more than 10% better.
     #[arg(long)]
     pub cascade_adaptive: bool,
     /// Cascades: how a point picks its map (default auto: stable cascades by coverage, the

@@ -210,6 +210,8 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
     );
     let mut tallies: Vec<Tally> = rows.iter().map(|_| Tally::default()).collect();
     let mut previous: Vec<Option<Vec<bool>>> = vec![None; rows.len()];
+    // Each row's technique for the next frame (adaptive cascades learn the count kept).
+    let mut techniques: Vec<gnomon::Technique> = rows.iter().map(|row| row.technique).collect();
     let mut previous_exact: Option<Vec<bool>> = None;
     let mut previous_facing: Option<Vec<bool>> = None;
     for (t, (camera_t, light_t)) in frames.iter().enumerate() {
@@ -242,7 +244,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
         for (r, row) in rows.iter().enumerate() {
             progress.set_message(format!("frame {t}: {}", row.label));
             let (setup, _) = timed_setup(
-                &row.technique,
+                &techniques[r],
                 camera_t,
                 light_t,
                 &bounds,
@@ -301,6 +303,7 @@ pub fn run(args: &FlickerArgs) -> Result<(), CliError> {
                 }
             }
             previous[r] = Some(lit);
+            techniques[r] = techniques[r].for_next_frame(&setup);
             progress.inc(1);
         }
         previous_exact = exact;

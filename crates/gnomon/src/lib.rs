@@ -74,8 +74,8 @@ pub use setup::{
     ShadowTechnique, Technique, UnknownTechnique, compute_setup, compute_setup_with_samples,
 };
 pub use techniques::{
-    CascadeFit, CascadeSelect, CascadeSplit, Cascades, Cube, DualParaboloid, Focused, Lispsm,
-    PerspectiveMap, Psm, Sppsm, Tsm, Uniform, Xpsm,
+    ADAPTIVE_HYSTERESIS, CascadeFit, CascadeSelect, CascadeSplit, Cascades, Cube, DualParaboloid,
+    Focused, Lispsm, PerspectiveMap, Psm, Sppsm, Tsm, Uniform, Xpsm,
 };
 
 /// Largest magnitude accepted for positions and distances (world units). Beyond it `f32`

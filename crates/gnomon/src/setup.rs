@@ -671,6 +671,20 @@ impl Technique {
         }
     }
 
+    /// The technique for the next frame of a frame loop whose last setup with it was
+    /// `setup`: adaptive cascades learn the number of cascades kept
+    /// ([`Cascades::adaptive_previous`](crate::Cascades::adaptive_previous)); every other
+    /// technique is unchanged (they keep no state between frames).
+    pub fn for_next_frame(&self, setup: &ShadowSetup) -> Technique {
+        match self {
+            Technique::Cascades(c) if c.adaptive => Technique::Cascades(crate::Cascades {
+                adaptive_previous: Some(setup.maps.len().max(1)),
+                ..*c
+            }),
+            other => *other,
+        }
+    }
+
     fn as_dyn(&self) -> &dyn ShadowTechnique {
         match self {
             Technique::Uniform(t) => t,

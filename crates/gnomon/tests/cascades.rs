@@ -6,7 +6,7 @@ use glam::{DMat3, DVec3};
 use gnomon::{
     Aabb, Camera, CascadeFit, CascadeSelect, CascadeSlices, CascadeSplit, Cascades,
     DirectionalLight, Lens, Light, MapSelection, MapSettings, SceneBounds, SetupError, ShadowMap,
-    ShadowSetup, SpotLight, compute_setup,
+    ShadowSetup, SpotLight, Technique, compute_setup,
 };
 
 /// A 2 km ground with a few buildings: a camera at street level sees it from its near plane
@@ -375,12 +375,13 @@ fn stable_cascades_keep_their_texel_grid_in_the_world() {
 /// undersampling over the view samples last fell: each number up to n has a lower median
 /// than the one before, and n + 1 (if n < K) does not; the same maps, to the bit, as that
 /// number's setup; over street views and suns, both a grazing sun (where slicing at equal
-/// texels does not pay) and a high one.
+/// texels does not pay) and a high one. Given the previous frame's number, the hysteresis.
 #[test]
 fn adaptive_cascades_keep_the_count_where_the_median_undersampling_stops_falling() {
     let scene = city();
     let mut counts = Vec::new();
     let mut stopped_early = false;
+    let (mut kept_previous, mut switched) = (false, false);
     for (i, (eye, forward, sun)) in [
         (
             DVec3::new(0.0, 2.0, 50.0),
@@ -447,11 +448,68 @@ fn adaptive_cascades_keep_the_count_where_the_median_undersampling_stops_falling
         let least = medians.iter().copied().fold(f64::INFINITY, f64::min);
         stopped_early |= medians[count - 1] > least;
         counts.push(count);
+        // Given the previous frame's number p (5 reads as 4), the setup stays at p unless the
+        // number found has a median more than ADAPTIVE_HYSTERESIS lower.
+        for previous in 1..=5 {
+            let p = previous.min(4);
+            let switches =
+                medians[count - 1] < (1.0 - gnomon::ADAPTIVE_HYSTERESIS) * medians[p - 1];
+            let expected = if switches { count } else { p };
+            let next = run(Cascades {
+                adaptive: true,
+                adaptive_previous: Some(previous),
+                ..base
+            });
+            assert_eq!(
+                next.maps,
+                run(Cascades {
+                    count: expected,
+                    ..base
+                })
+                .maps,
+                "view {i}, previous {previous}: medians {medians:?}"
+            );
+            if p != count {
+                kept_previous |= !switches;
+                switched |= switches;
+            }
+        }
     }
     // The views do not all pick the same number: the choice depends on the view.
     assert!(counts.iter().any(|c| *c != counts[0]), "counts {counts:?}");
     // And one view's search stops before a number with a lower median.
     assert!(stopped_early, "counts {counts:?}");
+    // The previous frame's number is kept somewhere, and left somewhere.
+    assert!(kept_previous && switched);
+}
+
+/// A frame loop hands adaptive cascades the number kept; a previous number of 0 is refused.
+#[test]
+fn adaptive_cascades_learn_the_previous_frames_count() {
+    let adaptive = Technique::Cascades(Cascades {
+        adaptive: true,
+        ..Cascades::default()
+    });
+    let camera = street_camera(DVec3::new(0.0, 2.0, 50.0), DVec3::new(0.0, -0.05, -1.0));
+    let scene = city();
+    let settings = MapSettings::with_resolution(1024);
+    let setup = compute_setup(&adaptive, &camera, &sun(), &scene, settings).unwrap();
+    match adaptive.for_next_frame(&setup) {
+        Technique::Cascades(c) => assert_eq!(c.adaptive_previous, Some(setup.maps.len())),
+        other => panic!("{other:?}"),
+    }
+    // Other techniques (and fixed cascades) keep no state.
+    let fixed = Technique::Cascades(Cascades::default());
+    assert_eq!(fixed.for_next_frame(&setup), fixed);
+    let zero = Cascades {
+        adaptive: true,
+        adaptive_previous: Some(0),
+        ..Cascades::default()
+    };
+    assert!(matches!(
+        compute_setup(&zero, &camera, &sun(), &scene, settings),
+        Err(SetupError::InvalidParameter { .. })
+    ));
 }
 
 #[test]

@@ -204,7 +204,21 @@ pub struct Cascades {
     /// pick (0.414% wrong pixels against 0.431% for the least median over all; see the
     /// README's cascades section). Not with explicit split distances.
     pub adaptive: bool,
+    /// With `adaptive`, the number of cascades the previous frame kept, if any (values above
+    /// `count` read as `count`): the search above keeps it unless the number it finds
+    /// undersamples the view samples less at the median by more than
+    /// [`ADAPTIVE_HYSTERESIS`] (it sets that number up too when the search did not reach
+    /// it). Why: a camera that moves slowly would otherwise switch between two numbers whose
+    /// medians are close, and every switch moves every shadow edge (`gnomon flicker`). The
+    /// core keeps no state between frames; a frame loop hands back `maps.len()` of the
+    /// setup before.
+    pub adaptive_previous: Option<usize>,
 }
+
+/// How much lower (as a fraction) the median undersampling of the number of cascades that
+/// adaptive cascades find must be than the previous frame's number's for the setup to
+/// switch to it (see [`Cascades::adaptive_previous`]).
+pub const ADAPTIVE_HYSTERESIS: f64 = 0.1;
 
 impl Default for Cascades {
     /// Four LiSPSM cascades, the practical split with lambda 0.5, blend 0.1, not stable.
@@ -219,6 +233,7 @@ impl Default for Cascades {
             equal_texels: false,
             select: CascadeSelect::Auto,
             adaptive: false,
+            adaptive_previous: None,
         }
     }
 }
@@ -239,6 +254,9 @@ impl Cascades {
             && !(d.is_finite() && d > lens.near)
         {
             return Err(invalid("shadow distance (beyond the near plane)", d));
+        }
+        if self.adaptive_previous == Some(0) {
+            return Err(invalid("previous frame's cascade count (at least 1)", 0.0));
         }
         if self.adaptive && matches!(self.split, CascadeSplit::Distances { .. }) {
             return Err(SetupError::InvalidParameter {
@@ -351,32 +369,57 @@ impl Cascades {
     }
 
     /// [`Cascades::adaptive`]: the setups of 1, 2, ... cascades while each lowers the median
-    /// undersampling over the view samples; the last that lowered it is kept.
+    /// undersampling over the view samples; the last that lowered it is kept, or the
+    /// previous frame's number within [`ADAPTIVE_HYSTERESIS`] of it.
     fn adaptive_setup(
         &self,
         input: &SetupInput<'_>,
         frame: &Frame<'_>,
         samples: &ViewSamples,
     ) -> Result<ShadowSetup, SetupError> {
-        let mut best: Option<(f64, ShadowSetup)> = None;
-        for count in 1..=self.count {
+        let setup_of = |count: usize| -> Result<(f64, ShadowSetup), SetupError> {
             let fixed = Cascades {
                 count,
                 adaptive: false,
+                adaptive_previous: None,
                 ..*self
             };
             let setup = fixed.setup_on(input, frame)?;
             let median = samples
                 .setup_undersampling_quantile(&setup, 0.5)
                 .unwrap_or(f64::INFINITY);
-            if best.as_ref().is_some_and(|(least, _)| median >= *least) {
+            Ok((median, setup))
+        };
+        let previous = self.adaptive_previous.map(|p| p.min(self.count));
+        // The numbers tried, with their medians; the previous frame's setup if it is one.
+        let mut kept: Option<(f64, ShadowSetup)> = None;
+        let mut found: Option<(f64, ShadowSetup)> = None;
+        for count in 1..=self.count {
+            let (median, setup) = setup_of(count)?;
+            let stops = found.as_ref().is_some_and(|(least, _)| median >= *least);
+            if previous == Some(count) {
+                kept = Some((median, setup.clone()));
+            }
+            if stops {
                 // Slicing finer stopped paying (see `Cascades::adaptive`).
                 break;
             }
-            best = Some((median, setup));
+            found = Some((median, setup));
         }
-        let (_, setup) = best.expect("count is at least 1");
-        Ok(setup)
+        let (median, setup) = found.expect("count is at least 1");
+        let kept = match (previous, kept) {
+            (Some(p), None) if p != setup.maps.len() => Some(setup_of(p)?),
+            (_, kept) => kept,
+        };
+        match kept {
+            Some((kept_median, kept_setup))
+                if kept_setup.maps.len() != setup.maps.len()
+                    && median >= (1.0 - ADAPTIVE_HYSTERESIS) * kept_median =>
+            {
+                Ok(kept_setup)
+            }
+            _ => Ok(setup),
+        }
     }
 }
 

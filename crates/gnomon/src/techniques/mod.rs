@@ -14,7 +14,7 @@ mod view_warp;
 mod warp_limit;
 mod xpsm;
 
-pub use cascades::{CascadeFit, CascadeSelect, CascadeSplit, Cascades};
+pub use cascades::{ADAPTIVE_HYSTERESIS, CascadeFit, CascadeSelect, CascadeSplit, Cascades};
 pub use cube::Cube;
 pub(crate) use cube::{focused_per_face, per_face};
 pub use focused::Focused;
