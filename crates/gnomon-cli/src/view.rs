@@ -162,7 +162,7 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
             draw,
             panel,
             samples: None,
-            last_setup: None,
+            next_technique: None,
             overlay: Overlay::Shaded,
             measure: true,
             measured: None,
@@ -230,10 +230,10 @@ struct ViewModel {
     panel: OptionPanel,
     /// The view samples of a still frame, kept while camera and light stay.
     samples: Option<(String, ViewSamples)>,
-    /// The last frame's technique (as the panel set it) and its setup:
-    /// adaptive cascades keep their count across frames within a margin
+    /// The last frame's technique (as the panel set it) and the technique its setup hands
+    /// the next frame: adaptive cascades keep their count across frames within a margin
     /// ([`gnomon::Technique::for_next_frame`]).
-    last_setup: Option<(gnomon::Technique, gnomon::ShadowSetup)>,
+    next_technique: Option<(gnomon::Technique, gnomon::Technique)>,
     /// What the 3D view shows.
     overlay: Overlay,
     /// Whether a frame at rest is measured once (GPU time per pass, the maps as the light
@@ -465,13 +465,13 @@ impl ViewModel {
             renderer,
             draw.technique.map_read() == gnomon_render::MapRead::Coverage,
         )?;
-        let stateful = match &self.last_setup {
-            Some((last, setup)) if *last == technique => technique.for_next_frame(setup),
+        let stateful = match self.next_technique {
+            Some((last, next)) if last == technique => next,
             _ => technique,
         };
         let (setup, setup_us) =
             timed_setup(&stateful, &camera, &light, bounds, draw.shadow_map, samples)?;
-        self.last_setup = Some((technique, setup.clone()));
+        self.next_technique = Some((technique, stateful.for_next_frame(&setup)));
         if draw.tint && setup.maps.len() < 2 {
             return Err(crate::render::tint_needs_two_maps(&technique));
         }
