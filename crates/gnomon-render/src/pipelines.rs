@@ -557,7 +557,10 @@ pub(crate) fn build(
         vertex: wgpu::VertexState {
             module: shader,
             entry_point: Some(spec.vertex),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: spec.constants,
+                ..Default::default()
+            },
             buffers: &buffers,
         },
         primitive: wgpu::PrimitiveState {

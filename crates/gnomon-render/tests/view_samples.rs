@@ -82,6 +82,14 @@ fn the_pixels_see_what_the_core_rays_find_on_boxes() {
             .unwrap()
             .maps[0];
             let (mut matched, mut close) = (0, 0);
+            // The same pixel: rays from the eye within 1/50 of a pixel's angle. (Rasterisers
+            // snap vertices to a sub-pixel grid, 1/256 of a pixel on an NVIDIA H200: on the
+            // ground seen at 4 degrees from eye [40, 3, 40] that moved points 8 cm along it,
+            // 1/850 of a pixel across the ray.)
+            let pixel =
+                lens.fov_y_degrees.to_radians() / f64::from(ViewSamples::grid(lens.aspect).1);
+            let ray = |p: DVec3| (p - eye).normalize();
+            let mut worst = 0.0f64;
             for s in cpu.samples() {
                 let Some(t) = gpu.samples().iter().min_by(|a, b| {
                     (a.position - s.position)
@@ -90,12 +98,16 @@ fn the_pixels_see_what_the_core_rays_find_on_boxes() {
                 }) else {
                     continue;
                 };
-                if (t.position - s.position).length() < 1e-3 * s.view_depth
+                if ray(t.position).angle_between(ray(s.position)) < pixel / 50.0
                     && t.normal.dot(s.normal) > 1.0 - 1e-6
                 {
                     matched += 1;
+                    // The same point up to that snap: the same undersampling to within the
+                    // points' distance over their depth.
                     let (u, v) = (undersampling(&map, s), undersampling(&map, t));
-                    close += usize::from((u / v - 1.0).abs() < 1e-3);
+                    let apart = (t.position - s.position).length() / s.view_depth;
+                    worst = worst.max((u / v - 1.0).abs() - 2.0 * apart);
+                    close += usize::from((u / v - 1.0).abs() < 1e-3 + 2.0 * apart);
                 }
             }
             assert!(
@@ -103,7 +115,7 @@ fn the_pixels_see_what_the_core_rays_find_on_boxes() {
                 "{at}: {matched} of {}",
                 cpu.len()
             );
-            assert_eq!(close, matched, "{at}");
+            assert_eq!(close, matched, "{at}: undersampling apart by {worst}");
             for technique in [
                 Technique::Lispsm(Lispsm::default()),
                 Technique::Tsm(Tsm::default()),

@@ -923,34 +923,40 @@ struct VolumeVertex {
     @location(0) depth: vec2<f32>,
 };
 
+// How far vs_volume moves its depth, in units of the f32's last place of each fragment's
+// depth: positive behind (reversed Z: toward 0; the volumes' caps), negative in front (the
+// planar receiver). z scaled at the vertices scales z / w, and so the depth, everywhere.
+override DEPTH_PUSH_ULPS: f32 = 0.0;
+
 // Volume geometry: homogeneous view-space positions (w = 0 at infinity) through the
 // infinite projection; stencil only.
 @vertex
 fn vs_volume(@location(0) position: vec4<f32>) -> VolumeVertex {
     var out: VolumeVertex;
     out.clip = frame.infinite_clip_from_camera * position;
+    out.clip.z = out.clip.z * (1.0 - DEPTH_PUSH_ULPS * 1.1920929e-7);
     out.depth = out.clip.zw;
     return out;
 }
 
 // The volumes' depth from the fragment shader (GL; see MainOut.depth), pushed behind as the
 // volume pipelines' depth bias does elsewhere (which does not apply to a written depth):
-// 16 units of the float's last place and 0.05 of the slope.
+// 0.05 of the slope (vs_volume's DEPTH_PUSH_ULPS is in the depth already).
 @fragment
 fn fs_volume_frag_depth(in: VolumeVertex) -> @builtin(frag_depth) f32 {
     let d = in.depth.x / in.depth.y;
     let slope = max(abs(dpdx(d)), abs(dpdy(d)));
-    return max(d * (1.0 - 16.0 * 1.1920929e-7) - 0.05 * slope, 0.0);
+    return max(d - 0.05 * slope, 0.0);
 }
 
 // Planar shadows' receiver polygon from the fragment shader (GL), pulled in front of the
-// receiver's own face it lies on (the planar pipelines' depth bias elsewhere): 16 units of
-// the float's last place and 0.05 of the slope.
+// receiver's own face it lies on (the planar pipelines' depth bias elsewhere): 0.05 of the
+// slope (vs_volume's DEPTH_PUSH_ULPS is in the depth already).
 @fragment
 fn fs_planar_frag_depth(in: VolumeVertex) -> @builtin(frag_depth) f32 {
     let d = in.depth.x / in.depth.y;
     let slope = max(abs(dpdx(d)), abs(dpdy(d)));
-    return min(d * (1.0 + 16.0 * 1.1920929e-7) + 0.05 * slope, 1.0);
+    return min(d + 0.05 * slope, 1.0);
 }
 
 struct FullscreenOut {
