@@ -319,12 +319,15 @@ impl VolumePipelines {
         // DEPTH_PUSH_ULPS, 16 units of the f32's last place of each fragment's depth, applied
         // by the vertex shader (the same relative push on every device), and 0.05 of the
         // depth's slope per pixel from the pipeline's bias, for faces seen edge-on. No
-        // constant bias: its unit for float depth is each implementation's own. On an NVIDIA
-        // H200 (Vulkan) a constant of 16 pushed caps metres behind far terrain, and the
-        // volumes of the suite's terrain, long_view, disagreed with the ray-cast oracle on
-        // 0.77% of the pixels (0.013% with the push below; lavapipe: 0.013% either way).
+        // constant bias on float depth: its unit there is each implementation's own. On an
+        // NVIDIA H200 (Vulkan) a constant of 16 pushed caps metres behind far terrain, and
+        // the volumes of the suite's terrain, long_view, disagreed with the ray-cast oracle
+        // on 0.77% of the pixels (0.018% with the push and the slope term; lavapipe 0.013%
+        // either way). A 24-bit depth's unit is fixed (2^-24), and far coarser than the push:
+        // there the constant stays.
+        let constant = if float_depth { 0 } else { 16 };
         let behind = wgpu::DepthBiasState {
-            constant: 0,
+            constant: -constant,
             slope_scale: -0.05,
             clamp: 0.0,
         };
@@ -398,7 +401,7 @@ impl VolumePipelines {
         // The planar receiver's polygon pulled in front of the face it lies on, as the caps
         // are pushed behind (above).
         let in_front = wgpu::DepthBiasState {
-            constant: 0,
+            constant,
             slope_scale: 0.05,
             clamp: 0.0,
         };
