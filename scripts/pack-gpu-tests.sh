@@ -27,7 +27,7 @@ trap 'rm -rf "$stage"' EXIT
 pack="$stage/gnomon-gpu-tests"
 mkdir -p "$pack/tests" "$pack/assets/suite"
 cargo build -q --release -p gnomon-cli
-cargo test -q --release -p gnomon-render --no-run --message-format=json 2>/dev/null |
+cargo test -q --release -p gnomon-render --no-run --message-format=json |
     python3 -c '
 import json, sys
 for line in sys.stdin:

@@ -72,6 +72,11 @@ pub struct VolumeFrame {
     pub stats: VolumeStats,
 }
 
+/// How far the volumes' caps are pushed behind the faces they lie on (and the planar
+/// receiver pulled in front of its face), in units of the f32's last place of the depth: the
+/// shader's `DEPTH_PUSH_ULPS` (see [`VolumePipelines::new`]).
+const PUSH_ULPS: f64 = 16.0;
+
 /// What fills the stencil of a light: its shadow volumes, or planar shadows.
 #[derive(Clone, Copy)]
 enum Stenciled<'a> {
@@ -316,7 +321,7 @@ impl VolumePipelines {
         // object space: a light cap, which lies on its caster's lit faces, would z-fight with
         // them. Pushed a little behind (reversed Z: smaller), a cap always counts as behind
         // the face it lies on, as z-fail needs; the push is far below a pixel. Two parts:
-        // DEPTH_PUSH_ULPS, 16 units of the f32's last place of each fragment's depth, applied
+        // PUSH_ULPS, 16 units of the f32's last place of each fragment's depth, applied
         // by the vertex shader (the same relative push on every device), and 0.05 of the
         // depth's slope per pixel from the pipeline's bias, for faces seen edge-on. No
         // constant bias on float depth: its unit there is each implementation's own. On an
@@ -331,7 +336,7 @@ impl VolumePipelines {
             slope_scale: -0.05,
             clamp: 0.0,
         };
-        let push_behind = [("DEPTH_PUSH_ULPS", 16.0)];
+        let push_behind = [("DEPTH_PUSH_ULPS", PUSH_ULPS)];
         let no_bias = wgpu::DepthBiasState::default();
         let plain = [Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())];
         // Lights: colour added (linear, before sRGB encoding), mask written.
@@ -405,7 +410,7 @@ impl VolumePipelines {
             slope_scale: 0.05,
             clamp: 0.0,
         };
-        let pull_in_front = [("DEPTH_PUSH_ULPS", -16.0)];
+        let pull_in_front = [("DEPTH_PUSH_ULPS", -PUSH_ULPS)];
         let stencil_only = |compare, pass_op| wgpu::StencilFaceState {
             compare,
             fail_op: S::Keep,
