@@ -9,7 +9,7 @@ use std::hint::black_box;
 #[path = "common/city.rs"]
 mod city;
 
-use city::{bench_camera, city, lamp, lamp_over_city, spot, sun};
+use city::{adaptive_cascades, bench_camera, city, lamp, lamp_over_city, spot, sun};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use gnomon::{
     Cascades, Cube, Focused, Lispsm, MapSettings, Psm, Sppsm, Tsm, Uniform, ViewSamples, Xpsm,
@@ -136,14 +136,7 @@ fn bench(c: &mut Criterion) {
                 })
             },
         );
-        // compare's `cascades-best`: 1 to 4 LiSPSM cascades chosen per view at one map's
-        // texels.
-        let adaptive = Cascades {
-            adaptive: true,
-            equal_texels: true,
-            blend: 0.0,
-            ..Cascades::default()
-        };
+        let adaptive = adaptive_cascades();
         group.bench_with_input(
             BenchmarkId::new("cascades_adaptive_directional_given_samples", n),
             &scene,

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 #[path = "../benches/common/city.rs"]
 mod city;
 
-use city::{bench_camera, city, lamp, lamp_over_city, spot, sun};
+use city::{adaptive_cascades, bench_camera, city, lamp, lamp_over_city, spot, sun};
 use gnomon::{
     Cascades, Cube, Focused, Lispsm, MapSettings, SetupError, ShadowSetup, ShadowTechnique, Sppsm,
     ViewSamples, compute_setup, compute_setup_with_samples,
@@ -69,12 +69,7 @@ fn main() -> ExitCode {
             "lispsm_directional" => casting(&Lispsm::default()),
             "lispsm_directional_given_samples" => given(&Lispsm::default()),
             "cascades_4_lispsm_directional_given_samples" => given(&Cascades::default()),
-            "cascades_adaptive_directional_given_samples" => given(&Cascades {
-                adaptive: true,
-                equal_texels: true,
-                blend: 0.0,
-                ..Cascades::default()
-            }),
+            "cascades_adaptive_directional_given_samples" => given(&adaptive_cascades()),
             "cascades_4_stable_directional" => casting(&Cascades {
                 stable: true,
                 ..Cascades::default()

@@ -5,7 +5,9 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use gnomon::{Aabb, Camera, DirectionalLight, Lens, Light, PointLight, SceneBounds, SpotLight};
+use gnomon::{
+    Aabb, Camera, Cascades, DirectionalLight, Lens, Light, PointLight, SceneBounds, SpotLight,
+};
 
 /// A 400 m city of `n` boxes on a grid, 2 to 40 m tall, on a ground slab: casters, and also
 /// receivers when `boxes_receive`.
@@ -72,4 +74,15 @@ pub fn lamp(range: f64) -> Light {
 /// face builds its B).
 pub fn lamp_over_city() -> Light {
     Light::Point(PointLight::new(DVec3::new(-40.0, 60.0, 60.0), 250.0).unwrap())
+}
+
+/// compare's `cascades-best`: 1 to 4 LiSPSM cascades chosen per view, at one map's texels,
+/// no blend band.
+pub fn adaptive_cascades() -> Cascades {
+    Cascades {
+        adaptive: true,
+        equal_texels: true,
+        blend: 0.0,
+        ..Cascades::default()
+    }
 }
