@@ -22,6 +22,11 @@ impl Gpu {
     /// Opens the first adapter wgpu finds (backends and adapter selectable with the usual
     /// `WGPU_*` environment variables, e.g. `WGPU_BACKEND=gl`), with the adapter's largest
     /// texture size and the [`OPTIONAL_FEATURES`] it has.
+    ///
+    /// Open one per process and clone it (a `Gpu` is a handle): with NVIDIA's Linux Vulkan
+    /// driver (580, measured on an H200), dropping a device while another thread's device
+    /// lives on crashed the process (the driver's threads ran into code it had unloaded;
+    /// gfx-rs/wgpu#8365). gnomon's own tests share one device for that reason.
     pub fn new() -> Result<Self, RenderError> {
         pollster::block_on(Self::new_async())
     }

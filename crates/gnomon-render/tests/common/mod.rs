@@ -14,8 +14,20 @@ use parry3d_f64::shape::TriMesh;
 
 /// A renderer on whatever adapter there is; panics (fails the test) without one.
 pub fn renderer(scene: &RenderScene) -> Renderer {
-    let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    Renderer::new(gpu, scene).expect("renderer")
+    Renderer::new(gpu(), scene).expect("renderer")
+}
+
+/// The test process's one device, opened by the first test that asks and never closed.
+///
+/// Why one: NVIDIA's Linux Vulkan driver (580, H200) crashes the process when a device is
+/// destroyed on one thread while another thread's device lives on (the driver's own
+/// threads return into code it has unloaded; gfx-rs/wgpu#8365). Tests that each opened and
+/// dropped their own device crashed object_id's binary with two threads. Error scopes are
+/// per thread, so tests sharing the device still see only their own errors.
+pub fn gpu() -> Gpu {
+    static GPU: std::sync::OnceLock<Gpu> = std::sync::OnceLock::new();
+    GPU.get_or_init(|| Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}")))
+        .clone()
 }
 
 /// The default settings of a `size` x `size` frame.
