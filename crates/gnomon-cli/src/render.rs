@@ -440,6 +440,17 @@ pub fn write_frame(
     Ok(())
 }
 
+/// The process's GPU, opened on first use and kept: a suite's scenes share it (see
+/// [`Gpu::new`] for why a device is not dropped and opened again).
+fn process_gpu() -> Result<Gpu, CliError> {
+    static GPU: std::sync::OnceLock<Gpu> = std::sync::OnceLock::new();
+    if let Some(gpu) = GPU.get() {
+        return Ok(gpu.clone());
+    }
+    let gpu = Gpu::new()?;
+    Ok(GPU.get_or_init(|| gpu).clone())
+}
+
 /// Opens the GPU and refuses, before any rendering, an image or shadow map larger than its
 /// largest texture (exit code 2); then builds the renderer.
 pub fn open_renderer(
@@ -447,7 +458,7 @@ pub fn open_renderer(
     image: (u32, u32),
     shadow_map: Option<u32>,
 ) -> Result<Renderer, CliError> {
-    let gpu = Gpu::new()?;
+    let gpu = process_gpu()?;
     let max = gpu.max_texture_size();
     if image.0 > max || image.1 > max {
         return Err(CliError::usage(format!(
