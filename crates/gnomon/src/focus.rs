@@ -95,6 +95,143 @@ pub(crate) fn refine(
     out
 }
 
+/// The most slices [`refine_slices`] takes in one walk (a cascade has at most eight).
+pub(crate) const MAX_SLICES: usize = 8;
+
+/// [`refine`] of several slices of the frame's view at once. Each of `slices` is a slice's
+/// planes: the frame's, but for its own near and far planes (bits 0 and 1, the changed ones).
+/// A cascade's slices of one camera share the near planes' normal n and the far planes' -n,
+/// so one walk of the frame's subtrees and boxes takes each one's n . c and |n| . h once and
+/// tests them against every slice's two offsets, where a walk per slice would test the
+/// frame's whole frontier again for each. Each slice gets what [`refine`] gives it, item for
+/// item and in the same order (a slice's walk visits a subset of this walk's nodes, closed
+/// under ancestors, in the same order). `None` where the slices do not share their planes so
+/// (other normals, other side planes) or are more than [`MAX_SLICES`]: refine each then.
+pub(crate) fn refine_slices(
+    frame: &Classified,
+    scene: &SceneBounds,
+    slices: &[Vec<Plane>],
+    tolerance: f64,
+) -> Option<Vec<Classified>> {
+    let first = slices.first()?;
+    if slices.len() > MAX_SLICES || first.len() < 2 {
+        return None;
+    }
+    let (near_normal, far_normal) = (first[0].normal, first[1].normal);
+    let abs_normal = near_normal.abs();
+    let shared = slices.iter().all(|planes| {
+        planes.len() == first.len()
+            && planes[0].normal == near_normal
+            && planes[1].normal == far_normal
+            && planes[2..] == first[2..]
+    });
+    if !shared || far_normal.abs() != abs_normal {
+        return None;
+    }
+    let count = slices.len();
+    let offsets: Vec<(f64, f64)> = slices.iter().map(|p| (p[0].offset, p[1].offset)).collect();
+    // The test of `straddled` against slice k's near (bit 0) and far (bit 1) planes among
+    // `active`, from the box's n . c, -n . c and |n| . h.
+    let test = |(near_dot, far_dot, reach): (f64, f64, f64), k: usize, active: u8| {
+        let mut mask = 0u8;
+        for (bit, s) in [(1u8, near_dot + offsets[k].0), (2, far_dot + offsets[k].1)] {
+            if active & bit == 0 {
+                continue;
+            }
+            if s + reach <= tolerance {
+                return None;
+            }
+            if s - reach < -tolerance {
+                mask |= bit;
+            }
+        }
+        Some(mask)
+    };
+    let dots = |(c, h): (DVec3, DVec3)| (near_normal.dot(c), far_normal.dot(c), abs_normal.dot(h));
+    let (tree, arrays) = (scene.receiver_tree(), scene.receiver_arrays());
+    let listed = frame.boxes.len() + frame.cut.len();
+    let mut out: Vec<Classified> = (0..count)
+        .map(|_| Classified {
+            nodes: Vec::with_capacity(32),
+            boxes: Vec::with_capacity(listed),
+            cut: Vec::with_capacity(listed),
+        })
+        .collect();
+    // The frame's subtrees: each slice's active planes per node (`DONE`: the slice has
+    // dropped the subtree or taken it whole).
+    const DONE: u8 = u8::MAX;
+    let mut stack: Vec<(usize, [u8; MAX_SLICES])> = Vec::with_capacity(64);
+    stack.extend(
+        frame
+            .nodes
+            .iter()
+            .map(|&n| (n as usize, [0b11; MAX_SLICES])),
+    );
+    while let Some((node, active)) = stack.pop() {
+        let node_dots = dots(tree.nodes.center_half(node));
+        let mut next = [DONE; MAX_SLICES];
+        let mut open = false;
+        for k in (0..count).filter(|&k| active[k] != DONE) {
+            match test(node_dots, k, active[k]) {
+                None => {}
+                Some(0) => out[k].nodes.push(node as u32),
+                Some(mask) => {
+                    next[k] = mask;
+                    open = true;
+                }
+            }
+        }
+        if !open {
+            continue;
+        }
+        if tree.is_leaf(node) {
+            for &i in tree.boxes_of(node) {
+                let box_dots = dots(arrays.center_half(i as usize));
+                for k in (0..count).filter(|&k| next[k] != DONE) {
+                    match test(box_dots, k, next[k]) {
+                        None => {}
+                        Some(0) => out[k].boxes.push(i),
+                        Some(mask) => out[k].cut.push((i, u32::from(mask))),
+                    }
+                }
+            }
+        } else {
+            for child in tree.children(node) {
+                stack.push((child, next));
+            }
+        }
+    }
+    // The frame's boxes, against each slice's near and far planes.
+    for &i in &frame.boxes {
+        let box_dots = dots(arrays.center_half(i as usize));
+        for (k, out) in out.iter_mut().enumerate() {
+            match test(box_dots, k, 0b11) {
+                None => {}
+                Some(0) => out.boxes.push(i),
+                Some(mask) => out.cut.push((i, u32::from(mask))),
+            }
+        }
+    }
+    // The frame's cut boxes: the planes they cross beyond the near and far ones are every
+    // slice's, tested once.
+    let side_planes = BoxPlanes::new(first);
+    for &(i, mask) in &frame.cut {
+        let (c, h) = arrays.center_half(i as usize);
+        let Some(side) = side_planes.straddled(c, h, mask & !0b11, tolerance) else {
+            continue;
+        };
+        let box_dots = dots((c, h));
+        for (k, out) in out.iter_mut().enumerate() {
+            match test(box_dots, k, 0b11).map(|m| side | u32::from(m)) {
+                None => {}
+                Some(0) => out.boxes.push(i),
+                Some(mask) => out.cut.push((i, mask)),
+            }
+        }
+    }
+    Some(out)
+}
+
 /// An orthographic frame ready to project boxes of a [`BoxArrays`]: a box's image is its
 /// projected centre plus and minus |R| times its half extents.
 pub(crate) struct ParallelBoxes<'a> {

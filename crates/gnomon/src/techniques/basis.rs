@@ -13,8 +13,9 @@ use std::cell::OnceCell;
 use glam::DVec3;
 
 use crate::body::focus_body;
+use crate::bvh::Classified;
 use crate::camera::Camera;
-use crate::focus::{ReuseCuts, VisibleScene, refine};
+use crate::focus::{ReuseCuts, VisibleScene, refine, refine_slices};
 use crate::frame::{Frame, frame_planes};
 use crate::geometry::Plane;
 use crate::light_space::{Extents, Projector};
@@ -29,8 +30,9 @@ pub(crate) enum Part<'c> {
     /// The whole view.
     Whole,
     /// A slice: a camera with the frame camera's eye, orientation and lens but nearer far
-    /// and farther near planes.
-    Slice(&'c Camera),
+    /// and farther near planes, and the frame's receivers refined by its planes
+    /// ([`slice_codes`]).
+    Slice(&'c Camera, &'c Classified),
     /// The side of a plane through the light's rays (a caster on the other side can not
     /// shadow a receiver on this one): receivers, P and casters are cut to it.
     Side(Plane),
@@ -69,9 +71,9 @@ impl<'f> FocusBasis<'f> {
         let mut caster_planes: Vec<Plane> = light_planes.iter().flatten().copied().collect();
         let (visible, depth_range) = match part {
             Part::Whole => (Cow::Borrowed(frame.visible()), None),
-            Part::Slice(camera) => {
+            Part::Slice(camera, codes) => {
                 let lens = camera.lens();
-                let planes = frame_planes(camera.frustum_planes(), light_planes.as_ref(), None);
+                let planes = slice_planes(frame, camera);
                 // The slice's P is the frame's between the slice's near and far planes (0
                 // and 1, the slice's own); the whole view's cuts are taken where it has them.
                 let body = frame
@@ -80,7 +82,7 @@ impl<'f> FocusBasis<'f> {
                     .clip(&planes[1], tolerance);
                 let reuse = frame.has_visible();
                 (
-                    Cow::Owned(refined(frame, body, &planes, 0b11, reuse)),
+                    Cow::Owned(visible_scene(frame, body, &planes, codes, 0b11, reuse)),
                     Some((lens.near, lens.far)),
                 )
             }
@@ -191,19 +193,58 @@ fn refined(
     changed: u32,
     reuse: bool,
 ) -> VisibleScene {
-    let scene = frame.input.scene;
     let codes = refine(
         &frame.receiver_codes,
-        scene,
+        frame.input.scene,
         planes,
         changed,
         frame.tolerance,
     );
+    visible_scene(frame, body, planes, &codes, changed, reuse)
+}
+
+/// [`refined`] from the part's codes, refined already.
+fn visible_scene(
+    frame: &Frame<'_>,
+    body: crate::geometry::ConvexPolyhedron,
+    planes: &[Plane],
+    codes: &Classified,
+    changed: u32,
+    reuse: bool,
+) -> VisibleScene {
     let reuse = reuse.then(|| ReuseCuts {
         frame: frame.visible(),
         changed,
     });
-    VisibleScene::from_classified(body, scene, planes, &codes, frame.tolerance, reuse)
+    VisibleScene::from_classified(
+        body,
+        frame.input.scene,
+        planes,
+        codes,
+        frame.tolerance,
+        reuse,
+    )
+}
+
+/// The planes of a slice of `frame` (`camera`: the frame camera's eye, orientation and lens
+/// with its own near and far planes): its near and far planes first, then the frame's.
+fn slice_planes(frame: &Frame<'_>, camera: &Camera) -> Vec<Plane> {
+    frame_planes(camera.frustum_planes(), frame.light_planes.as_ref(), None)
+}
+
+/// The frame's receivers refined by each slice's planes (`cameras` as in [`Part::Slice`]), for
+/// the slices' [`Part::Slice`]: in one walk of the frame's receivers where the slices share
+/// their planes' normals, as a cascade's slices of one camera do ([`refine_slices`]), else
+/// one refinement each. The same codes either way.
+pub(crate) fn slice_codes(frame: &Frame<'_>, cameras: &[Camera]) -> Vec<Classified> {
+    let planes: Vec<Vec<Plane>> = cameras.iter().map(|c| slice_planes(frame, c)).collect();
+    let scene = frame.input.scene;
+    refine_slices(&frame.receiver_codes, scene, &planes, frame.tolerance).unwrap_or_else(|| {
+        planes
+            .iter()
+            .map(|p| refine(&frame.receiver_codes, scene, p, 0b11, frame.tolerance))
+            .collect()
+    })
 }
 
 #[cfg(test)]
@@ -276,7 +317,8 @@ mod tests {
             let (a, b) = (lens.near + cut.0 * 100.0, lens.near + cut.1 * 100.0);
             let (near, far) = (a.min(b), a.max(b) + 1.0);
             let slice = Camera::from_view_from_world(camera.view_from_world(), Lens { near, far, ..lens }).unwrap();
-            let refined = FocusBasis::new(&frame, Part::Slice(&slice));
+            let codes = slice_codes(&frame, std::slice::from_ref(&slice));
+            let refined = FocusBasis::new(&frame, Part::Slice(&slice, &codes[0]));
             let slice_input = SetupInput { camera: &slice, ..input };
             let own_frame = Frame::new(&slice_input);
             let direct = FocusBasis::new(&own_frame, Part::Whole);
@@ -285,6 +327,56 @@ mod tests {
             prop_assert!(close_sets(&vertices(&refined, &scene), &vertices(&direct, &scene), eps));
             prop_assert!(close_sets(refined.body(), direct.body(), 1e-5 * (1.0 + eye.length())),
                 "B {:?} vs {:?}", refined.body(), direct.body());
+        }
+
+        /// A cascade's slices refined in one walk of the frame's receivers get, item for
+        /// item and in order, what refining each slice alone gives, blend bands (overlapping
+        /// slices) and spot lights included; and the one walk is taken.
+        #[test]
+        fn slices_refined_in_one_walk_match_each_refined_alone(
+            boxes in prop::collection::vec((prop::array::uniform3(-40.0f64..40.0), prop::array::uniform3(0.5f64..15.0)), 1..60),
+            eye in prop::array::uniform3(-60.0f64..60.0),
+            target in prop::array::uniform3(-20.0f64..20.0),
+            light in prop::array::uniform3(-1.0f64..1.0),
+            spot in any::<bool>(),
+            cuts in prop::collection::vec(0.0f64..1.0, 2..10),
+            blend in 0.0f64..0.5,
+        ) {
+            let scene = city(&boxes);
+            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
+            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
+            let lens = Lens { near: 0.5, far: 150.0, ..Lens::default() };
+            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+            let direction = DVec3::from_array(light);
+            prop_assume!(direction.length() > 0.1);
+            let light = if spot {
+                Light::Spot(SpotLight::new(DVec3::new(0.0, 80.0, 0.0), direction.with_y(-1.0), 50.0, 300.0).unwrap())
+            } else {
+                Light::Directional(DirectionalLight::new(direction.with_y(-direction.y.abs() - 0.1)).unwrap())
+            };
+            let input = SetupInput { camera: &camera, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
+            let frame = Frame::new(&input);
+            // Split depths over the view, each slice reaching back over a blend band.
+            let mut depths: Vec<f64> = cuts.iter().map(|t| lens.near + t * (lens.far - lens.near)).collect();
+            depths.sort_by(f64::total_cmp);
+            depths.dedup();
+            prop_assume!(depths.len() >= 2);
+            let cameras: Vec<Camera> = depths
+                .windows(2)
+                .map(|w| {
+                    let near = (w[0] - blend * (w[1] - w[0])).max(lens.near);
+                    Camera::from_view_from_world(camera.view_from_world(), Lens { near, far: w[1], ..lens }).unwrap()
+                })
+                .collect();
+            let planes: Vec<Vec<Plane>> = cameras.iter().map(|c| slice_planes(&frame, c)).collect();
+            let one_walk = refine_slices(&frame.receiver_codes, &scene, &planes, frame.tolerance);
+            prop_assert!(one_walk.is_some(), "the slices did not share their planes");
+            let alone: Vec<Classified> = planes
+                .iter()
+                .map(|p| refine(&frame.receiver_codes, &scene, p, 0b11, frame.tolerance))
+                .collect();
+            prop_assert_eq!(one_walk.unwrap(), alone.clone());
+            prop_assert_eq!(slice_codes(&frame, &cameras), alone);
         }
 
         /// Under a directional light, B's rectangle in either light frame is P's (each point of

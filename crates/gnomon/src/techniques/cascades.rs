@@ -21,7 +21,8 @@
 //! Shared work: the frame's facts ([`crate::frame`]: P, each receiver against the view, the
 //! casters in light space, the view samples) are computed once; each slice is a
 //! [`crate::techniques::basis::Part::Slice`] of them, whose receivers are only tested again
-//! against its near and far planes. The slices share nothing they write, so fitted slices
+//! against its near and far planes, every slice's in one walk of the frame's receivers
+//! ([`crate::focus::refine_slices`]). The slices share nothing they write, so fitted slices
 //! run in parallel where the (opt-in) `parallel` feature is on (`crate::parallel`), with the
 //! same maps.
 //!
@@ -59,7 +60,7 @@ use crate::setup::{
     CascadeSlices, Diagnostics, Fallback, LightFrameKind, MAX_CASCADES, MIN_RESOLUTION,
     MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
 };
-use crate::techniques::basis::{FocusBasis, Part};
+use crate::techniques::basis::{FocusBasis, Part, slice_codes};
 use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};
 
@@ -507,41 +508,55 @@ impl Cascades {
                 .push(Fallback::StableNeedsDirectionalLight);
         }
         let depths = slices.view_depths;
-        // The slices are independent given the frame: fitted slices in parallel with the
-        // `parallel` feature (see `crate::parallel`; a stable slice is too little work to hand
-        // to another thread), merged in order.
-        let slice = |i: usize| -> Result<_, SetupError> {
-            // Map i also covers the blend band at the end of slice i - 1.
+        // Map i's view depths: it also covers the blend band at the end of slice i - 1.
+        let range = |i: usize| {
             let near = if i == 0 {
                 depths[0]
             } else {
                 depths[i] - self.blend * (depths[i] - depths[i - 1])
             };
-            let far = depths[i + 1];
+            (near, depths[i + 1])
+        };
+        // A fitted map covers its slice and a millionth of the slice's length beyond each end
+        // (within the view), so that a point the selection routes to it at a border lands
+        // inside: a receiver that only touches a slice's near or far plane is not the slice's
+        // (touching counts as outside), yet its points on that plane are read there (a flat
+        // ground exactly at a border in the light_straight_down property case). The fitted
+        // slices' receivers are refined from the frame's in one walk (`slice_codes`).
+        let fitted_cameras = if stable_sun.is_some() {
+            Vec::new()
+        } else {
+            (0..k)
+                .map(|i| {
+                    let (near, far) = range(i);
+                    let margin = 1e-6 * (far - near);
+                    let slice_lens = Lens {
+                        near: (near - margin).max(lens.near),
+                        far: (far + margin).min(lens.far),
+                        ..lens
+                    };
+                    Camera::from_view_from_world(view_from_world, slice_lens)
+                })
+                .collect::<Result<Vec<_>, _>>()?
+        };
+        let codes = slice_codes(frame, &fitted_cameras);
+        // The slices are independent given the frame: fitted slices in parallel with the
+        // `parallel` feature (see `crate::parallel`; a stable slice is too little work to hand
+        // to another thread), merged in order.
+        let slice = |i: usize| -> Result<_, SetupError> {
             if let Some(direction) = stable_sun {
+                let (near, far) = range(i);
                 let camera =
                     Camera::from_view_from_world(view_from_world, Lens { near, far, ..lens })?;
                 return Ok((stable_map(&camera, direction, input.scene, settings), None));
             }
-            // A fitted map covers its slice and a millionth of the slice's length beyond each
-            // end (within the view), so that a point the selection routes to it at a border
-            // lands inside: a receiver that only touches a slice's near or far plane is not
-            // the slice's (touching counts as outside), yet its points on that plane are read
-            // there (a flat ground exactly at a border in the light_straight_down property
-            // case).
-            let margin = 1e-6 * (far - near);
-            let slice_lens = Lens {
-                near: (near - margin).max(lens.near),
-                far: (far + margin).min(lens.far),
-                ..lens
-            };
-            let camera = Camera::from_view_from_world(view_from_world, slice_lens)?;
+            let camera = &fitted_cameras[i];
             let slice_input = SetupInput {
-                camera: &camera,
+                camera,
                 map: settings,
                 ..*input
             };
-            let basis = FocusBasis::new(frame, Part::Slice(&camera));
+            let basis = FocusBasis::new(frame, Part::Slice(camera, &codes[i]));
             let setup = self.fit.setup_with(&slice_input, &basis)?;
             Ok((setup.maps[0], Some(setup.diagnostics)))
         };
