@@ -285,6 +285,40 @@ mod tests {
         SceneBounds::new(boxes, receivers, None).unwrap()
     }
 
+    /// The property tests' camera (near 0.5, far 150, looking from `eye` at `target`) and
+    /// light (a directional light from above along `light`, or with `spot` a spot 80 m up
+    /// shining down along it), or `None` for the draws they skip: the eye on the target, a
+    /// view along the vertical, no light direction.
+    fn camera_and_light(
+        eye: [f64; 3],
+        target: [f64; 3],
+        light: [f64; 3],
+        spot: bool,
+    ) -> Option<(Camera, Lens, Light)> {
+        let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
+        let direction = DVec3::from_array(light);
+        if eye.distance(target) <= 1.0
+            || (target - eye).normalize().y.abs() >= 0.99
+            || direction.length() <= 0.1
+        {
+            return None;
+        }
+        let lens = Lens {
+            near: 0.5,
+            far: 150.0,
+            ..Lens::default()
+        };
+        let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
+        let light = if spot {
+            let down = direction.with_y(-1.0);
+            Light::Spot(SpotLight::new(DVec3::new(0.0, 80.0, 0.0), down, 50.0, 300.0).unwrap())
+        } else {
+            let down = direction.with_y(-direction.y.abs() - 0.1);
+            Light::Directional(DirectionalLight::new(down).unwrap())
+        };
+        Some((camera, lens, light))
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
 
@@ -300,17 +334,9 @@ mod tests {
             cut in (0.0f64..1.0, 0.0f64..1.0),
         ) {
             let scene = city(&boxes);
-            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
-            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
-            let lens = Lens { near: 0.5, far: 150.0, ..Lens::default() };
-            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
-            let direction = DVec3::from_array(light);
-            prop_assume!(direction.length() > 0.1);
-            let light = if spot {
-                Light::Spot(SpotLight::new(DVec3::new(0.0, 80.0, 0.0), direction.with_y(-1.0), 50.0, 300.0).unwrap())
-            } else {
-                Light::Directional(DirectionalLight::new(direction.with_y(-direction.y.abs() - 0.1)).unwrap())
-            };
+            let view_and_light = camera_and_light(eye, target, light, spot);
+            prop_assume!(view_and_light.is_some());
+            let (camera, lens, light) = view_and_light.unwrap();
             let whole = Camera::from_view_from_world(camera.view_from_world(), lens).unwrap();
             let input = SetupInput { camera: &whole, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
             let frame = Frame::new(&input);
@@ -323,9 +349,10 @@ mod tests {
             let own_frame = Frame::new(&slice_input);
             let direct = FocusBasis::new(&own_frame, Part::Whole);
             prop_assert_eq!(refined.visible.visible_receivers(), direct.visible.visible_receivers());
-            let eps = 1e-6 * (1.0 + eye.length());
+            let eye = camera.eye().length();
+            let eps = 1e-6 * (1.0 + eye);
             prop_assert!(close_sets(&vertices(&refined, &scene), &vertices(&direct, &scene), eps));
-            prop_assert!(close_sets(refined.body(), direct.body(), 1e-5 * (1.0 + eye.length())),
+            prop_assert!(close_sets(refined.body(), direct.body(), 1e-5 * (1.0 + eye)),
                 "B {:?} vs {:?}", refined.body(), direct.body());
         }
 
@@ -343,17 +370,9 @@ mod tests {
             blend in 0.0f64..0.5,
         ) {
             let scene = city(&boxes);
-            let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
-            prop_assume!(eye.distance(target) > 1.0 && (target - eye).normalize().y.abs() < 0.99);
-            let lens = Lens { near: 0.5, far: 150.0, ..Lens::default() };
-            let camera = Camera::look_at(eye, target, DVec3::Y, lens).unwrap();
-            let direction = DVec3::from_array(light);
-            prop_assume!(direction.length() > 0.1);
-            let light = if spot {
-                Light::Spot(SpotLight::new(DVec3::new(0.0, 80.0, 0.0), direction.with_y(-1.0), 50.0, 300.0).unwrap())
-            } else {
-                Light::Directional(DirectionalLight::new(direction.with_y(-direction.y.abs() - 0.1)).unwrap())
-            };
+            let view_and_light = camera_and_light(eye, target, light, spot);
+            prop_assume!(view_and_light.is_some());
+            let (camera, lens, light) = view_and_light.unwrap();
             let input = SetupInput { camera: &camera, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
             let frame = Frame::new(&input);
             // Split depths over the view, each slice reaching back over a blend band.
