@@ -441,14 +441,19 @@ pub fn write_frame(
 }
 
 /// The process's GPU, opened on first use and kept: a suite's scenes share it (see
-/// [`Gpu::new`] for why a device is not dropped and opened again).
+/// [`Gpu::new`] for why a device is not dropped and opened again). The lock is held while it
+/// opens, so that two callers never open two and drop one.
 fn process_gpu() -> Result<Gpu, CliError> {
-    static GPU: std::sync::OnceLock<Gpu> = std::sync::OnceLock::new();
-    if let Some(gpu) = GPU.get() {
+    static GPU: std::sync::Mutex<Option<Gpu>> = std::sync::Mutex::new(None);
+    let mut kept = GPU
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some(gpu) = kept.as_ref() {
         return Ok(gpu.clone());
     }
     let gpu = Gpu::new()?;
-    Ok(GPU.get_or_init(|| gpu).clone())
+    *kept = Some(gpu.clone());
+    Ok(gpu)
 }
 
 /// Opens the GPU and refuses, before any rendering, an image or shadow map larger than its
