@@ -294,7 +294,7 @@ mod tests {
         target: [f64; 3],
         light: [f64; 3],
         spot: bool,
-    ) -> Option<(Camera, Lens, Light)> {
+    ) -> Option<(Camera, Light)> {
         let (eye, target) = (DVec3::from_array(eye), DVec3::from_array(target));
         let direction = DVec3::from_array(light);
         if eye.distance(target) <= 1.0
@@ -316,7 +316,7 @@ mod tests {
             let down = direction.with_y(-direction.y.abs() - 0.1);
             Light::Directional(DirectionalLight::new(down).unwrap())
         };
-        Some((camera, lens, light))
+        Some((camera, light))
     }
 
     proptest! {
@@ -336,7 +336,8 @@ mod tests {
             let scene = city(&boxes);
             let view_and_light = camera_and_light(eye, target, light, spot);
             prop_assume!(view_and_light.is_some());
-            let (camera, lens, light) = view_and_light.unwrap();
+            let (camera, light) = view_and_light.unwrap();
+            let lens = camera.lens();
             let whole = Camera::from_view_from_world(camera.view_from_world(), lens).unwrap();
             let input = SetupInput { camera: &whole, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
             let frame = Frame::new(&input);
@@ -372,7 +373,8 @@ mod tests {
             let scene = city(&boxes);
             let view_and_light = camera_and_light(eye, target, light, spot);
             prop_assume!(view_and_light.is_some());
-            let (camera, lens, light) = view_and_light.unwrap();
+            let (camera, light) = view_and_light.unwrap();
+            let lens = camera.lens();
             let input = SetupInput { camera: &camera, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
             let frame = Frame::new(&input);
             // Split depths over the view, each slice reaching back over a blend band.
