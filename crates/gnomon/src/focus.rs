@@ -19,6 +19,7 @@ use crate::bvh::{BoxPlanes, BoxTree, Classified, all_planes, straddled};
 use crate::geometry::{ConvexPolyhedron, Plane};
 
 use crate::light_space::{AxisFrustum, Extents, LightFrame, Projector};
+use crate::put_off::PutOff;
 use crate::setup::Diagnostics;
 
 /// How an axis-aligned box lies against a set of planes.
@@ -1221,16 +1222,17 @@ pub(crate) fn walk_casters<I: CasterImages>(
     // The frustum's tip (see NearTip), made when a caster first crosses the near plane.
     let mut near_tip: Option<NearTip> = None;
     let mut scratch = Vec::with_capacity(CUT_VERTICES);
+    // Nodes with the cutting planes they may cross, and whether to open the node without a
+    // test (one taken from the put-off subtrees).
     let mut stack = Vec::with_capacity(64);
     if !tree.is_empty() {
-        stack.push((0usize, all_planes(cut_planes.len())));
+        stack.push((0usize, all_planes(cut_planes.len()), false));
     }
     // Subtrees counted whole while the extents did not yet hold them in x and y (early in the
     // walk they are small), to be opened at the end if they still do not.
-    let mut deferred = Vec::with_capacity(16);
-    let mut strict = false;
+    let mut put_off = PutOff::new(&over);
     loop {
-        while let Some((node, active)) = stack.pop() {
+        while let Some((node, active, open)) = stack.pop() {
             let active = match active {
                 0 => 0,
                 active => match straddled(
@@ -1247,7 +1249,7 @@ pub(crate) fn walk_casters<I: CasterImages>(
             // A node's image holds its boxes' (for a point light, where the node lies in
             // front of it: inside every plane of its frustum, or where the images are of the
             // parts inside it).
-            if active == 0 || I::AFFINE || I::EXACT {
+            if !open && (active == 0 || I::AFFINE || I::EXACT) {
                 let image = images.node(node);
                 if !receivers.xy_overlaps(&image, xy_slack) || image.min.z > receivers.max.z {
                     continue;
@@ -1260,9 +1262,9 @@ pub(crate) fn walk_casters<I: CasterImages>(
                 // Wholly over the receivers (so not held: the test above took it), no nearer
                 // than what is gathered: only its x and y may add, which the extents may
                 // hold once they have grown. Put off.
-                if active == 0 && !strict && over.contains(&image) && image.min.z >= ext.min.z {
+                if active == 0 && over.contains(&image) && image.min.z >= ext.min.z {
                     relevant += tree.size(node);
-                    deferred.push((node, image));
+                    put_off.push(node, image);
                     continue;
                 }
             }
@@ -1272,7 +1274,7 @@ pub(crate) fn walk_casters<I: CasterImages>(
                 if depth(children[0]) < depth(children[1]) {
                     children.swap(0, 1);
                 }
-                stack.extend(children.map(|child| (child, active)));
+                stack.extend(children.map(|child| (child, active, false)));
                 continue;
             }
             for &i in tree.boxes_of(node) {
@@ -1317,16 +1319,14 @@ pub(crate) fn walk_casters<I: CasterImages>(
                 ext = ext.union(&box_ext.clamped_to(&over));
             }
         }
-        // A deferred subtree lies no nearer than the casters gathered when it was counted, so
+        // A put-off subtree lies no nearer than the casters gathered when it was counted, so
         // only its x and y can add: opened (and counted again) where the extents do not hold
         // them now.
-        strict = true;
-        match deferred.pop() {
-            Some((node, image)) if !ext.contains(&image) => {
+        match put_off.pop(&ext) {
+            Some(node) => {
                 relevant -= tree.size(node);
-                stack.push((node, 0));
+                stack.push((node, 0, true));
             }
-            Some(_) => {}
             None => break,
         }
     }

@@ -52,6 +52,7 @@ mod light;
 mod light_space;
 mod parallel;
 pub mod planar;
+mod put_off;
 mod samples;
 mod setup;
 pub mod techniques;

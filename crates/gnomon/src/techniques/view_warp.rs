@@ -34,6 +34,7 @@ use crate::focus::{BoxSide, LightCorners, NearTip, ParallelBoxes, box_cut_vertic
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, PERSPECTIVE_CLIP_Z, Projector, pad};
+use crate::put_off::PutOff;
 use crate::setup::{
     Diagnostics, Fallback, LightFrameKind, MapProjection, MapSelection, SetupInput, ShadowMap,
     ShadowSetup,
@@ -356,39 +357,40 @@ impl TreeCasters {
         };
         let mut linear_min = f64::INFINITY;
         let mut relevant = 0;
-        // Nodes with their light-space boxes.
+        // Nodes with their light-space boxes, and whether to open the node without a test
+        // (one taken from the put-off subtrees).
         let mut stack = Vec::with_capacity(64);
         if !tree.is_empty() {
-            stack.push((0usize, nodes.extents(0)));
+            stack.push((0usize, nodes.extents(0), false));
         }
-        let mut deferred = Vec::with_capacity(16);
-        let mut strict = false;
+        let mut put_off = PutOff::new(&over);
         loop {
-            while let Some((node, light)) = stack.pop() {
-                if !self.meets(&light) {
-                    continue;
-                }
-                let image = warped(&light);
-                if !receivers.xy_overlaps(&image, xy_slack) {
-                    continue;
-                }
-                // What the node's boxes can add: their images over the receivers, and their
-                // depths (a box's lie within its node's).
-                let over_receivers = image.clamped_to(&over);
-                if image.min.z >= extents.min.z && light.min.z >= linear_min {
-                    if extents.contains(&over_receivers) {
-                        relevant += tree.size(node);
+            while let Some((node, light, open)) = stack.pop() {
+                if !open {
+                    if !self.meets(&light) {
                         continue;
                     }
-                    if !strict {
+                    let image = warped(&light);
+                    if !receivers.xy_overlaps(&image, xy_slack) {
+                        continue;
+                    }
+                    // What the node's boxes can add: their images over the receivers, and
+                    // their depths (a box's lie within its node's). Where the depths do not,
+                    // the node is counted whole: unopened if the extents hold its image, else
+                    // put off (only its x and y may add, which the extents may hold once
+                    // they have grown).
+                    let over_receivers = image.clamped_to(&over);
+                    if image.min.z >= extents.min.z && light.min.z >= linear_min {
                         relevant += tree.size(node);
-                        deferred.push((node, light, over_receivers));
+                        if !extents.contains(&over_receivers) {
+                            put_off.push((node, light), over_receivers);
+                        }
                         continue;
                     }
                 }
                 if !tree.is_leaf(node) {
                     // The child nearer the light is opened first.
-                    let [a, b] = tree.children(node).map(|c| (c, nodes.extents(c)));
+                    let [a, b] = tree.children(node).map(|c| (c, nodes.extents(c), false));
                     if a.1.min.z < b.1.min.z {
                         stack.extend([b, a]);
                     } else {
@@ -409,15 +411,13 @@ impl TreeCasters {
                     }
                 }
             }
-            // A deferred subtree's depths were held when it was put off, and still are; it
-            // is opened where the extents do not hold its image now.
-            strict = true;
-            match deferred.pop() {
-                Some((node, light, over_receivers)) if !extents.contains(&over_receivers) => {
+            // A put-off subtree's depths were held when it was put off, and still are; it is
+            // opened (and counted again) where the extents do not hold its image now.
+            match put_off.pop(&extents) {
+                Some((node, light)) => {
                     relevant -= tree.size(node);
-                    stack.push((node, light));
+                    stack.push((node, light, true));
                 }
-                Some(_) => {}
                 None => break,
             }
         }
