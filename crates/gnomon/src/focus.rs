@@ -533,10 +533,13 @@ pub(crate) struct VisibleScene {
     /// Each receiver that several planes cut, in order of index: (its index, the planes that
     /// cut it, where its vertices start and end in `points`).
     cuts: Vec<(u32, u32, u32, u32)>,
-    /// The receivers that one plane cuts (most cut ones), with that plane: their part inside
-    /// it is never empty, and is cut only where it is read ([`cut_by_one`], cheap), so that a
-    /// receiver whose whole box adds nothing to an extent is never cut.
-    cut_once: Vec<(u32, Plane)>,
+    /// The receivers that one plane cuts (most cut ones), with that plane (its index in
+    /// `planes`): their part inside it is never empty, and is cut only where it is read
+    /// ([`cut_by_one`], cheap), so that a receiver whose whole box adds nothing to an extent
+    /// is never cut.
+    cut_once: Vec<(u32, u32)>,
+    /// The planes the receivers were classified against.
+    planes: Vec<Plane>,
     /// The tolerance the cuts are made with.
     tolerance: f64,
     /// The visible part of each receiver in `cuts`, as a polyhedron, each made on first
@@ -573,6 +576,7 @@ impl VisibleScene {
             points: Vec::new(),
             cuts: Vec::new(),
             cut_once: Vec::new(),
+            planes: Vec::new(),
             tolerance,
             cut_bodies: OnceLock::new(),
         };
@@ -588,13 +592,13 @@ impl VisibleScene {
                 .iter()
                 .map(|&n| tree.size(n as usize))
                 .sum::<usize>();
+        visible.planes = planes.to_vec();
         visible.cut_once.reserve(classified.cut.len());
         visible.points.reserve(64);
         let points = &mut visible.points;
         for &(i, mask) in &classified.cut {
             if mask.count_ones() == 1 {
-                let plane = planes[mask.trailing_zeros() as usize];
-                visible.cut_once.push((i, plane));
+                visible.cut_once.push((i, mask.trailing_zeros()));
                 continue;
             }
             let start = points.len();
@@ -665,7 +669,8 @@ impl VisibleScene {
             f(*p);
         }
         let mut scratch = Vec::with_capacity(CUT_VERTICES);
-        for (i, plane) in &self.cut_once {
+        for &(i, plane) in &self.cut_once {
+            let (i, plane) = (&i, &self.planes[plane as usize]);
             scratch.clear();
             cut_by_one(
                 &scene.receivers()[*i as usize],
@@ -731,7 +736,8 @@ impl VisibleScene {
             }
         }
         let mut scratch = Vec::with_capacity(CUT_VERTICES);
-        for (i, plane) in &self.cut_once {
+        for &(i, plane) in &self.cut_once {
+            let (i, plane) = (&i, &self.planes[plane as usize]);
             if prune_cuts && ext.contains(&box_bound(*i as usize)) {
                 continue;
             }
@@ -780,7 +786,8 @@ impl VisibleScene {
             }
         }
         let mut scratch = Vec::with_capacity(CUT_VERTICES);
-        for (i, plane) in &self.cut_once {
+        for &(i, plane) in &self.cut_once {
+            let (i, plane) = (&i, &self.planes[plane as usize]);
             let aabb = &scene.receivers()[*i as usize];
             if corners_pass(aabb) {
                 continue;
@@ -1002,8 +1009,8 @@ impl VisibleScene {
                 add(&mut ext, i, ViewPart::Cut(k), planes_of(i, m), bound, exact);
             }
         }
-        for (i, plane) in &self.cut_once {
-            let i = *i as usize;
+        for &(i, plane) in &self.cut_once {
+            let (i, plane) = (i as usize, &self.planes[plane as usize]);
             if let Some(m) = against_frustum(arrays.center_of(i), arrays.half_of(i)) {
                 let bound = frustum.axis.box_extents(&receivers[i]);
                 add(

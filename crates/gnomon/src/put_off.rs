@@ -101,13 +101,15 @@ impl<T: Copy> PutOff<T> {
     /// one that reaches farthest beyond it. Those it holds are dropped (they add nothing).
     pub fn pop(&mut self, gathered: &Extents) -> Option<T> {
         let per_unit = self.per_unit;
-        let first = self.queued;
-        let fresh = self.items[first..].iter().enumerate();
-        let unheld = fresh.filter(|(_, (_, image))| !gathered.contains(image));
-        self.queue.extend(unheld.map(|(k, (_, image))| Reach {
-            reach: reach(image, gathered, per_unit),
-            index: (first + k) as u32,
-        }));
+        for index in self.queued..self.items.len() {
+            let image = &self.items[index].1;
+            if !gathered.contains(image) {
+                self.queue.push(Reach {
+                    reach: reach(image, gathered, per_unit),
+                    index: index as u32,
+                });
+            }
+        }
         self.queued = self.items.len();
         while let Some(mut top) = self.queue.peek_mut() {
             let (item, image) = self.items[top.index as usize];
