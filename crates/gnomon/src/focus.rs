@@ -516,6 +516,76 @@ fn meet(a: &Plane, b: &Plane, c: &Plane) -> Option<DVec3> {
     p.is_finite().then_some(p)
 }
 
+/// What a walk of the visible receivers ([`VisibleScene::extents_under`]) gathers: the
+/// extents of their images under one map, or under two at once ([`Both`]), so that one walk
+/// serves both.
+pub(crate) trait Gather: Copy {
+    /// Whether these extents hold `image`.
+    fn holds(&self, image: &Self) -> bool;
+    /// Adds `image`, an item's image, where these extents do not hold `bound`, the bound that
+    /// decided whether the item adds anything (it holds `image`, up to rounding).
+    fn take(&mut self, bound: &Self, image: &Self);
+    /// Adds `image`.
+    fn merge(&mut self, image: &Self);
+    /// The depth that orders a subtree's children, nearest the light first.
+    fn near(&self) -> f64;
+}
+
+impl Gather for Extents {
+    #[inline]
+    fn holds(&self, image: &Self) -> bool {
+        self.contains(image)
+    }
+    #[inline]
+    fn take(&mut self, bound: &Self, image: &Self) {
+        if !self.contains(bound) {
+            *self = Extents::union(self, image);
+        }
+    }
+    #[inline]
+    fn merge(&mut self, image: &Self) {
+        *self = Extents::union(self, image);
+    }
+    #[inline]
+    fn near(&self) -> f64 {
+        self.min.z
+    }
+}
+
+/// Extents under two maps, gathered in one walk. Each map's are what a walk under it alone
+/// gathers, to the bit: the walk opens a subtree or adds an item where either map's extents
+/// do not hold its image, and each map takes an item only where its own do not hold the
+/// item's bound (an item the other map needed is one that a walk under this map would have
+/// passed by: its bound lies in what this map held). Children are ordered by the second
+/// map's depth, as a walk under it alone orders them; the first map's extents must not
+/// depend on the order (they do not where a box's bound is its image, as for a light frame).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Both {
+    pub first: Extents,
+    pub second: Extents,
+}
+
+impl Gather for Both {
+    #[inline]
+    fn holds(&self, image: &Self) -> bool {
+        self.first.contains(&image.first) && self.second.contains(&image.second)
+    }
+    #[inline]
+    fn take(&mut self, bound: &Self, image: &Self) {
+        self.first.take(&bound.first, &image.first);
+        self.second.take(&bound.second, &image.second);
+    }
+    #[inline]
+    fn merge(&mut self, image: &Self) {
+        self.first.merge(&image.first);
+        self.second.merge(&image.second);
+    }
+    #[inline]
+    fn near(&self) -> f64 {
+        self.second.min.z
+    }
+}
+
 /// What the camera sees of the scene, for one light: the view frustum inside the scene box
 /// (P) and the visible parts of the receivers.
 #[derive(Clone)]
@@ -682,44 +752,45 @@ impl VisibleScene {
         }
     }
 
-    /// The extents of the visible receiver parts under a map: `node_image` gives a subtree's
-    /// node's extents (they hold its boxes'), `box_bound` extents that hold a receiver's image
-    /// (cheap; what decides whether the receiver adds anything), `box_image` the receiver's
-    /// image given that bound (the bound itself where it is exact), `points_image` the
-    /// extents of points (a cut part's vertices). The parts that several planes cut come
-    /// first (they reach the borders of the view), then the wholly visible receivers, nearest
-    /// the light first, then those one plane cuts. A subtree or a cut receiver whose (whole)
-    /// image lies inside what is gathered so far adds nothing and is neither opened nor cut,
-    /// so that the work grows with the receivers near the border of the visible region, not
-    /// with their number. (`prune_cuts`: whether a cut receiver's whole box has an image that
-    /// holds its part's; not for a point light, behind which a box's image is no bound.)
-    pub fn extents_under(
+    /// The extents of the visible receiver parts under a map (or two at once: [`Gather`]):
+    /// `node_image` gives a subtree's node's extents (they hold its boxes'), `box_bound`
+    /// extents that hold a receiver's image (cheap; what decides whether the receiver adds
+    /// anything), `box_image` the receiver's image given that bound (the bound itself where it
+    /// is exact), `points_image` the extents of points (a cut part's vertices). The parts that
+    /// several planes cut come first (they reach the borders of the view), then the wholly
+    /// visible receivers, nearest the light first, then those one plane cuts. A subtree or a
+    /// cut receiver whose (whole) image lies inside what is gathered so far adds nothing and
+    /// is neither opened nor cut, so that the work grows with the receivers near the border of
+    /// the visible region, not with their number. (`prune_cuts`: whether a cut receiver's
+    /// whole box has an image that holds its part's; not for a point light, behind which a
+    /// box's image is no bound.)
+    pub fn extents_under<E: Gather>(
         &self,
         scene: &SceneBounds,
         prune_cuts: bool,
-        node_image: impl Fn(usize) -> Extents,
-        box_bound: impl Fn(usize) -> Extents,
-        box_image: impl Fn(usize, Extents) -> Extents,
-        points_image: impl Fn(&[DVec3]) -> Extents,
-    ) -> Extents {
+        node_image: impl Fn(usize) -> E,
+        box_bound: impl Fn(usize) -> E,
+        box_image: impl Fn(usize, E) -> E,
+        points_image: impl Fn(&[DVec3]) -> E,
+    ) -> E {
         let tree = scene.receiver_tree();
         let mut ext = points_image(&self.points);
-        let add_box = |ext: &mut Extents, i: usize| {
+        let add_box = |ext: &mut E, i: usize| {
             let bound = box_bound(i);
-            if !ext.contains(&bound) {
-                *ext = ext.union(&box_image(i, bound));
+            if !ext.holds(&bound) {
+                ext.take(&bound, &box_image(i, bound));
             }
         };
         for &i in &self.boxes {
             add_box(&mut ext, i as usize);
         }
-        let mut stack: Vec<(usize, Extents)> = self
+        let mut stack: Vec<(usize, E)> = self
             .nodes
             .iter()
             .map(|&n| (n as usize, node_image(n as usize)))
             .collect();
         while let Some((node, image)) = stack.pop() {
-            if ext.contains(&image) {
+            if ext.holds(&image) {
                 continue;
             }
             if tree.is_leaf(node) {
@@ -728,7 +799,7 @@ impl VisibleScene {
                 }
             } else {
                 let [a, b] = tree.children(node).map(|c| (c, node_image(c)));
-                if a.1.min.z < b.1.min.z {
+                if a.1.near() < b.1.near() {
                     stack.extend([b, a]);
                 } else {
                     stack.extend([a, b]);
@@ -737,14 +808,19 @@ impl VisibleScene {
         }
         let mut scratch = Vec::with_capacity(CUT_VERTICES);
         for &(i, plane) in &self.cut_once {
-            let (i, plane) = (&i, &self.planes[plane as usize]);
-            if prune_cuts && ext.contains(&box_bound(*i as usize)) {
+            let plane = &self.planes[plane as usize];
+            let bound = prune_cuts.then(|| box_bound(i as usize));
+            if bound.is_some_and(|bound| ext.holds(&bound)) {
                 continue;
             }
             scratch.clear();
-            let aabb = &scene.receivers()[*i as usize];
+            let aabb = &scene.receivers()[i as usize];
             cut_by_one(aabb, plane, self.tolerance, &mut scratch);
-            ext = ext.union(&points_image(&scratch));
+            let image = points_image(&scratch);
+            match bound {
+                Some(bound) => ext.take(&bound, &image),
+                None => ext.merge(&image),
+            }
         }
         ext
     }

@@ -150,6 +150,20 @@ impl<'f> FocusBasis<'f> {
         }
     }
 
+    /// The visible receivers' extents under `projector`, where they are made already.
+    pub fn known_receiver_extents(&self, projector: &Projector) -> Option<Extents> {
+        self.receivers
+            .get()
+            .filter(|(cached, _)| cached == projector)
+            .map(|(_, extents)| *extents)
+    }
+
+    /// Keeps `extents`, the visible receivers' extents under `projector` made by another walk
+    /// ([`VisibleScene::extents_under`] under two maps), where none are kept yet.
+    pub fn keep_receiver_extents(&self, projector: &Projector, extents: Extents) {
+        let _ = self.receivers.set((*projector, extents));
+    }
+
     /// The focused map of `input` (the input this basis was made for), made once.
     pub fn focused(&self, input: &SetupInput<'_>) -> &ShadowSetup {
         self.focused.get_or_init(|| Focused.setup_on(input, self))

@@ -27,10 +27,14 @@
 //! the warped z, unit-cube clipped so that the rasteriser clips no relevant caster (for a spot
 //! light onto [0, 1/2], see `warped_map`).
 
+use std::cell::OnceCell;
+
 use glam::{DMat4, DVec3, DVec4};
 
 use crate::error::SetupError;
-use crate::focus::{BoxSide, LightCorners, NearTip, ParallelBoxes, box_cut_vertices, classify_box};
+use crate::focus::{
+    Both, BoxSide, LightCorners, NearTip, ParallelBoxes, box_cut_vertices, classify_box,
+};
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, PERSPECTIVE_CLIP_Z, Projector, pad};
@@ -275,11 +279,19 @@ pub(crate) struct WarpSpace {
     /// The visible receivers' vertices in light space, for a spot light (for a directional
     /// light the receivers are read from the scene's hierarchy at each strength).
     receiver_points: Vec<DVec3>,
-    /// Their linear depth range along the light.
-    receivers_linear: (f64, f64),
-    casters: WarpCasters,
+    /// What the receivers' extents in light space decide, made with a spot light's
+    /// vertices, or, for a directional light, after the first warp's walk of the receivers
+    /// (which gathers their light-space extents too: [`WarpSpace::receivers_under`]).
+    light_parts: OnceCell<LightParts>,
     /// How many casters the scene has.
     caster_count: usize,
+}
+
+/// What a warp reads of the visible receivers' extents in light space: their linear depth
+/// range along the light, and the casters that can matter.
+struct LightParts {
+    receivers_linear: (f64, f64),
+    casters: WarpCasters,
 }
 
 /// The casters a warp may need, in light space.
@@ -512,96 +524,16 @@ impl WarpSpace {
             near
         };
 
-        // Receivers: light-space vertices, and the linear depth range.
-        let mut receiver_points = Vec::new();
-        let mut receivers_light = Extents::EMPTY;
-        let mut receivers_linear = (f64::INFINITY, f64::NEG_INFINITY);
-        match space {
-            LightSpace::Parallel(frame) => {
-                // Light space's Z is the linear depth along a directional light. The receivers
-                // stay in the scene's hierarchy (see `view_warp_setup`).
-                receivers_light = basis.receiver_extents(&Projector::Parallel(frame));
-                receivers_linear = (receivers_light.min.z, receivers_light.max.z);
+        // A spot light's receivers: light-space vertices, and the linear depth range. A
+        // directional light's stay in the scene's hierarchy (see `view_warp_setup`).
+        let light_parts = OnceCell::new();
+        let receiver_points = match space {
+            LightSpace::Spot { .. } => {
+                let (points, parts) = spot_light_parts(input, basis, &space, &body_light);
+                let _ = light_parts.set(parts);
+                points
             }
-            LightSpace::Spot { .. } => visible.for_each_vertex(input.scene, |p| {
-                let q = space.light(p);
-                receivers_light.add(q);
-                receiver_points.push(q);
-                let z = linear(p);
-                receivers_linear = (receivers_linear.0.min(z), receivers_linear.1.max(z));
-            }),
-        }
-        let receivers_z = receivers_linear.1;
-
-        // Casters, cut to B's Y range (see the module documentation), and culled where no
-        // strength can make them relevant.
-        let casters = match &space {
-            LightSpace::Parallel(frame) if !basis.cuts_casters() => {
-                // Light rays are columns of constant (X, Y) before and after the warp, so a
-                // caster beside the receivers' columns is culled before any division.
-                let slack = 1e-9
-                    * (receivers_light.max - receivers_light.min)
-                        .truncate()
-                        .max_element();
-                WarpCasters::Tree(TreeCasters {
-                    frame: *frame,
-                    columns: Extents {
-                        min: (receivers_light.min.truncate() - slack)
-                            .max(glam::DVec2::new(f64::NEG_INFINITY, body_light.min.y))
-                            .extend(f64::NEG_INFINITY),
-                        max: (receivers_light.max.truncate() + slack)
-                            .min(glam::DVec2::new(f64::INFINITY, body_light.max.y))
-                            .extend(receivers_z),
-                    },
-                    y_range: (body_light.min.y, body_light.max.y),
-                })
-            }
-            _ => {
-                // Cut each caster by the light's frustum (its near plane first) and a side,
-                // and B's Y range: all world planes.
-                let mut planes = basis.caster_planes.clone();
-                let light_near_first = basis.light_near_first();
-                planes.push(space.y_plane(body_light.min.y, true));
-                planes.push(space.y_plane(body_light.max.y, false));
-                let mut points = Vec::new();
-                let mut casters = Vec::new();
-                let mut near_tip: Option<NearTip> = None;
-                for caster in input.scene.casters() {
-                    let start = points.len();
-                    let near_clipped = match classify_box(caster, &planes, tolerance) {
-                        BoxSide::Outside => continue,
-                        BoxSide::Inside => {
-                            points.extend_from_slice(&caster.corners());
-                            false
-                        }
-                        BoxSide::Straddles(mask) => {
-                            if !box_cut_vertices(caster, &planes, mask, tolerance, &mut points) {
-                                continue;
-                            }
-                            light_near_first
-                                && mask & 1 != 0
-                                && near_tip
-                                    .get_or_insert_with(|| {
-                                        NearTip::new(input.scene, &planes, tolerance)
-                                    })
-                                    .clips(caster, mask, tolerance)
-                        }
-                    };
-                    let z_min = points[start..]
-                        .iter()
-                        .map(|p| linear(*p))
-                        .fold(f64::INFINITY, f64::min);
-                    if z_min <= receivers_z {
-                        for p in &mut points[start..] {
-                            *p = space.light(*p);
-                        }
-                        casters.push((start as u32, points.len() as u32, z_min, near_clipped));
-                    } else {
-                        points.truncate(start);
-                    }
-                }
-                WarpCasters::Points { points, casters }
-            }
+            LightSpace::Parallel(_) => Vec::new(),
         };
         Ok(Self {
             space,
@@ -612,77 +544,250 @@ impl WarpSpace {
             depth_world,
             near_depth,
             receiver_points,
-            receivers_linear,
-            casters,
+            light_parts,
             caster_count: input.scene.casters().len(),
         })
     }
 }
 
+/// A spot light's visible receivers' vertices in light space, and what their extents there
+/// decide.
+fn spot_light_parts(
+    input: &SetupInput<'_>,
+    basis: &FocusBasis,
+    space: &LightSpace,
+    body_light: &Extents,
+) -> (Vec<DVec3>, LightParts) {
+    let linear_row = input.light.linear_depth_row();
+    let mut points = Vec::new();
+    let mut receivers_light = Extents::EMPTY;
+    let mut receivers_linear = (f64::INFINITY, f64::NEG_INFINITY);
+    basis.visible.for_each_vertex(input.scene, |p| {
+        let q = space.light(p);
+        receivers_light.add(q);
+        points.push(q);
+        let z = linear_row.dot(p.extend(1.0));
+        receivers_linear = (receivers_linear.0.min(z), receivers_linear.1.max(z));
+    });
+    let parts = light_parts_of(
+        input,
+        basis,
+        space,
+        body_light,
+        &receivers_light,
+        receivers_linear,
+    );
+    (points, parts)
+}
+
+/// The receivers' linear depth range and the casters a warp may need, from the receivers'
+/// light-space extents (`receivers_light`) and linear depth range.
+fn light_parts_of(
+    input: &SetupInput<'_>,
+    basis: &FocusBasis,
+    space: &LightSpace,
+    body_light: &Extents,
+    receivers_light: &Extents,
+    receivers_linear: (f64, f64),
+) -> LightParts {
+    let tolerance = basis.frame.tolerance;
+    let linear_row = input.light.linear_depth_row();
+    let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
+    let receivers_z = receivers_linear.1;
+    // Casters, cut to B's Y range (see the module documentation), and culled where no
+    // strength can make them relevant.
+    let casters = match &space {
+        LightSpace::Parallel(frame) if !basis.cuts_casters() => {
+            // Light rays are columns of constant (X, Y) before and after the warp, so a
+            // caster beside the receivers' columns is culled before any division.
+            let slack = 1e-9
+                * (receivers_light.max - receivers_light.min)
+                    .truncate()
+                    .max_element();
+            WarpCasters::Tree(TreeCasters {
+                frame: *frame,
+                columns: Extents {
+                    min: (receivers_light.min.truncate() - slack)
+                        .max(glam::DVec2::new(f64::NEG_INFINITY, body_light.min.y))
+                        .extend(f64::NEG_INFINITY),
+                    max: (receivers_light.max.truncate() + slack)
+                        .min(glam::DVec2::new(f64::INFINITY, body_light.max.y))
+                        .extend(receivers_z),
+                },
+                y_range: (body_light.min.y, body_light.max.y),
+            })
+        }
+        _ => {
+            // Cut each caster by the light's frustum (its near plane first) and a side,
+            // and B's Y range: all world planes.
+            let mut planes = basis.caster_planes.clone();
+            let light_near_first = basis.light_near_first();
+            planes.push(space.y_plane(body_light.min.y, true));
+            planes.push(space.y_plane(body_light.max.y, false));
+            let mut points = Vec::new();
+            let mut casters = Vec::new();
+            let mut near_tip: Option<NearTip> = None;
+            for caster in input.scene.casters() {
+                let start = points.len();
+                let near_clipped = match classify_box(caster, &planes, tolerance) {
+                    BoxSide::Outside => continue,
+                    BoxSide::Inside => {
+                        points.extend_from_slice(&caster.corners());
+                        false
+                    }
+                    BoxSide::Straddles(mask) => {
+                        if !box_cut_vertices(caster, &planes, mask, tolerance, &mut points) {
+                            continue;
+                        }
+                        light_near_first
+                            && mask & 1 != 0
+                            && near_tip
+                                .get_or_insert_with(|| {
+                                    NearTip::new(input.scene, &planes, tolerance)
+                                })
+                                .clips(caster, mask, tolerance)
+                    }
+                };
+                let z_min = points[start..]
+                    .iter()
+                    .map(|p| linear(*p))
+                    .fold(f64::INFINITY, f64::min);
+                if z_min <= receivers_z {
+                    for p in &mut points[start..] {
+                        *p = space.light(*p);
+                    }
+                    casters.push((start as u32, points.len() as u32, z_min, near_clipped));
+                } else {
+                    points.truncate(start);
+                }
+            }
+            WarpCasters::Points { points, casters }
+        }
+    };
+    LightParts {
+        receivers_linear,
+        casters,
+    }
+}
+
 impl WarpSpace {
-    /// The visible receivers' extents under `warp` (one of this light space's).
+    /// The visible receivers' extents under `warp` (one of this light space's). For a
+    /// directional light the first call also gathers their extents in light space, in the
+    /// same walk, and keeps them in `basis` (they decide the casters: [`Self::light_parts`]).
     fn receivers_under(
         &self,
         scene: &crate::bounds::SceneBounds,
-        visible: &crate::focus::VisibleScene,
+        basis: &FocusBasis,
         warp: &Warp,
     ) -> Extents {
-        match &self.space {
+        let frame = match &self.space {
+            LightSpace::Parallel(frame) => frame,
+            LightSpace::Spot { .. } => return warp.points_extents(&self.receiver_points),
+        };
+        let tree = scene.receiver_tree();
+        let arrays = scene.receiver_arrays();
+        let nodes = ParallelBoxes::new(&tree.nodes, frame);
+        let boxes = ParallelBoxes::new(arrays, frame);
+        let corners = LightCorners::new(frame);
+        let node_image = |light: &Extents| warp.box_extents(light.min, light.max);
+        // The warped box around a receiver's light-space box. A cut receiver's whole box may
+        // reach behind the warp's centre, where its image bounds nothing (a wholly visible one
+        // lies in B: w > 0); w is linear in Y, so the box's Y range tells.
+        let box_bound = |light: &Extents| {
+            if warp.w(light.min.y) <= 0.0 || warp.w(light.max.y) <= 0.0 {
+                return Extents::ALL;
+            }
+            warp.box_extents(light.min, light.max)
+        };
+        // Exact: the warped corners (the light-space box's Y range is the corners', so none
+        // is behind the centre when the bound is finite).
+        let box_image = |i: usize, bound: Extents| {
+            if bound == Extents::ALL {
+                return bound;
+            }
+            let c = warp.light(arrays.center_of(i));
+            warp.points_extents(&corners.corners(c, arrays.half_of(i)))
+        };
+        let points_image = |points: &[DVec3]| {
+            let mut ext = Extents::EMPTY;
+            for p in points {
+                ext.add(warp.warp(warp.light(*p)).0);
+            }
+            ext
+        };
+        let projector = Projector::Parallel(*frame);
+        if basis.known_receiver_extents(&projector).is_some() {
+            return basis.visible.extents_under(
+                scene,
+                true,
+                |n| node_image(&nodes.extents(n)),
+                |i| box_bound(&boxes.extents(i)),
+                box_image,
+                points_image,
+            );
+        }
+        // Both maps: light space (a box's bound is its exact image) and the warp's.
+        let both = basis.visible.extents_under(
+            scene,
+            true,
+            |n| {
+                let light = nodes.extents(n);
+                Both {
+                    first: light,
+                    second: node_image(&light),
+                }
+            },
+            |i| {
+                let light = boxes.extents(i);
+                Both {
+                    first: light,
+                    second: box_bound(&light),
+                }
+            },
+            |i, bound| Both {
+                first: bound.first,
+                second: box_image(i, bound.second),
+            },
+            |points| Both {
+                first: projector.points_extents(points),
+                second: points_image(points),
+            },
+        );
+        basis.keep_receiver_extents(&projector, both.first);
+        both.second
+    }
+
+    /// What the visible receivers' extents in light space decide (for a directional light,
+    /// read from `basis`: made by the first [`Self::receivers_under`], else there).
+    fn light_parts(&self, input: &SetupInput<'_>, basis: &FocusBasis) -> &LightParts {
+        self.light_parts.get_or_init(|| match self.space {
             LightSpace::Parallel(frame) => {
-                let tree = scene.receiver_tree();
-                let arrays = scene.receiver_arrays();
-                let nodes = ParallelBoxes::new(&tree.nodes, frame);
-                let boxes = ParallelBoxes::new(arrays, frame);
-                let corners = LightCorners::new(frame);
-                visible.extents_under(
-                    scene,
-                    true,
-                    |n| {
-                        let light = nodes.extents(n);
-                        warp.box_extents(light.min, light.max)
-                    },
-                    // The warped box around a receiver's light-space box. A cut receiver's
-                    // whole box may reach behind the warp's centre, where its image bounds
-                    // nothing (a wholly visible one lies in B: w > 0); w is linear in Y, so
-                    // the box's Y range tells.
-                    |i| {
-                        let light = boxes.extents(i);
-                        if warp.w(light.min.y) <= 0.0 || warp.w(light.max.y) <= 0.0 {
-                            return Extents::ALL;
-                        }
-                        warp.box_extents(light.min, light.max)
-                    },
-                    // Exact: the warped corners (the light-space box's Y range is the
-                    // corners', so none is behind the centre when the bound is finite).
-                    |i, bound| {
-                        if bound == Extents::ALL {
-                            return bound;
-                        }
-                        let c = warp.light(arrays.center_of(i));
-                        warp.points_extents(&corners.corners(c, arrays.half_of(i)))
-                    },
-                    |points| {
-                        let mut ext = Extents::EMPTY;
-                        for p in points {
-                            ext.add(warp.warp(warp.light(*p)).0);
-                        }
-                        ext
-                    },
+                // Light space's Z is the linear depth along a directional light.
+                let receivers_light = basis.receiver_extents(&Projector::Parallel(frame));
+                light_parts_of(
+                    input,
+                    basis,
+                    &self.space,
+                    &self.body_light,
+                    &receivers_light,
+                    (receivers_light.min.z, receivers_light.max.z),
                 )
             }
-            LightSpace::Spot { .. } => warp.points_extents(&self.receiver_points),
-        }
+            LightSpace::Spot { .. } => {
+                spot_light_parts(input, basis, &self.space, &self.body_light).1
+            }
+        })
     }
 
     /// The casters under `warp` that overlap the receivers' warped extents (`receivers`) in
     /// x and y, as [`WarpedCasters`].
     fn casters_under(
-        &self,
+        parts: &LightParts,
         scene: &crate::bounds::SceneBounds,
         warp: &Warp,
         receivers: &Extents,
     ) -> WarpedCasters {
-        match &self.casters {
+        match &parts.casters {
             WarpCasters::Tree(tree) => tree.warped(scene, warp, receivers),
             WarpCasters::Points { points, casters } => {
                 let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
@@ -761,8 +866,9 @@ pub(crate) fn view_warp_setup(
     };
 
     // Receivers: warped extents.
-    let receivers = ws.receivers_under(input.scene, &basis.visible, &warp);
-    let receivers_linear = ws.receivers_linear;
+    let receivers = ws.receivers_under(input.scene, basis, &warp);
+    let parts = ws.light_parts(input, basis);
+    let receivers_linear = parts.receivers_linear;
     let receivers_z = receivers_linear.1;
     let mut body_warped = Extents::EMPTY;
     for p in basis.body() {
@@ -775,7 +881,7 @@ pub(crate) fn view_warp_setup(
         linear_min: casters_z,
         relevant,
         near_clipped,
-    } = ws.casters_under(input.scene, &warp, &receivers);
+    } = WarpSpace::casters_under(parts, input.scene, &warp, &receivers);
     diagnostics.relevant_casters = relevant;
     diagnostics.culled_casters = ws.caster_count - relevant;
     diagnostics.casters_clipped_by_light_near = near_clipped;
@@ -917,13 +1023,19 @@ mod tests {
             };
             let mut want = Extents::EMPTY;
             basis.visible.for_each_vertex(&scene, |p| want.add(warp.warp(warp.light(p)).0));
-            let got = ws.receivers_under(&scene, &basis.visible, &warp);
+            let got = ws.receivers_under(&scene, &basis, &warp);
+            // The walk that gathered light space's extents too gives what a walk of each
+            // map alone gives, to the bit.
+            let projector = Projector::Parallel(light_frame);
+            prop_assert_eq!(basis.known_receiver_extents(&projector), Some(basis.visible.receiver_extents(&scene, &projector)));
+            prop_assert_eq!(ws.receivers_under(&scene, &basis, &warp), got);
             let scale = 1.0 + (want.max - want.min).abs().max_element() + want.min.abs().max_element();
             let close = |a: DVec3, b: DVec3| (a - b).abs().max_element() <= 1e-9 * scale;
             prop_assert!(close(got.min, want.min) && close(got.max, want.max), "receivers {:?} vs {:?}", got, want);
 
             // Casters one by one, as `TreeCasters::warped` defines them.
-            let WarpCasters::Tree(tree) = &ws.casters else { unreachable!() };
+            let parts = ws.light_parts(&input, &basis);
+            let WarpCasters::Tree(tree) = &parts.casters else { unreachable!() };
             let xy_slack = 1e-9 * (want.max - want.min).truncate().max_element();
             let over = Extents {
                 min: (want.min.truncate() - xy_slack).extend(f64::NEG_INFINITY),
@@ -944,7 +1056,7 @@ mod tests {
                     linear_min = linear_min.min(l.min.z);
                 }
             }
-            let got = ws.casters_under(&scene, &warp, &want);
+            let got = WarpSpace::casters_under(parts, &scene, &warp, &want);
             // Subtrees that add nothing are counted whole: at least the relevant ones.
             prop_assert!(got.relevant >= relevant && (got.relevant > 0) == (relevant > 0));
             if relevant > 0 {
