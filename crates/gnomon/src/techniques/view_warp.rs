@@ -748,9 +748,15 @@ impl WarpSpace {
                 first: bound.first,
                 second: box_image(i, bound.second),
             },
-            |points| Both {
-                first: projector.points_extents(points),
-                second: points_image(points),
+            // A point's light-space coordinates are its image under the projector: made once.
+            |points| {
+                let (mut first, mut second) = (Extents::EMPTY, Extents::EMPTY);
+                for p in points {
+                    let q = warp.light(*p);
+                    first.add(q);
+                    second.add(warp.warp(q).0);
+                }
+                Both { first, second }
             },
         );
         basis.keep_receiver_extents(&projector, both.first);
