@@ -1137,8 +1137,10 @@ pub(crate) fn box_planes(b: &Aabb) -> [Plane; 6] {
 /// the receivers is culled whole; one whose node lies inside every cutting plane and whose
 /// image over the receivers adds nothing to the extents gathered so far is counted whole
 /// without being opened (it may hold boxes just beside the receivers: see
-/// [`crate::Diagnostics::relevant_casters`]). Children nearer the light are opened first, so
-/// that the nearest caster (the near plane) is found early.
+/// [`crate::Diagnostics::relevant_casters`]); one that could add only in x and y is put off,
+/// and opened at the end where the extents still do not hold it, the farthest-reaching first
+/// ([`PutOff`]). Children nearer the light are opened first, so that the nearest caster (the
+/// near plane) is found early.
 pub(crate) fn caster_extents(
     scene: &SceneBounds,
     projector: &Projector,

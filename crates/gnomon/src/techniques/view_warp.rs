@@ -340,8 +340,9 @@ impl TreeCasters {
     /// whose node lies outside the columns or beside the receivers is culled whole; one whose
     /// image (over the receivers) and depths add nothing to what is gathered so far is
     /// counted whole without being opened, and one that would add only in x and y is put
-    /// off to the end, when the extents have grown (see [`crate::focus::caster_extents`]).
-    /// Children nearer the light are opened first, so that the nearest depth is found early.
+    /// off to the end, when the extents have grown, and opened then the farthest-reaching
+    /// first where they still do not hold it ([`PutOff`]). Children nearer the light are
+    /// opened first, so that the nearest depth is found early.
     fn warped(
         &self,
         scene: &crate::bounds::SceneBounds,
