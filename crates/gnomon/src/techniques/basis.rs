@@ -150,14 +150,6 @@ impl<'f> FocusBasis<'f> {
         }
     }
 
-    /// The visible receivers' extents under `projector`, where they are made already.
-    pub fn known_receiver_extents(&self, projector: &Projector) -> Option<Extents> {
-        self.receivers
-            .get()
-            .filter(|(cached, _)| cached == projector)
-            .map(|(_, extents)| *extents)
-    }
-
     /// Keeps `extents`, the visible receivers' extents under `projector` made by another walk
     /// ([`VisibleScene::extents_under`] under two maps), where none are kept yet.
     pub fn keep_receiver_extents(&self, projector: &Projector, extents: Extents) {

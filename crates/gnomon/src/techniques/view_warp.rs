@@ -674,13 +674,10 @@ fn light_parts_of(
 impl WarpSpace {
     /// The visible receivers' extents under `warp` (one of this light space's). For a
     /// directional light the first call also gathers their extents in light space, in the
-    /// same walk, and keeps them in `basis` (they decide the casters: [`Self::light_parts`]).
-    fn receivers_under(
-        &self,
-        scene: &crate::bounds::SceneBounds,
-        basis: &FocusBasis,
-        warp: &Warp,
-    ) -> Extents {
+    /// same walk: they make the light-space parts ([`Self::light_parts`]) and are kept in
+    /// `basis` (the focused map reads them).
+    fn receivers_under(&self, input: &SetupInput<'_>, basis: &FocusBasis, warp: &Warp) -> Extents {
+        let scene = input.scene;
         let frame = match &self.space {
             LightSpace::Parallel(frame) => frame,
             LightSpace::Spot { .. } => return warp.points_extents(&self.receiver_points),
@@ -716,8 +713,7 @@ impl WarpSpace {
             }
             ext
         };
-        let projector = Projector::Parallel(*frame);
-        if basis.known_receiver_extents(&projector).is_some() {
+        if self.light_parts.get().is_some() {
             return basis.visible.extents_under(
                 scene,
                 true,
@@ -760,30 +756,44 @@ impl WarpSpace {
                 Both { first, second }
             },
         );
-        basis.keep_receiver_extents(&projector, both.first);
+        basis.keep_receiver_extents(&Projector::Parallel(*frame), both.first);
+        let _ = self
+            .light_parts
+            .set(self.parallel_light_parts(input, basis, &both.first));
         both.second
     }
 
-    /// What the visible receivers' extents in light space decide (for a directional light,
-    /// read from `basis`: made by the first [`Self::receivers_under`], else there).
+    /// What the visible receivers' extents in light space decide: made with a spot light's
+    /// vertices, or by a directional light's first [`Self::receivers_under`] (else here, from
+    /// `basis`).
     fn light_parts(&self, input: &SetupInput<'_>, basis: &FocusBasis) -> &LightParts {
         self.light_parts.get_or_init(|| match self.space {
             LightSpace::Parallel(frame) => {
-                // Light space's Z is the linear depth along a directional light.
                 let receivers_light = basis.receiver_extents(&Projector::Parallel(frame));
-                light_parts_of(
-                    input,
-                    basis,
-                    &self.space,
-                    &self.body_light,
-                    &receivers_light,
-                    (receivers_light.min.z, receivers_light.max.z),
-                )
+                self.parallel_light_parts(input, basis, &receivers_light)
             }
             LightSpace::Spot { .. } => {
                 spot_light_parts(input, basis, &self.space, &self.body_light).1
             }
         })
+    }
+
+    /// A directional light's light-space parts from the receivers' extents in light space,
+    /// whose Z is the linear depth along the light.
+    fn parallel_light_parts(
+        &self,
+        input: &SetupInput<'_>,
+        basis: &FocusBasis,
+        receivers_light: &Extents,
+    ) -> LightParts {
+        light_parts_of(
+            input,
+            basis,
+            &self.space,
+            &self.body_light,
+            receivers_light,
+            (receivers_light.min.z, receivers_light.max.z),
+        )
     }
 
     /// The casters under `warp` that overlap the receivers' warped extents (`receivers`) in
@@ -873,7 +883,7 @@ pub(crate) fn view_warp_setup(
     };
 
     // Receivers: warped extents.
-    let receivers = ws.receivers_under(input.scene, basis, &warp);
+    let receivers = ws.receivers_under(input, basis, &warp);
     let parts = ws.light_parts(input, basis);
     let receivers_linear = parts.receivers_linear;
     let receivers_z = receivers_linear.1;
@@ -1030,12 +1040,12 @@ mod tests {
             };
             let mut want = Extents::EMPTY;
             basis.visible.for_each_vertex(&scene, |p| want.add(warp.warp(warp.light(p)).0));
-            let got = ws.receivers_under(&scene, &basis, &warp);
+            let got = ws.receivers_under(&input, &basis, &warp);
             // The walk that gathered light space's extents too gives what a walk of each
             // map alone gives, to the bit.
             let projector = Projector::Parallel(light_frame);
-            prop_assert_eq!(basis.known_receiver_extents(&projector), Some(basis.visible.receiver_extents(&scene, &projector)));
-            prop_assert_eq!(ws.receivers_under(&scene, &basis, &warp), got);
+            prop_assert_eq!(basis.receiver_extents(&projector), basis.visible.receiver_extents(&scene, &projector));
+            prop_assert_eq!(ws.receivers_under(&input, &basis, &warp), got);
             let scale = 1.0 + (want.max - want.min).abs().max_element() + want.min.abs().max_element();
             let close = |a: DVec3, b: DVec3| (a - b).abs().max_element() <= 1e-9 * scale;
             prop_assert!(close(got.min, want.min) && close(got.max, want.max), "receivers {:?} vs {:?}", got, want);
