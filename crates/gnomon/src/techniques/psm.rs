@@ -48,7 +48,7 @@ use glam::{DMat4, DVec3, DVec4};
 use crate::bounds::{Aabb, SceneBounds};
 use crate::camera::{Camera, Lens};
 use crate::error::SetupError;
-use crate::focus::{MapImages, VisibleScene, WalkedCasters, walk_casters};
+use crate::focus::{MapImages, ReceiverMap, VisibleScene, WalkedCasters, walk_casters};
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, corner_values, pad};
@@ -392,20 +392,23 @@ fn receivers_under<const K: usize>(
     };
     visible.extents_under(
         scene,
-        true,
-        |n| box_image(&tree.node_box(n)),
-        |i| box_image(&scene.receivers()[i]),
-        |_, exact| exact,
-        |points| {
-            let mut e = Extents::EMPTY;
-            for p in points {
-                let p = p.extend(1.0);
-                // Every visible point has an image (it lies in P, in front of both).
-                if let Some(q) = image(rows.map(|r| r.dot(p))) {
-                    e.add(q);
+        ReceiverMap {
+            node: |n| box_image(&tree.node_box(n)),
+            region: |c, h| box_image(&Aabb::from_min_max_unchecked(c - h, c + h)),
+            bound: |i| box_image(&scene.receivers()[i]),
+            exact: |_, exact| exact,
+            points: |points: &[DVec3]| {
+                let mut e = Extents::EMPTY;
+                for p in points {
+                    let p = p.extend(1.0);
+                    // Every visible point has an image (it lies in P, in front of both).
+                    if let Some(q) = image(rows.map(|r| r.dot(p))) {
+                        e.add(q);
+                    }
                 }
-            }
-            e
+                e
+            },
+            prune_cuts: true,
         },
     )
 }

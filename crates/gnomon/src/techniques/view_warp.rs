@@ -33,7 +33,8 @@ use glam::{DMat4, DVec3, DVec4};
 
 use crate::error::SetupError;
 use crate::focus::{
-    Both, BoxSide, LightCorners, NearTip, ParallelBoxes, box_cut_vertices, classify_box,
+    Both, BoxSide, LightCorners, NearTip, ParallelBoxes, ReceiverMap, box_cut_vertices,
+    classify_box,
 };
 use crate::geometry::Plane;
 use crate::light::Light;
@@ -716,44 +717,57 @@ impl WarpSpace {
         if self.light_parts.get().is_some() {
             return basis.visible.extents_under(
                 scene,
-                true,
-                |n| node_image(&nodes.extents(n)),
-                |i| box_bound(&boxes.extents(i)),
-                box_image,
-                points_image,
+                ReceiverMap {
+                    node: |n| node_image(&nodes.extents(n)),
+                    region: |c, h| box_bound(&boxes.extents_of(c, h)),
+                    bound: |i| box_bound(&boxes.extents(i)),
+                    exact: box_image,
+                    points: points_image,
+                    prune_cuts: true,
+                },
             );
         }
         // Both maps: light space (a box's bound is its exact image) and the warp's.
         let both = basis.visible.extents_under(
             scene,
-            true,
-            |n| {
-                let light = nodes.extents(n);
-                Both {
-                    first: light,
-                    second: node_image(&light),
-                }
-            },
-            |i| {
-                let light = boxes.extents(i);
-                Both {
-                    first: light,
-                    second: box_bound(&light),
-                }
-            },
-            |i, bound| Both {
-                first: bound.first,
-                second: box_image(i, bound.second),
-            },
-            // A point's light-space coordinates are its image under the projector: made once.
-            |points| {
-                let (mut first, mut second) = (Extents::EMPTY, Extents::EMPTY);
-                for p in points {
-                    let q = warp.light(*p);
-                    first.add(q);
-                    second.add(warp.warp(q).0);
-                }
-                Both { first, second }
+            ReceiverMap {
+                node: |n| {
+                    let light = nodes.extents(n);
+                    Both {
+                        first: light,
+                        second: node_image(&light),
+                    }
+                },
+                region: |c, h| {
+                    let light = boxes.extents_of(c, h);
+                    Both {
+                        first: light,
+                        second: box_bound(&light),
+                    }
+                },
+                bound: |i| {
+                    let light = boxes.extents(i);
+                    Both {
+                        first: light,
+                        second: box_bound(&light),
+                    }
+                },
+                exact: |i, bound: Both| Both {
+                    first: bound.first,
+                    second: box_image(i, bound.second),
+                },
+                // A point's light-space coordinates are its image under the projector: made
+                // once.
+                points: |points: &[DVec3]| {
+                    let (mut first, mut second) = (Extents::EMPTY, Extents::EMPTY);
+                    for p in points {
+                        let q = warp.light(*p);
+                        first.add(q);
+                        second.add(warp.warp(q).0);
+                    }
+                    Both { first, second }
+                },
+                prune_cuts: true,
             },
         );
         basis.keep_receiver_extents(&Projector::Parallel(*frame), both.first);
