@@ -117,9 +117,7 @@ impl BoxTree {
             };
             lo[node] = a;
             hi[node] = b;
-            let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
-            // A few ulps more, so that c +- h holds a and b after rounding.
-            let h = h + (c.abs() + h) * (4.0 * f64::EPSILON);
+            let (c, h) = grown(a, b);
             self.nodes.set(node, c, h);
         }
     }
@@ -379,6 +377,14 @@ impl BoxPlanes {
     pub fn straddled(&self, c: DVec3, h: DVec3, active: u32, tolerance: f64) -> Option<u32> {
         straddled_by(c, h, active, tolerance, |k| self.planes[k & 31])
     }
+}
+
+/// The box from `lo` to `hi` as centre and half extents, a few ulps larger, so that c +- h
+/// holds `lo` and `hi` (and every box inside them) after rounding: a node's box, or any box
+/// a walk tests in place of the boxes inside it.
+pub(crate) fn grown(lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
+    let (c, h) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+    (c, h + (c.abs() + h) * (4.0 * f64::EPSILON))
 }
 
 /// The bits of planes `0..count`.

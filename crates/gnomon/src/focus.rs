@@ -15,7 +15,7 @@ use std::sync::OnceLock;
 use glam::DVec3;
 
 use crate::bounds::{Aabb, BoxArrays, SceneBounds};
-use crate::bvh::{BoxPlanes, BoxTree, Classified, all_planes, straddled};
+use crate::bvh::{BoxPlanes, BoxTree, Classified, all_planes, grown, straddled};
 use crate::geometry::{ConvexPolyhedron, Plane};
 
 use crate::light_space::{AxisFrustum, Extents, LightFrame, Projector};
@@ -98,6 +98,17 @@ pub(crate) fn refine(
 
 /// The most slices [`refine_slices`] takes in one walk (a cascade has at most eight).
 pub(crate) const MAX_SLICES: usize = 8;
+
+/// The box (centre, half extents) around boxes `ids` of `arrays`, grown as a hierarchy's node
+/// is ([`grown`]), so that it holds each box after rounding.
+fn box_around(arrays: &BoxArrays, ids: impl Iterator<Item = usize>) -> (DVec3, DVec3) {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for i in ids {
+        let (c, h) = arrays.center_half(i);
+        (lo, hi) = (lo.min(c - h), hi.max(c + h));
+    }
+    grown(lo, hi)
+}
 
 /// How many receivers listed one by one [`VisibleScene::extents_under`] tests at once
 /// against the box around them (neighbours in the classification's order lie close, so the
@@ -824,21 +835,12 @@ impl VisibleScene {
                 ext.take(&bound, &box_image(i, bound));
             }
         };
-        // Whether the extents hold the bound of the box around receivers `run` (neighbours in
-        // the classification's order), so that none of them, nor a part of one, adds.
-        let run_held = |ext: &E, run: &mut dyn Iterator<Item = usize>| {
-            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            for i in run {
-                let (c, h) = arrays.center_half(i);
-                (lo, hi) = (lo.min(c - h), hi.max(c + h));
-            }
-            let (c, h) = (0.5 * (lo + hi), 0.5 * (hi - lo));
-            // A few ulps more, as a node's box, so that it holds each box after rounding.
-            let h = h + (c.abs() + h) * (4.0 * f64::EPSILON);
-            ext.holds(&region_bound(c, h))
-        };
+        // Whether the extents hold the bound of the box around a run of receivers (neighbours
+        // in the classification's order), so that none of them, nor a part of one, adds.
+        let run_held = |ext: &E, (c, h): (DVec3, DVec3)| ext.holds(&region_bound(c, h));
         for run in self.boxes.chunks(RUN) {
-            if prune_cuts && run.len() > 1 && run_held(&ext, &mut run.iter().map(|&i| i as usize)) {
+            let ids = run.iter().map(|&i| i as usize);
+            if prune_cuts && run.len() > 1 && run_held(&ext, box_around(arrays, ids)) {
                 continue;
             }
             for &i in run {
@@ -869,8 +871,8 @@ impl VisibleScene {
         }
         let mut scratch = Vec::with_capacity(CUT_VERTICES);
         for run in self.cut_once.chunks(RUN) {
-            if prune_cuts && run.len() > 1 && run_held(&ext, &mut run.iter().map(|c| c.0 as usize))
-            {
+            let ids = run.iter().map(|c| c.0 as usize);
+            if prune_cuts && run.len() > 1 && run_held(&ext, box_around(arrays, ids)) {
                 continue;
             }
             for &(i, plane) in run {
