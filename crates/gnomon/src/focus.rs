@@ -99,23 +99,6 @@ pub(crate) fn refine(
 /// The most slices [`refine_slices`] takes in one walk (a cascade has at most eight).
 pub(crate) const MAX_SLICES: usize = 8;
 
-/// The box (centre, half extents) around boxes `ids` of `arrays`, grown as a hierarchy's node
-/// is ([`grown`]), so that it holds each box after rounding.
-fn box_around(arrays: &BoxArrays, ids: impl Iterator<Item = usize>) -> (DVec3, DVec3) {
-    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for i in ids {
-        let (c, h) = arrays.center_half(i);
-        (lo, hi) = (lo.min(c - h), hi.max(c + h));
-    }
-    grown(lo, hi)
-}
-
-/// How many receivers listed one by one [`VisibleScene::extents_under`] tests at once
-/// against the box around them (neighbours in the classification's order lie close, so the
-/// box is little larger than theirs): for the benches' four cascades over 10^4 boxes, 4 took
-/// 1.703 M instructions a setup, 3 took 1.698 M, 6 and 8 1.71 to 1.73 M, and none 1.781 M.
-const RUN: usize = 4;
-
 /// [`refine`] of several slices of the frame's view at once. Each of `slices` is a slice's
 /// planes: the frame's, but for its own near and far planes (bits 0 and 1, the changed ones).
 /// A cascade's slices of one camera share the near planes' normal n and the far planes' -n,
@@ -539,6 +522,23 @@ fn meet(a: &Plane, b: &Plane, c: &Plane) -> Option<DVec3> {
     p.is_finite().then_some(p)
 }
 
+/// The box (centre, half extents) around boxes `ids` of `arrays`, grown as a hierarchy's node
+/// is ([`grown`]), so that it holds each box after rounding.
+fn box_around(arrays: &BoxArrays, ids: impl Iterator<Item = usize>) -> (DVec3, DVec3) {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for i in ids {
+        let (c, h) = arrays.center_half(i);
+        (lo, hi) = (lo.min(c - h), hi.max(c + h));
+    }
+    grown(lo, hi)
+}
+
+/// How many receivers listed one by one [`VisibleScene::extents_under`] tests at once
+/// against the box around them (neighbours in the classification's order lie close, so the
+/// box is little larger than theirs): for the benches' four cascades over 10^4 boxes, 4 took
+/// 1.703 M instructions a setup, 3 took 1.698 M, 6 and 8 1.71 to 1.73 M, and none 1.781 M.
+const RUN: usize = 4;
+
 /// How a walk of the visible receivers ([`VisibleScene::extents_under`]) sees boxes and
 /// points under its map (or maps: `E`).
 pub(crate) struct ReceiverMap<N, R, B, X, P> {
@@ -784,10 +784,10 @@ impl VisibleScene {
         }
         let mut scratch = Vec::with_capacity(CUT_VERTICES);
         for &(i, plane) in &self.cut_once {
-            let (i, plane) = (&i, &self.planes[plane as usize]);
+            let plane = &self.planes[plane as usize];
             scratch.clear();
             cut_by_one(
-                &scene.receivers()[*i as usize],
+                &scene.receivers()[i as usize],
                 plane,
                 self.tolerance,
                 &mut scratch,
@@ -932,8 +932,8 @@ impl VisibleScene {
         }
         let mut scratch = Vec::with_capacity(CUT_VERTICES);
         for &(i, plane) in &self.cut_once {
-            let (i, plane) = (&i, &self.planes[plane as usize]);
-            let aabb = &scene.receivers()[*i as usize];
+            let plane = &self.planes[plane as usize];
+            let aabb = &scene.receivers()[i as usize];
             if corners_pass(aabb) {
                 continue;
             }

@@ -728,6 +728,10 @@ impl WarpSpace {
             );
         }
         // Both maps: light space (a box's bound is its exact image) and the warp's.
+        let both_bound = |light: Extents| Both {
+            first: light,
+            second: box_bound(&light),
+        };
         let both = basis.visible.extents_under(
             scene,
             ReceiverMap {
@@ -738,20 +742,8 @@ impl WarpSpace {
                         second: node_image(&light),
                     }
                 },
-                region: |c, h| {
-                    let light = boxes.extents_of(c, h);
-                    Both {
-                        first: light,
-                        second: box_bound(&light),
-                    }
-                },
-                bound: |i| {
-                    let light = boxes.extents(i);
-                    Both {
-                        first: light,
-                        second: box_bound(&light),
-                    }
-                },
+                region: |c, h| both_bound(boxes.extents_of(c, h)),
+                bound: |i| both_bound(boxes.extents(i)),
                 exact: |i, bound: Both| Both {
                     first: bound.first,
                     second: box_image(i, bound.second),
