@@ -158,47 +158,42 @@ pub(crate) fn refine_slices(
             cut: Vec::with_capacity(listed),
         })
         .collect();
-    // The frame's subtrees: each slice's active planes per node (`DONE`: the slice has
-    // dropped the subtree or taken it whole).
-    const DONE: u8 = u8::MAX;
-    let mut stack: Vec<(usize, [u8; MAX_SLICES])> = Vec::with_capacity(64);
-    stack.extend(
-        frame
-            .nodes
-            .iter()
-            .map(|&n| (n as usize, [0b11; MAX_SLICES])),
-    );
-    while let Some((node, active)) = stack.pop() {
+    // The frame's subtrees, with the slices still testing them (bit k: slice k) and the
+    // planes each still tests (two bits per slice, slice k's at bits 2k and 2k + 1).
+    let every = ((1u32 << count) - 1) as u8;
+    let mut stack: Vec<(u32, u8, u16)> = Vec::with_capacity(64);
+    stack.extend(frame.nodes.iter().map(|&n| (n, every, u16::MAX)));
+    while let Some((node, live, planes)) = stack.pop() {
+        let node = node as usize;
         let node_dots = dots(tree.nodes.center_half(node));
-        let mut next = [DONE; MAX_SLICES];
-        let mut open = false;
-        for k in (0..count).filter(|&k| active[k] != DONE) {
-            match test(node_dots, k, active[k]) {
+        let (mut next_live, mut next_planes) = (0u8, 0u16);
+        for_each_bit(live, |k| {
+            match test(node_dots, k, (planes >> (2 * k)) as u8 & 0b11) {
                 None => {}
                 Some(0) => out[k].nodes.push(node as u32),
                 Some(mask) => {
-                    next[k] = mask;
-                    open = true;
+                    next_live |= 1 << k;
+                    next_planes |= u16::from(mask) << (2 * k);
                 }
             }
-        }
-        if !open {
+        });
+        if next_live == 0 {
             continue;
         }
         if tree.is_leaf(node) {
             for &i in tree.boxes_of(node) {
                 let box_dots = dots(arrays.center_half(i as usize));
-                for k in (0..count).filter(|&k| next[k] != DONE) {
-                    match test(box_dots, k, next[k]) {
+                for_each_bit(next_live, |k| {
+                    match test(box_dots, k, (next_planes >> (2 * k)) as u8 & 0b11) {
                         None => {}
                         Some(0) => out[k].boxes.push(i),
                         Some(mask) => out[k].cut.push((i, u32::from(mask))),
                     }
-                }
+                });
             }
         } else {
             for child in tree.children(node) {
-                stack.push((child, next));
+                stack.push((child as u32, next_live, next_planes));
             }
         }
     }
@@ -231,6 +226,15 @@ pub(crate) fn refine_slices(
         }
     }
     Some(out)
+}
+
+/// Calls `f` with the index of each set bit of `bits`, lowest first.
+#[inline(always)]
+fn for_each_bit(mut bits: u8, mut f: impl FnMut(usize)) {
+    while bits != 0 {
+        f(bits.trailing_zeros() as usize);
+        bits &= bits - 1;
+    }
 }
 
 /// An orthographic frame ready to project boxes of a [`BoxArrays`]: a box's image is its
