@@ -99,7 +99,7 @@ impl ViewSamples {
     /// The footprints are those of a pixel of an image this many rows tall.
     pub const REFERENCE_ROWS: f64 = 1000.0;
     /// Below this many lit points (N.L > 0.1) the samples take every point the light reaches
-    /// (see [`ViewSamples::from_surface_points`]); the warp limit judges from this many on.
+    /// (see [`ViewSamples::from_surface_points`]).
     pub const MIN_LIT: usize = 16;
 
     /// The grid of rays for an image of `aspect` (width over height): (columns, rows), about

@@ -170,6 +170,65 @@ fn no_limited_warp_samples_the_view_worse_than_the_focused_map() {
     assert!(unlimited_worse > 10);
 }
 
+/// A part of the view that only a few samples see (a cube face's share of the frame's
+/// samples, or a far cascade slice's) is judged on them as a frame is on many: handed only
+/// the frame's five farthest samples, where a warp's texels are coarsest, no limited warp
+/// samples those five more coarsely than the focused map. (A PSM cube face kept unjudged
+/// with six samples was 100 times coarser than the focused map there, and wrong on 2% of
+/// the pixels against the focused map's 0.05%.)
+#[test]
+fn a_few_samples_are_judged_too() {
+    let map = MapSettings::with_resolution(2048);
+    let mut rng = TestRng::from_seed(RngAlgorithm::ChaCha, &[11; 32]);
+    let (mut judged, mut limited, mut focused_used) = (0, 0, 0);
+    for case in 0..60 {
+        let scene = city(&mut rng);
+        let (camera, light) = view(&mut rng);
+        let all = ViewSamples::new(&camera, &light, &scene);
+        if all.len() < 16 {
+            continue;
+        }
+        let mut farthest = all.samples().to_vec();
+        farthest.sort_by(|a, b| b.view_depth.total_cmp(&a.view_depth));
+        farthest.truncate(5);
+        let few = ViewSamples::from_surface_points(
+            &camera,
+            &light,
+            farthest.iter().map(|s| (s.position, s.normal)),
+        );
+        assert!((1..16).contains(&few.len()), "case {case}: {}", few.len());
+        let given = |technique: &dyn ShadowTechnique| {
+            compute_setup_with_samples(technique, &camera, &light, &scene, map, &few).unwrap()
+        };
+        let focused = given(&Focused);
+        let (f95, fmax) = measure(&few, &focused);
+        for (name, technique) in warps() {
+            let setup = given(technique.as_ref());
+            let at = format!("case {case}, {name}: {:?}", setup.diagnostics);
+            let Some(strength) = setup.diagnostics.warp_strength else {
+                // The warp fell back before the limit ran (view along the light, ...).
+                assert!(setup.fallback().is_some(), "{at}");
+                continue;
+            };
+            judged += 1;
+            limited += usize::from(strength < 1.0);
+            if strength == 0.0 {
+                focused_used += 1;
+                assert_eq!(setup.maps, focused.maps, "{at}");
+            } else {
+                let (w95, wmax) = measure(&few, &setup);
+                assert!(
+                    w95 <= f95 && wmax <= fmax,
+                    "{at}: {w95} {wmax} vs {f95} {fmax}"
+                );
+            }
+        }
+    }
+    println!("judged {judged}: limited {limited}, focused map {focused_used}");
+    assert!(judged > 150, "{judged}");
+    assert!(limited > 20 && focused_used > 5, "{limited} {focused_used}");
+}
+
 /// The LiSPSM paper's ideal configuration on a ground plane (the view perpendicular to the
 /// light): every warp keeps its full strength.
 #[test]

@@ -18,6 +18,9 @@
 //! [`Fallback::WarpLimited`] and [`Fallback::WarpCoarserThanFocused`] name what happened, and
 //! [`crate::Diagnostics::warp_strength`] the strength kept.
 //!
+//! The limit judges on the samples of the part it sets up (a cascade's slice, a cube face),
+//! however few; only a part with none keeps the warp unjudged.
+//!
 //! The limit is a choice of ours, not the papers': each paper's strength is optimal for its
 //! error model along the view axis (the LiSPSM paper's ideal configuration, where no limit
 //! fires), not for the frame's pixels. Each warp technique has a `limit` switch.
@@ -34,8 +37,6 @@ pub(crate) const QUANTILE: f64 = 0.95;
 pub(crate) const MAX_MARGIN: f64 = 0.9;
 /// How many times the strength may be halved before the focused map is used.
 pub(crate) const HALVINGS: u32 = 3;
-/// Below this many samples the frame says too little to judge, and the warp is kept.
-pub(crate) const MIN_SAMPLES: usize = crate::samples::ViewSamples::MIN_LIT;
 
 /// A perspective warp that the limit weakens (PSM, LiSPSM, TSM, XPSM): its parameters' check,
 /// whether the limit is on, and its setup at a strength (1: the paper's).
@@ -81,8 +82,12 @@ fn limit_warp(
     if !enabled || !is_warp(&setup) {
         return Ok(setup);
     }
+    // A part of the view where no sample is seen (hidden behind nearer receivers, or lit
+    // at too grazing an angle) gives nothing to judge by: the warp is kept. A few samples
+    // (a cube face's or a far slice's share) are judged like many: a PSM face kept unjudged
+    // with 6 samples sampled them 100 times more coarsely than the focused map.
     let samples = basis.samples();
-    if samples.len() < MIN_SAMPLES {
+    if samples.is_empty() {
         return Ok(setup);
     }
     let focused = basis.focused(input);
