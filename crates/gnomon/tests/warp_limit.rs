@@ -84,6 +84,28 @@ fn warps() -> Vec<(&'static str, Box<dyn ShadowTechnique>)> {
     ]
 }
 
+/// The warp `name` of [`warps`] without the limit.
+fn warps_unlimited(name: &str) -> Box<dyn ShadowTechnique> {
+    match name {
+        "psm" => Box::new(Psm {
+            limit: false,
+            ..Psm::default()
+        }),
+        "lispsm" => Box::new(Lispsm {
+            limit: false,
+            ..Lispsm::default()
+        }),
+        "tsm" => Box::new(Tsm {
+            limit: false,
+            ..Tsm::default()
+        }),
+        _ => Box::new(Xpsm {
+            limit: false,
+            ..Xpsm::default()
+        }),
+    }
+}
+
 fn measure(samples: &ViewSamples, setup: &ShadowSetup) -> (f64, f64) {
     let q = |q| samples.undersampling_quantile(&setup.maps[0], q).unwrap();
     (q(QUANTILE), q(1.0))
@@ -171,11 +193,11 @@ fn no_limited_warp_samples_the_view_worse_than_the_focused_map() {
 }
 
 /// A part of the view that only a few samples see (a cube face's share of the frame's
-/// samples, or a far cascade slice's) is judged on them as a frame is on many: handed only
-/// the frame's five farthest samples, where a warp's texels are coarsest, no limited warp
-/// samples those five more coarsely than the focused map. (A PSM cube face kept unjudged
-/// with six samples was 100 times coarser than the focused map there, and wrong on 2% of
-/// the pixels against the focused map's 0.05%.)
+/// samples, or a far cascade slice's) is judged on them for gross failures: handed only the
+/// frame's five farthest samples, where a warp's texels are coarsest, no limited warp's
+/// worst sample is more than four times as coarse as the focused map's (`GROSS`). (A PSM cube
+/// face kept unjudged with six samples was 100 times coarser than the focused map there,
+/// and wrong on 2% of the pixels against the focused map's 0.05%.)
 #[test]
 fn a_few_samples_are_judged_too() {
     let map = MapSettings::with_resolution(2048);
@@ -216,17 +238,29 @@ fn a_few_samples_are_judged_too() {
                 focused_used += 1;
                 assert_eq!(setup.maps, focused.maps, "{at}");
             } else {
-                let (w95, wmax) = measure(&few, &setup);
-                assert!(
-                    w95 <= f95 && wmax <= fmax,
-                    "{at}: {w95} {wmax} vs {f95} {fmax}"
-                );
+                let (_, wmax) = measure(&few, &setup);
+                assert!(wmax <= 4.0 * fmax, "{at}: {wmax} vs {fmax}");
+                // A close call is not decided on so few: the paper's warp stays where it
+                // is no more than four times as coarse.
+                if strength < 1.0 {
+                    let paper = compute_setup_with_samples(
+                        warps_unlimited(name).as_ref(),
+                        &camera,
+                        &light,
+                        &scene,
+                        map,
+                        &few,
+                    )
+                    .unwrap();
+                    assert!(measure(&few, &paper).1 > 4.0 * fmax, "{at}");
+                }
             }
         }
     }
     println!("judged {judged}: limited {limited}, focused map {focused_used}");
     assert!(judged > 150, "{judged}");
-    assert!(limited > 20 && focused_used > 5, "{limited} {focused_used}");
+    // The gross failures are there to be caught: not vacuous.
+    assert!(limited > 20, "{limited}");
 }
 
 /// The LiSPSM paper's ideal configuration on a ground plane (the view perpendicular to the
