@@ -223,7 +223,7 @@ fn a_few_samples_are_judged_too() {
             compute_setup_with_samples(technique, &camera, &light, &scene, map, &few).unwrap()
         };
         let focused = given(&Focused);
-        let (f95, fmax) = measure(&few, &focused);
+        let (_, fmax) = measure(&few, &focused);
         for (name, technique) in warps() {
             let setup = given(technique.as_ref());
             let at = format!("case {case}, {name}: {:?}", setup.diagnostics);
