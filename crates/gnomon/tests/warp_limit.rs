@@ -17,6 +17,12 @@ const QUANTILE: f64 = 0.95;
 
 /// A ground slab of 400 m and a grid of buildings of random heights.
 fn city(rng: &mut TestRng) -> SceneBounds {
+    let (casters, receivers) = city_boxes(rng);
+    SceneBounds::new(casters, receivers, None).unwrap()
+}
+
+/// The city's casters (the buildings) and receivers (the buildings and the ground).
+fn city_boxes(rng: &mut TestRng) -> (Vec<Aabb>, Vec<Aabb>) {
     let ground = Aabb::new(
         DVec3::new(-200.0, -1.0, -200.0),
         DVec3::new(200.0, 0.0, 200.0),
@@ -35,7 +41,7 @@ fn city(rng: &mut TestRng) -> SceneBounds {
     }
     let mut receivers = casters.clone();
     receivers.push(ground.unwrap());
-    SceneBounds::new(casters, receivers, None).unwrap()
+    (casters, receivers)
 }
 
 /// A random camera in the city and a random sun.
@@ -193,18 +199,22 @@ fn no_limited_warp_samples_the_view_worse_than_the_focused_map() {
 }
 
 /// A part of the view that only a few samples see (a cube face's share of the frame's
-/// samples, or a far cascade slice's) is judged on them for gross failures: handed only the
-/// frame's five farthest samples, where a warp's texels are coarsest, no limited warp's
-/// worst sample is more than four times as coarse as the focused map's (`GROSS`). (A PSM cube
-/// face kept unjudged with six samples was 100 times coarser than the focused map there,
-/// and wrong on 2% of the pixels against the focused map's 0.05%.)
+/// samples, or a far cascade slice's) is judged on them for gross failures only: handed only
+/// the frame's five farthest samples, where a warp's texels are coarsest, a limited warp's
+/// worst sample is at most four times (`GROSS`) that of the map focused on the receivers
+/// alone (the focused map of the same city whose receivers all cast: unit cube clipping then
+/// keeps the receivers' extents), and the paper's warp is weakened only where it was more
+/// than that. (A PSM cube face kept unjudged with six samples was 120 times coarser than the
+/// focused map there, and wrong on 2% of the pixels against the focused map's 0.05%.)
 #[test]
-fn a_few_samples_are_judged_too() {
+fn a_few_samples_are_judged_for_gross_failures() {
     let map = MapSettings::with_resolution(2048);
     let mut rng = TestRng::from_seed(RngAlgorithm::ChaCha, &[11; 32]);
-    let (mut judged, mut limited, mut focused_used) = (0, 0, 0);
+    let (mut judged, mut limited) = (0, 0);
     for case in 0..60 {
-        let scene = city(&mut rng);
+        let (casters, receivers) = city_boxes(&mut rng);
+        let scene = SceneBounds::new(casters, receivers.clone(), None).unwrap();
+        let all_cast = SceneBounds::new(receivers.clone(), receivers, None).unwrap();
         let (camera, light) = view(&mut rng);
         let all = ViewSamples::new(&camera, &light, &scene);
         if all.len() < 16 {
@@ -219,13 +229,13 @@ fn a_few_samples_are_judged_too() {
             farthest.iter().map(|s| (s.position, s.normal)),
         );
         assert!((1..16).contains(&few.len()), "case {case}: {}", few.len());
-        let given = |technique: &dyn ShadowTechnique| {
-            compute_setup_with_samples(technique, &camera, &light, &scene, map, &few).unwrap()
+        let given = |technique: &dyn ShadowTechnique, scene: &SceneBounds| {
+            compute_setup_with_samples(technique, &camera, &light, scene, map, &few).unwrap()
         };
-        let focused = given(&Focused);
-        let (_, fmax) = measure(&few, &focused);
+        let (_, gross) = measure(&few, &given(&Focused, &all_cast));
+        let gross = 4.0 * gross;
         for (name, technique) in warps() {
-            let setup = given(technique.as_ref());
+            let setup = given(technique.as_ref(), &scene);
             let at = format!("case {case}, {name}: {:?}", setup.diagnostics);
             let Some(strength) = setup.diagnostics.warp_strength else {
                 // The warp fell back before the limit ran (view along the light, ...).
@@ -233,31 +243,17 @@ fn a_few_samples_are_judged_too() {
                 continue;
             };
             judged += 1;
-            limited += usize::from(strength < 1.0);
-            if strength == 0.0 {
-                focused_used += 1;
-                assert_eq!(setup.maps, focused.maps, "{at}");
-            } else {
-                let (_, wmax) = measure(&few, &setup);
-                assert!(wmax <= 4.0 * fmax, "{at}: {wmax} vs {fmax}");
-                // A close call is not decided on so few: the paper's warp stays where it
-                // is no more than four times as coarse.
-                if strength < 1.0 {
-                    let paper = compute_setup_with_samples(
-                        warps_unlimited(name).as_ref(),
-                        &camera,
-                        &light,
-                        &scene,
-                        map,
-                        &few,
-                    )
-                    .unwrap();
-                    assert!(measure(&few, &paper).1 > 4.0 * fmax, "{at}");
-                }
+            if strength > 0.0 {
+                assert!(measure(&few, &setup).1 <= gross, "{at}");
+            }
+            if strength < 1.0 {
+                limited += 1;
+                let paper = given(warps_unlimited(name).as_ref(), &scene);
+                assert!(measure(&few, &paper).1 > gross, "{at}");
             }
         }
     }
-    println!("judged {judged}: limited {limited}, focused map {focused_used}");
+    println!("judged {judged}: limited {limited}");
     assert!(judged > 150, "{judged}");
     // The gross failures are there to be caught: not vacuous.
     assert!(limited > 20, "{limited}");

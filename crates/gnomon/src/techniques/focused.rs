@@ -13,7 +13,8 @@ use crate::geometry::ConvexPolyhedron;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, Projector, build_map};
 use crate::setup::{
-    Diagnostics, Fallback, LightFrameKind, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
+    Diagnostics, Fallback, LightFrameKind, MapSelection, SetupInput, ShadowMap, ShadowSetup,
+    ShadowTechnique,
 };
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::uniform::{uniform_map, within_cone};
@@ -63,13 +64,7 @@ impl Focused {
         let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
         let tolerance = basis.frame.tolerance;
         let map = match focus(input, basis, &mut diagnostics) {
-            Some((projector, region)) => {
-                let xy_padding = match projector {
-                    Projector::Parallel(_) => tolerance,
-                    Projector::Point { .. } => ANGULAR_PADDING,
-                };
-                build_map(&projector, &region, input.map, xy_padding, tolerance)
-            }
+            Some((projector, region)) => map_of(&projector, &region, input, tolerance),
             None => uniform_map(input.light, input.scene, input.map, &mut diagnostics),
         };
         ShadowSetup {
@@ -81,12 +76,62 @@ impl Focused {
     }
 }
 
+/// The focused map of `region` under `projector`, padded as the focused map is.
+fn map_of(
+    projector: &Projector,
+    region: &Extents,
+    input: &SetupInput<'_>,
+    tolerance: f64,
+) -> ShadowMap {
+    let xy_padding = match projector {
+        Projector::Parallel(_) => tolerance,
+        Projector::Point { .. } => ANGULAR_PADDING,
+    };
+    build_map(projector, region, input.map, xy_padding, tolerance)
+}
+
 /// The focused projector and region, or `None` when the uniform map is the fallback.
 pub(crate) fn focus(
     input: &SetupInput<'_>,
     basis: &FocusBasis,
     diagnostics: &mut Diagnostics,
 ) -> Option<(Projector, Extents)> {
+    let (projector, receivers, body_extents) = focus_receivers(input, basis, diagnostics)?;
+    let casters = caster_extents(
+        input.scene,
+        &projector,
+        &receivers,
+        &basis.caster_planes,
+        basis.frame.light_planes.is_some(),
+        basis.frame.tolerance,
+        diagnostics,
+    );
+    match unit_cube_clip(&receivers, &casters, body_extents.as_ref()) {
+        Some(region) => Some((projector, region)),
+        None => {
+            diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
+            Some((projector, receivers))
+        }
+    }
+}
+
+/// The map focused on the visible receivers alone, before unit cube clipping cuts it to the
+/// casters' extents (which it holds): in x and y never finer than the focused map at any
+/// point, and made without walking the casters. `None` where the focused map falls back to
+/// the uniform map.
+pub(crate) fn receivers_map(input: &SetupInput<'_>, basis: &FocusBasis) -> Option<ShadowMap> {
+    let mut diagnostics = Diagnostics::new(input.camera, input.light, input.scene);
+    let (projector, receivers, _) = focus_receivers(input, basis, &mut diagnostics)?;
+    Some(map_of(&projector, &receivers, input, basis.frame.tolerance))
+}
+
+/// The focused map's light frame, the visible receivers' extents in it and B's (a spot
+/// light's, where usable), or `None` when the uniform map is the fallback.
+fn focus_receivers(
+    input: &SetupInput<'_>,
+    basis: &FocusBasis,
+    diagnostics: &mut Diagnostics,
+) -> Option<(Projector, Extents, Option<Extents>)> {
     let (tolerance, visible, light_planes) = (
         basis.frame.tolerance,
         &basis.visible,
@@ -128,23 +173,7 @@ pub(crate) fn focus(
             extents
         }
     };
-
-    let casters = caster_extents(
-        input.scene,
-        &projector,
-        &receivers,
-        &basis.caster_planes,
-        light_planes.is_some(),
-        tolerance,
-        diagnostics,
-    );
-    match unit_cube_clip(&receivers, &casters, body_extents.as_ref()) {
-        Some(region) => Some((projector, region)),
-        None => {
-            diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
-            Some((projector, receivers))
-        }
-    }
+    Some((projector, receivers, body_extents))
 }
 
 /// Picks the light frame: for a directional light the view-aligned frame when P's rectangle

@@ -26,8 +26,9 @@
 //! fires), not for the frame's pixels. Each warp technique has a `limit` switch.
 
 use crate::error::SetupError;
-use crate::setup::{Fallback, SetupInput, ShadowSetup, ShadowTechnique};
+use crate::setup::{Fallback, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
+use crate::techniques::focused::receivers_map;
 use crate::techniques::with_fallback;
 
 /// The share of the samples whose undersampling is compared (its upper quantile).
@@ -41,15 +42,16 @@ pub(crate) const HALVINGS: u32 = 3;
 /// figures are too few to weigh a close call: their 95th percentile is their worst sample,
 /// and [`MAX_MARGIN`] allows for the worst of a few hundred. They still show a gross
 /// failure: such a part's warp is kept unless its worst sample is more than [`GROSS`] times
-/// the focused map's (a PSM cube face seen by 6 samples was 120 times coarser than the
-/// focused map there).
+/// that of the map focused on the receivers alone (`focused::receivers_map`: never finer
+/// than the focused map, and made without walking the casters). A PSM cube face seen by 6
+/// samples was 120 times coarser than the focused map there.
 pub(crate) const FEW_SAMPLES: usize = crate::samples::ViewSamples::MIN_LIT;
-/// How many times coarser than the focused map's a worst sample must be to fail a part that
-/// only a few samples see. Measured: in the demo's `low_sun` view the far cascade slice (13
-/// samples) has a LiSPSM warp 2.6 times as coarse at its worst sample; with the focused map in
+/// How many times coarser a worst sample must be to fail a part that only a few samples see.
+/// Measured: in the demo's `low_sun` view the far cascade slice (13 samples) has a LiSPSM
+/// warp 2.6 times as coarse at its worst sample as the focused map; with the focused map in
 /// its place, `cascades-best` read more wrong pixels (0.115% against 0.106% at 640x360, 2048
 /// maps) and more false flicker on a turn (0.158% against 0.095%). The PSM cube faces that
-/// failed in random scenes were 4.3 to 150 times as coarse.
+/// failed in random scenes were 4.3 to 150 times as coarse as the focused map.
 pub(crate) const GROSS: f64 = 4.0;
 
 /// A perspective warp that the limit weakens (PSM, LiSPSM, TSM, XPSM): its parameters' check,
@@ -104,19 +106,20 @@ fn limit_warp(
     if samples.is_empty() {
         return Ok(setup);
     }
-    let few = samples.len() < FEW_SAMPLES;
-    let focused = basis.focused(input);
     // The 95th percentile and the worst sample.
-    let measure = |s: &ShadowSetup| {
+    let measure = |map: &ShadowMap| {
         samples
-            .undersampling_quantiles(&s.maps[0], [QUANTILE, 1.0])
+            .undersampling_quantiles(map, [QUANTILE, 1.0])
             .unwrap_or([f64::INFINITY; 2])
     };
-    let reference = match measure(focused) {
-        // Passing then needs only the worst sample no more than GROSS times the focused
-        // map's (the margin on the worst sample undone).
-        [_, worst] if few => [f64::INFINITY, GROSS / MAX_MARGIN * worst],
-        figures => figures,
+    let reference = if samples.len() < FEW_SAMPLES {
+        // Passing needs only the worst sample no more than GROSS times that of the map
+        // focused on the receivers alone (the margin on the worst sample undone), which is
+        // never finer than the focused map and needs no walk of the casters.
+        let worst = receivers_map(input, basis).map_or(f64::INFINITY, |map| measure(&map)[1]);
+        [f64::INFINITY, GROSS / MAX_MARGIN * worst]
+    } else {
+        measure(&basis.focused(input).maps[0])
     };
     let mut built = Some(setup);
     let strength = pick_strength(reference, |strength| {
@@ -124,7 +127,7 @@ fn limit_warp(
             Some(setup) if strength == 1.0 => setup,
             _ => build(strength)?,
         };
-        let figures = measure(&setup);
+        let figures = measure(&setup.maps[0]);
         built = Some(setup);
         Ok(figures)
     })?;
@@ -137,8 +140,8 @@ fn limit_warp(
             Ok(setup)
         }
         _ => {
-            let mut focused =
-                with_fallback(focused.clone(), technique, Fallback::WarpCoarserThanFocused);
+            let focused = basis.focused(input).clone();
+            let mut focused = with_fallback(focused, technique, Fallback::WarpCoarserThanFocused);
             focused.diagnostics.warp_strength = Some(0.0);
             Ok(focused)
         }
