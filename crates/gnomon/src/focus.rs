@@ -387,16 +387,14 @@ fn crossing_edges(dist: &[f64; 8]) -> [u8; 3] {
 /// Calls `f(a, axis)` for each corner `a` in `corners` (a bit mask), in increasing order, and
 /// each axis 0, 1, 2 whose edge starts there (bit `axis` of `a` clear): the order in which a
 /// walk over every edge would meet them.
-fn for_each_edge(mut corners: u8, mut f: impl FnMut(usize, usize)) {
-    while corners != 0 {
-        let a = corners.trailing_zeros() as usize;
-        corners &= corners - 1;
+fn for_each_edge(corners: u8, mut f: impl FnMut(usize, usize)) {
+    for_each_bit(corners, |a| {
         for axis in 0..3 {
             if a & 1 << axis == 0 {
                 f(a, axis);
             }
         }
-    }
+    });
 }
 
 /// [`box_cut_vertices`] with room for `N` cutting planes (at least the bits of `mask`).
