@@ -31,7 +31,7 @@ pub struct AnalyzeArgs {
     #[arg(long, default_value_t = 200)]
     pub samples: usize,
     /// Shadow-map resolution in texels (the one-texel inset shows at small sizes).
-    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP, allow_hyphen_values = true, value_parser = crate::args::parse_shadow_map)]
     pub shadow_map: u32,
     /// Print JSON instead of a table (with every sampled curve).
     #[arg(long)]

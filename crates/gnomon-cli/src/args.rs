@@ -18,6 +18,23 @@ use crate::report;
 /// Every command's default shadow-map size (texels on a side): one default for all.
 pub const DEFAULT_SHADOW_MAP: u32 = 2048;
 
+/// `--shadow-map`: a map size in texels within the core's range, named in the message.
+pub fn parse_shadow_map(s: &str) -> Result<u32, String> {
+    let range = gnomon::MIN_RESOLUTION..=gnomon::MAX_RESOLUTION;
+    let out_of_range = || {
+        format!(
+            "'{s}' is not a shadow-map size: give {} to {} texels",
+            range.start(),
+            range.end()
+        )
+    };
+    let size: i64 = s.trim().parse().map_err(|_| out_of_range())?;
+    u32::try_from(size)
+        .ok()
+        .filter(|n| range.contains(n))
+        .ok_or_else(out_of_range)
+}
+
 /// A camera, given by a named view of the command's scene and/or eye, target and up, and its
 /// lens: explicit options override the named view's.
 #[derive(Debug, Clone, Args)]
@@ -805,7 +822,7 @@ pub struct SetupArgs {
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Shadow-map resolution in texels (square).
-    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP, allow_hyphen_values = true, value_parser = crate::args::parse_shadow_map)]
     pub shadow_map: u32,
     /// Print JSON instead of a summary.
     #[arg(long)]

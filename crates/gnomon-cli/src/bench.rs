@@ -51,10 +51,10 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 10)]
     pub frames: u32,
     /// Image size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "960x540", value_parser = parse_size)]
+    #[arg(long, default_value = "960x540", allow_hyphen_values = true, value_parser = parse_size)]
     pub size: (u32, u32),
     /// Shadow-map resolution in texels.
-    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP, allow_hyphen_values = true, value_parser = crate::args::parse_shadow_map)]
     pub shadow_map: u32,
     /// Print JSON instead of a table.
     #[arg(long)]

@@ -39,7 +39,7 @@ pub struct CompareArgs {
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Shadow-map resolution in texels.
-    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP, allow_hyphen_values = true, value_parser = crate::args::parse_shadow_map)]
     pub shadow_map: u32,
     /// The maps' filter; with `--area-light R` each view also gets the soft shadows of its
     /// area lights as a cluster of --area-samples hard lights with exact volumes, and each
@@ -49,7 +49,7 @@ pub struct CompareArgs {
     #[command(flatten)]
     pub soft: crate::render::SoftArgs,
     /// Image size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "640x360", value_parser = parse_size)]
+    #[arg(long, default_value = "640x360", allow_hyphen_values = true, value_parser = parse_size)]
     pub size: (u32, u32),
     /// Where to write the report (index.md, report.json, one grid image per view).
     #[arg(long, default_value = "gnomon-compare")]

@@ -26,7 +26,7 @@ pub struct DemoArgs {
     #[arg(long, default_value = "gnomon-demo")]
     pub out: PathBuf,
     /// Shadow-map resolution in texels.
-    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP, allow_hyphen_values = true, value_parser = crate::args::parse_shadow_map)]
     pub shadow_map: u32,
     /// Image width in pixels, 64 to 4096 (the height follows at 16:9).
     #[arg(long, default_value_t = 960, value_parser = clap::value_parser!(u32).range(64..=4096))]

@@ -24,9 +24,7 @@ use gnomon_render::{MASK_LIT, RenderSettings, ShadowedLight, StencilMode};
 use serde_json::json;
 
 use crate::CliError;
-use crate::args::{
-    DEFAULT_SHADOW_MAP, LightArgs, SceneArgs, TechniqueParams, ViewArgs, timed_setup,
-};
+use crate::args::{LightArgs, SceneArgs, TechniqueParams, ViewArgs, timed_setup};
 use crate::render::{open_renderer, parse_size};
 
 /// How the camera or the light moves.
@@ -74,11 +72,11 @@ pub struct FlickerArgs {
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Shadow-map resolution in texels.
-    #[arg(long, default_value_t = DEFAULT_SHADOW_MAP)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP, allow_hyphen_values = true, value_parser = crate::args::parse_shadow_map)]
     pub shadow_map: u32,
     /// The first frame's size, WIDTHxHEIGHT: one measured point per pixel (at most 512 on
     /// a side).
-    #[arg(long, value_parser = parse_size, default_value = "320x180")]
+    #[arg(long, value_parser = parse_size, allow_hyphen_values = true, default_value = "320x180")]
     pub size: (u32, u32),
     /// Print JSON instead of a table.
     #[arg(long)]

@@ -64,7 +64,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub draw: DrawArgs,
     /// Image size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    #[arg(long, default_value = "1280x720", allow_hyphen_values = true, value_parser = parse_size)]
     pub size: (u32, u32),
     /// Where to write the image (PNG).
     #[arg(long, default_value = "frame.png")]
@@ -108,7 +108,7 @@ pub struct DrawArgs {
     #[command(flatten)]
     pub params: TechniqueParams,
     /// Shadow-map resolution in texels (square).
-    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP)]
+    #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP, allow_hyphen_values = true, value_parser = crate::args::parse_shadow_map)]
     pub shadow_map: u32,
     /// Shadow volumes: how the stencil counts (z-fail is exact wherever the camera is;
     /// z-pass is wrong where a volume reaches the near plane; per-caster is exact and uses
@@ -254,6 +254,7 @@ impl DrawArgs {
 
     /// The options of filtering, bias, tint and counting that differ from their defaults, as
     /// they are written on a command line (each with a leading space).
+    #[cfg(feature = "viewer")]
     pub fn non_default_flags(&self) -> String {
         let mut flags = self.soft.non_default_flags();
         let defaults = DepthBias::default();
@@ -374,8 +375,13 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("expected WIDTHxHEIGHT, got '{s}'"))?;
     let parse = |v: &str| {
-        v.trim()
-            .parse::<u32>()
+        let v = v.trim();
+        if v.starts_with('-') {
+            return Err(format!(
+                "'{s}' has a negative size: give WIDTHxHEIGHT in pixels"
+            ));
+        }
+        v.parse::<u32>()
             .map_err(|_| format!("'{v}' is not a size in pixels"))
     };
     let (w, h) = (parse(w)?, parse(h)?);
@@ -643,7 +649,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             .fallback()
             .map(|f| format!(", fallback {}", f.name()))
             .unwrap_or_default(),
-        args.out.display()
+        written_files(args)
     );
     for (light, setup) in lights.iter().zip(&setups) {
         if let Some(warning) = near_clip_warning(light, &setup.diagnostics) {
@@ -651,6 +657,22 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         }
     }
     Ok(())
+}
+
+/// Every file a `render` wrote, for its closing line: the frame and each optional image asked
+/// for (those checked before any work, so each named one was written).
+fn written_files(args: &RenderArgs) -> String {
+    let mut files = vec![args.out.display().to_string()];
+    for (what, path) in [
+        ("mask", &args.mask),
+        ("light view", &args.light_view),
+        ("error map", &args.error_map),
+    ] {
+        if let Some(path) = path {
+            files.push(format!("{} ({what})", path.display()));
+        }
+    }
+    files.join(", ")
 }
 
 /// What a spot or point light's maps leave out: the parts of casters nearer to the light than
@@ -711,7 +733,7 @@ fn run_volumes(
             t.shadow_pass_ms,
             t.main_pass_ms,
             t.source.name(),
-            args.out.display()
+            written_files(args)
         );
         return Ok(());
     }
@@ -738,7 +760,7 @@ fn run_volumes(
         t.shadow_pass_ms,
         t.main_pass_ms,
         t.source.name(),
-        args.out.display()
+        written_files(args)
     );
     Ok(())
 }
@@ -829,7 +851,7 @@ fn run_planar(
         t.shadow_pass_ms,
         t.main_pass_ms,
         t.source.name(),
-        args.out.display()
+        written_files(args)
     );
     Ok(())
 }
@@ -858,6 +880,7 @@ pub fn export(args: &ExportArgs) -> Result<(), CliError> {
 }
 
 /// The `--stencil` value that picks `mode` where it is not the default (z-fail).
+#[cfg(feature = "viewer")]
 pub(crate) fn stencil_name(mode: StencilMode) -> Option<&'static str> {
     match mode {
         StencilMode::ZFail => None,

@@ -92,13 +92,16 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
     }
     let _ = writeln!(
         s,
-        "light frame {}, gamma {:.1} deg; {} visible receivers, {} relevant casters ({} culled), B has {} vertices",
+        "light frame {}, gamma {:.1} deg; {} visible receivers, {} relevant casters ({} culled), {}",
         d.light_frame.name(),
         d.gamma_degrees,
         d.visible_receivers,
         d.relevant_casters,
         d.culled_casters,
-        d.focus_body_vertices
+        match d.focus_body_vertices {
+            0 => "no focus body B (not computed, or empty)".to_string(),
+            n => format!("focus body B of {n} vertices"),
+        }
     );
     if let Some(strength) = d.warp_strength {
         let _ = writeln!(

@@ -193,13 +193,24 @@ impl fmt::Display for SetupError {
             SetupError::InvalidResolution {
                 resolution,
                 viewport_inset,
-            } => write!(
-                f,
-                "shadow map resolution {resolution} with viewport inset {viewport_inset} is unusable \
-                 (resolution must be in [{}, {}] and the inset below a quarter of it)",
-                crate::MIN_RESOLUTION,
-                crate::MAX_RESOLUTION
-            ),
+            } => {
+                let range = crate::MIN_RESOLUTION..=crate::MAX_RESOLUTION;
+                if range.contains(resolution) {
+                    write!(
+                        f,
+                        "a viewport inset of {viewport_inset} texels is unusable on a \
+                         {resolution}-texel shadow map (it must be below a quarter of the map)"
+                    )
+                } else {
+                    write!(
+                        f,
+                        "shadow map resolution {resolution} is out of range (must be {} to {} \
+                         texels)",
+                        range.start(),
+                        range.end()
+                    )
+                }
+            }
             SetupError::InvalidParameter { name, value } => {
                 write!(f, "parameter {name} = {value} is out of range")
             }
