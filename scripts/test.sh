@@ -42,13 +42,16 @@ fi
 
 echo "test.sh: cargo fmt --check"
 cargo fmt --all --check
+# The CLI's window is an opt-in feature (viewer): lint and test with it, and lint the CLI
+# without it too (what the demo's first build compiles).
 echo "test.sh: cargo clippy"
-cargo clippy --workspace --all-targets --locked -- -D warnings
+cargo clippy --workspace --all-targets --locked --features gnomon-cli/viewer -- -D warnings
+cargo clippy -p gnomon-cli --all-targets --locked -- -D warnings
 echo "test.sh: the core with its opt-in feature (parallel): clippy and tests"
 cargo clippy -p gnomon --features parallel --all-targets --locked -- -D warnings
 cargo test -p gnomon --features parallel --locked --lib
 echo "test.sh: cargo test (GPU tests on Vulkan)"
-cargo test --workspace --locked
+cargo test --workspace --locked --features gnomon-cli/viewer
 # The GPU tests again on GL (llvmpipe through EGL): what a machine without a Vulkan driver
 # gets. They fail, never skip, without an adapter.
 # The tests run one at a time there: each renderer test opens its own EGL context, and Mesa's
@@ -58,4 +61,4 @@ cargo test --workspace --locked
 # renderer alone would resolve other features and rebuild wgpu. One at a time costs about a
 # minute.
 echo "test.sh: cargo test, GPU tests on GL (WGPU_BACKEND=gl)"
-WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli -- --test-threads=1
+WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli --features gnomon-cli/viewer -- --test-threads=1

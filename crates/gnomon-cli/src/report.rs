@@ -10,7 +10,9 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
     let maps: Vec<Value> = setup
         .maps
         .iter()
-        .map(|m| {
+        .enumerate()
+        .map(|(i, m)| {
+            let own = setup.map_diagnostics(i);
             json!({
                 "clip_from_world": m.clip_from_world.to_cols_array(),
                 "depth_from_world": m.depth_from_world.to_array(),
@@ -21,6 +23,9 @@ pub fn setup_json(setup: &ShadowSetup) -> Value {
                     MapProjection::Perspective => "perspective",
                     MapProjection::Paraboloid => "paraboloid",
                 },
+                "view_depth_range": m.view_depth_range,
+                "fallbacks": own.fallbacks.iter().map(|f| f.name()).collect::<Vec<_>>(),
+                "warp_strength": own.warp_strength,
             })
         })
         .collect();
@@ -164,6 +169,22 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
             m.viewport_inset,
             m.depth_range_world()
         );
+        if let Some([near, far]) = m.view_depth_range {
+            let _ = writeln!(s, "  serves view depths {near:.3} to {far:.3}");
+        }
+        if setup.maps.len() > 1 {
+            let own = setup.map_diagnostics(i);
+            let names: Vec<&str> = own.fallbacks.iter().map(|f| f.name()).collect();
+            let _ = writeln!(
+                s,
+                "  fallbacks: {}",
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            );
+        }
         let _ = writeln!(s, "  clip_from_world (rows):");
         for r in 0..4 {
             let row = m.clip_from_world.row(r);

@@ -96,6 +96,7 @@ mod tests {
             resolution: size,
             viewport_inset: 1,
             projection: MapProjection::Orthographic,
+            view_depth_range: None,
         };
         let mut rgba = vec![255u8; (size * size * 4) as usize];
         draw_frustum(&mut rgba, size, &camera, &map);

@@ -391,6 +391,7 @@ mod tests {
             resolution: 1024,
             viewport_inset: 0,
             projection: crate::MapProjection::Orthographic,
+            view_depth_range: None,
         };
         // The identity map sees the view axis edge-on: no resolution along it.
         assert!(matches!(

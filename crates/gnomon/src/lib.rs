@@ -1,7 +1,7 @@
 //! # gnomon
 //!
 //! The GPU-free core of gnomon: a camera, a light and the scene's bounds in, shadow-map
-//! matrices out. No GPU, no I/O; math in `f64` with [glam].
+//! matrices out. No GPU, no I/O; math in `f64` with [glam](https://docs.rs/glam).
 //!
 //! ```
 //! use gnomon::{Aabb, Camera, DirectionalLight, Focused, Lens, Light, MapSettings, SceneBounds, compute_setup};
@@ -20,9 +20,75 @@
 //! # Ok::<(), gnomon::SetupError>(())
 //! ```
 //!
+//! ## Cascades
+//!
+//! Four LiSPSM cascades: each map carries the view depths it serves, and its own diagnostics
+//! say whether it fell back. A point outside a map reads as lit, so most of the frame lies
+//! outside any one cascade's map; [`ShadowSetup::map_for`] picks the map a point reads.
+//!
+//! ```
+//! use gnomon::{Aabb, Camera, Cascades, DirectionalLight, Lens, Light, MapSettings, SceneBounds, compute_setup};
+//! use glam::DVec3;
+//!
+//! let lens = Lens { near: 0.5, far: 300.0, ..Lens::default() };
+//! let camera = Camera::look_at(DVec3::new(0.0, 1.7, 0.0), DVec3::new(0.0, 1.0, -100.0), DVec3::Y, lens)?;
+//! let light = Light::Directional(DirectionalLight::new(DVec3::new(0.3, -0.6, -0.4))?);
+//! let ground = Aabb::new(DVec3::new(-500.0, -1.0, -500.0), DVec3::new(500.0, 0.0, 500.0))?;
+//! let towers: Vec<Aabb> = (0..20)
+//!     .map(|i| {
+//!         let min = DVec3::new(-40.0 + 4.0 * i as f64, 0.0, -10.0 - 15.0 * i as f64);
+//!         Aabb::new(min, min + DVec3::new(3.0, 12.0, 3.0))
+//!     })
+//!     .collect::<Result<_, _>>()?;
+//! let mut receivers = towers.clone();
+//! receivers.push(ground);
+//! let scene = SceneBounds::new(towers, receivers, None)?;
+//!
+//! let setup = compute_setup(&Cascades::default(), &camera, &light, &scene, MapSettings::with_resolution(2048))?;
+//! assert_eq!(setup.maps.len(), 4);
+//! for (i, map) in setup.maps.iter().enumerate() {
+//!     let [near, far] = map.view_depth_range.expect("a cascade serves a range of view depths");
+//!     let fell_back = &setup.map_diagnostics(i).fallbacks;
+//!     println!("cascade {i}: view depths {near:.1} to {far:.1}, fallbacks {fell_back:?}");
+//! }
+//! // A point 20 m ahead reads the first cascade.
+//! assert_eq!(setup.map_for(DVec3::new(0.0, 0.0, -20.0)), Some(0));
+//! # Ok::<(), gnomon::SetupError>(())
+//! ```
+//!
+//! ## Your own view samples
+//!
+//! The warp limit judges a warp on what the frame's pixels see of the lit receivers. Without
+//! samples, the core casts rays at the receiver boxes; an engine that has a depth and normal
+//! buffer can hand in its own surface points instead ([`ViewSamples::from_surface_points`]),
+//! which follow the real surfaces rather than their boxes.
+//!
+//! ```
+//! use gnomon::{Aabb, Camera, DirectionalLight, Lens, Light, Lispsm, MapSettings, SceneBounds, ViewSamples, compute_setup_with_samples};
+//! use glam::DVec3;
+//!
+//! let camera = Camera::look_at(DVec3::new(0.0, 3.0, 20.0), DVec3::ZERO, DVec3::Y, Lens::default())?;
+//! let light = Light::Directional(DirectionalLight::new(DVec3::new(-0.5, -1.0, -0.3))?);
+//! let ground = Aabb::new(DVec3::new(-50.0, -0.1, -50.0), DVec3::new(50.0, 0.0, 50.0))?;
+//! let pillar = Aabb::new(DVec3::new(-1.0, 0.0, -1.0), DVec3::new(1.0, 6.0, 1.0))?;
+//! let scene = SceneBounds::new(vec![pillar], vec![ground, pillar], None)?;
+//!
+//! // (position, normal) of what the pixels see: here a grid on the ground, as a depth
+//! // buffer's readback would give.
+//! let points = (0..32).flat_map(|i| (0..16).map(move |j| {
+//!     (DVec3::new(-16.0 + i as f64, 0.0, -10.0 + j as f64), DVec3::Y)
+//! }));
+//! let samples = ViewSamples::from_surface_points(&camera, &light, points);
+//! assert!(!samples.is_empty());
+//! let setup = compute_setup_with_samples(&Lispsm::default(), &camera, &light, &scene, MapSettings::default(), &samples)?;
+//! // The limit ran on these samples: the warp kept some strength, or the focused map was used.
+//! assert!(setup.diagnostics.warp_strength.is_some());
+//! # Ok::<(), gnomon::SetupError>(())
+//! ```
+//!
 //! Conventions: right-handed world, +Y up; cameras look down their view-space -Z; clip-space
 //! depth in [0, 1] as in wgpu; matrices are named `a_from_b` (`clip_from_world` takes world
-//! points to clip space).
+//! points to clip space); a point outside a map reads as lit ([`ShadowMap`]).
 //!
 //! Techniques (each cites its paper): [`Uniform`] (SSM), [`Focused`] (FSM with unit cube
 //! clipping), [`Lispsm`] (LiSPSM), [`Tsm`] (TSM), [`Xpsm`] (XPSM), [`Psm`] (PSM), [`Sppsm`]
@@ -70,8 +136,8 @@ pub use light::{
 pub use samples::{ViewSample, ViewSamples, undersampling};
 pub use setup::{
     CascadeSlices, CastersBySide, CubeFaceMaps, Diagnostics, Fallback, LightFrameKind,
-    MAX_CASCADES, MAX_RESOLUTION, MIN_RESOLUTION, MapProjection, MapSelection, MapSettings,
-    PARABOLOID_MARGIN_DEGREES, PARABOLOID_SCALE, SetupInput, ShadowMap, ShadowSetup,
+    MAX_CASCADES, MAX_RESOLUTION, MIN_RESOLUTION, MapDiagnostics, MapProjection, MapSelection,
+    MapSettings, PARABOLOID_MARGIN_DEGREES, PARABOLOID_SCALE, SetupInput, ShadowMap, ShadowSetup,
     ShadowTechnique, Technique, UnknownTechnique, compute_setup, compute_setup_with_samples,
 };
 pub use techniques::{

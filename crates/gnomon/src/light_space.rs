@@ -545,6 +545,7 @@ pub(crate) fn build_map(
         resolution: settings.resolution,
         viewport_inset: settings.viewport_inset,
         projection,
+        view_depth_range: None,
     }
 }
 

@@ -732,6 +732,7 @@ mod tests {
             resolution: 1000,
             viewport_inset: 1,
             projection: MapProjection::Orthographic,
+            view_depth_range: None,
         };
         let centre = samples
             .samples()
@@ -781,6 +782,7 @@ mod tests {
                 resolution: 1024,
                 viewport_inset: 1,
                 projection: MapProjection::Orthographic,
+                view_depth_range: None,
             };
             let mut sorted: Vec<f64> = samples.samples().iter().map(|s| undersampling(&map, s)).collect();
             sorted.sort_by(f64::total_cmp);

@@ -96,6 +96,12 @@ pub const PARABOLOID_MARGIN_DEGREES: f64 = 3.0;
 pub const PARABOLOID_SCALE: f64 = 0.948_964_566_714_88;
 
 /// One shadow map: where world points land in it and how deep they are.
+///
+/// A point that lands outside the map's inset square, behind its near plane or beyond its far
+/// plane reads as lit: a focused map covers only what the camera can see being shadowed, so a
+/// point outside it has no caster in the map. Many of the frame's points lie outside one
+/// cascade's map; that is expected, and the selection ([`MapSelection`]) routes them to the
+/// map that holds them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowMap {
     /// World to the map's clip space. After the divide by `w`, x and y in [-1, 1] cover the
@@ -118,6 +124,11 @@ pub struct ShadowMap {
     pub viewport_inset: u32,
     /// Orthographic or perspective.
     pub projection: MapProjection,
+    /// A cascade's view depths, near and far along the camera's forward axis: its slice and
+    /// the blend band before it, where the selection by depth reads this map. `None` for a
+    /// map that is not one of several slices (stable cascades picked by coverage may also
+    /// read a map beyond its far depth).
+    pub view_depth_range: Option<[f64; 2]>,
 }
 
 impl ShadowMap {
@@ -490,11 +501,24 @@ impl LightFrameKind {
     }
 }
 
+/// What one map of a setup fell back to, so that a caller can tell which cascade, cube face
+/// or SPPSM map it was ([`ShadowSetup::map_diagnostics`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MapDiagnostics {
+    /// The fallbacks that fired for this map, in order.
+    pub fallbacks: Vec<Fallback>,
+    /// This map's share of the warp strength (see [`Diagnostics::warp_strength`]).
+    pub warp_strength: Option<f64>,
+}
+
 /// What a technique saw and did, beyond the matrices.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diagnostics {
-    /// Every fallback that fired, in order.
+    /// Every fallback that fired, in order (over all maps: [`Diagnostics::maps`] says which).
     pub fallbacks: Vec<Fallback>,
+    /// Setups of several maps (cascades, cube faces, SPPSM): one entry per map, in the order
+    /// of [`ShadowSetup::maps`]. Empty for a single map, whose diagnostics are the setup's.
+    pub maps: Vec<MapDiagnostics>,
     /// The light frame the map(s) use.
     pub light_frame: LightFrameKind,
     /// The angle gamma between the view direction and the light direction, in degrees
@@ -541,6 +565,7 @@ impl Diagnostics {
         let cos = camera.forward().dot(light.direction()).clamp(-1.0, 1.0);
         Self {
             fallbacks: Vec::new(),
+            maps: Vec::new(),
             light_frame: LightFrameKind::Fixed,
             gamma_degrees: cos.acos().to_degrees(),
             visible_receivers: 0,
@@ -573,6 +598,18 @@ impl ShadowSetup {
     /// The first fallback that fired, if any.
     pub fn fallback(&self) -> Option<Fallback> {
         self.diagnostics.fallbacks.first().copied()
+    }
+
+    /// What map `index` fell back to: its own entry where the setup has several maps, else
+    /// the setup's diagnostics.
+    pub fn map_diagnostics(&self, index: usize) -> MapDiagnostics {
+        match self.diagnostics.maps.get(index) {
+            Some(map) if self.diagnostics.maps.len() == self.maps.len() => map.clone(),
+            _ => MapDiagnostics {
+                fallbacks: self.diagnostics.fallbacks.clone(),
+                warp_strength: self.diagnostics.warp_strength,
+            },
+        }
     }
 
     /// Which map the world point `p` reads ([`MapSelection::map_for`] over these maps).

@@ -58,7 +58,8 @@ use crate::light_space::LightFrame;
 use crate::samples::ViewSamples;
 use crate::setup::{
     CascadeSlices, Diagnostics, Fallback, LightFrameKind, MAX_CASCADES, MIN_RESOLUTION,
-    MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
+    MapDiagnostics, MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup,
+    ShadowTechnique,
 };
 use crate::techniques::basis::{FocusBasis, Part, slice_codes};
 use crate::techniques::warp_limit::LimitedWarp;
@@ -566,12 +567,27 @@ impl Cascades {
             crate::parallel::map_in_order(k, slice)
         };
         let mut maps = Vec::with_capacity(k);
+        // Each map's own fallbacks: the setup's so far (stable cascades of a spot light) and
+        // its slice's.
+        let shared = diagnostics.fallbacks.clone();
         for (i, slice) in fitted.into_iter().enumerate() {
-            let (map, slice_diagnostics) = slice?;
+            let (mut map, slice_diagnostics) = slice?;
+            let mut own = MapDiagnostics {
+                fallbacks: shared.clone(),
+                warp_strength: None,
+            };
             match slice_diagnostics {
-                Some(d) => merge(&mut diagnostics, &d, i == 0),
+                Some(d) => {
+                    own.fallbacks
+                        .extend(d.fallbacks.iter().filter(|f| !shared.contains(f)));
+                    own.warp_strength = d.warp_strength;
+                    merge(&mut diagnostics, &d, i == 0);
+                }
                 None => diagnostics.light_frame = LightFrameKind::Fixed,
             }
+            let (near, far) = range(i);
+            map.view_depth_range = Some([near, far]);
+            diagnostics.maps.push(own);
             maps.push(map);
         }
         // Stable maps hold every caster over their squares: picked by coverage unless asked
@@ -664,5 +680,6 @@ fn stable_map(
         resolution: settings.resolution,
         viewport_inset: settings.viewport_inset,
         projection: MapProjection::Orthographic,
+        view_depth_range: None,
     }
 }

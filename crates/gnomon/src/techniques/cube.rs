@@ -125,6 +125,7 @@ fn faces(
             continue;
         };
         add_face(&mut diagnostics, &setup.diagnostics);
+        diagnostics.maps.push(setup.map_diagnostics(0));
         faces.push(face);
         maps.push(setup.maps[0]);
     }
@@ -135,6 +136,7 @@ fn faces(
         let setup = face_setup(face, true)?.expect("made when asked always");
         diagnostics.cube_faces_skipped -= 1;
         add_face(&mut diagnostics, &setup.diagnostics);
+        diagnostics.maps.push(setup.map_diagnostics(0));
         faces.push(face);
         maps.push(setup.maps[0]);
     }

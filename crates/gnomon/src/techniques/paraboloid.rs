@@ -49,6 +49,7 @@ impl ShadowTechnique for DualParaboloid {
                 resolution: input.map.resolution,
                 viewport_inset: input.map.viewport_inset,
                 projection: MapProjection::Paraboloid,
+                view_depth_range: None,
             }
         };
         let axis = DVec3::NEG_Y;

@@ -468,5 +468,6 @@ fn psm_map(
         resolution: input.map.resolution,
         viewport_inset: input.map.viewport_inset,
         projection: MapProjection::Perspective,
+        view_depth_range: None,
     }
 }

@@ -565,6 +565,7 @@ impl ShadowTechnique for Sppsm {
         let (focused_map, perspective_map, plane) = kept;
         let mut diagnostics = focused.diagnostics.clone();
         diagnostics.casters_by_side = Some(casters_by_side(input.scene, plane));
+        diagnostics.maps = vec![focused.map_diagnostics(0), perspective.map_diagnostics(0)];
         for f in perspective.diagnostics.fallbacks {
             if !diagnostics.fallbacks.contains(&f) {
                 diagnostics.fallbacks.push(f);
@@ -595,6 +596,7 @@ mod tests {
             resolution: 1000,
             viewport_inset: 0,
             projection,
+            view_depth_range: None,
         };
         let settle = settle_distance(&map(MapProjection::Orthographic), 500.0);
         assert!((settle - 0.01).abs() < 1e-12, "{settle}");

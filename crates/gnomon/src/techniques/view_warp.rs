@@ -994,6 +994,7 @@ fn warped_map(
         } else {
             MapProjection::Orthographic
         },
+        view_depth_range: None,
     }
 }
 
