@@ -4,7 +4,7 @@
 # shared 2-core machine swing by 10 to 20% between runs of the same code; the count is the
 # same on every run, so it tells whether a change made a setup cheaper. (It counts
 # instructions, not cycles: divisions and cache misses weigh more than it shows; confirm a
-# win with `cargo bench -p gnomon --bench setup`.)
+# win with `cargo bench -p gnomon-core --bench setup`.)
 #
 #   scripts/setup-instructions.sh [BOXES] [SETUP ...]
 #
@@ -33,7 +33,7 @@ if [ ${#setups[@]} -eq 0 ]; then
 fi
 # Without the opt-in `parallel` feature: the count is the setup's work, done on the calling
 # thread (rayon's idle workers spin before they sleep, and callgrind would count that too).
-cargo build -q --release -p gnomon --example setup_loop
+cargo build -q --release -p gnomon-core --example setup_loop
 bin=target/release/examples/setup_loop
 # About 2 * 10^8 instructions per run at most.
 n=$(( 200000 / boxes ))

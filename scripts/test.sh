@@ -48,8 +48,13 @@ echo "test.sh: cargo clippy"
 cargo clippy --workspace --all-targets --locked --features gnomon-cli/viewer -- -D warnings
 cargo clippy -p gnomon-cli --all-targets --locked -- -D warnings
 echo "test.sh: the core with its opt-in feature (parallel): clippy and tests"
-cargo clippy -p gnomon --features parallel --all-targets --locked -- -D warnings
-cargo test -p gnomon --features parallel --locked --lib
+cargo clippy -p gnomon-core --features parallel --all-targets --locked -- -D warnings
+cargo test -p gnomon-core --features parallel --locked --lib
+echo "test.sh: the core's examples"
+cargo run -q --locked -p gnomon-core --example cascades >/dev/null
+cargo run -q --locked -p gnomon-core --example own_samples >/dev/null
+echo "test.sh: cargo doc (warnings are errors)"
+RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --locked --features gnomon-cli/viewer
 echo "test.sh: cargo test (GPU tests on Vulkan)"
 cargo test --workspace --locked --features gnomon-cli/viewer
 # The GPU tests again on GL (llvmpipe through EGL): what a machine without a Vulkan driver
@@ -62,3 +67,7 @@ cargo test --workspace --locked --features gnomon-cli/viewer
 # minute.
 echo "test.sh: cargo test, GPU tests on GL (WGPU_BACKEND=gl)"
 WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli --features gnomon-cli/viewer -- --test-threads=1
+
+# What would be published: each crate packs and builds from its package alone.
+echo "test.sh: cargo package --workspace"
+cargo package --workspace --locked --allow-dirty -q

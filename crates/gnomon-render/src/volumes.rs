@@ -1,5 +1,5 @@
 //! Stenciled shadow volumes: the exact shadows gnomon measures every map against (the
-//! shadows lecture, `shared/papers/shadows-lecture-volumes-and-maps.md`).
+//! shadows lecture's "Shadow Volumes" slides; Everitt and Kilgard 2002).
 //!
 //! Per frame: the scene's depth is laid down through the camera's reversed infinite projection
 //! (depth = near / distance: volume geometry at infinity, w = 0, lands at exactly 0 and is

@@ -24,7 +24,7 @@ use gnomon::{Aabb, SceneBounds, SetupError};
 
 pub use city::{CITY_SIDE, city, city_views};
 pub use demo::{DEMO_VIEWS, DemoLight, DemoView, GROUND_HALF_SIZE, demo};
-pub use load::{LoadError, MAX_MESH_BYTES, MeshFormat, MeshPart};
+pub use load::{CREASE_DEGREES, LoadError, MAX_MESH_BYTES, MeshFormat, MeshPart};
 pub use mesh::{Cutout, Mesh, Wrap, obj_text};
 pub use scene_file::{FileObject, MAX_SCENE_FILE_BYTES, SceneFile, SceneFileError};
 pub use view::{NamedView, ViewLight, demo_views, mesh_views};

@@ -2,7 +2,7 @@
 //! (`_casters_only`) and boxes that cast and receive (the rest); and `scale/`: 10^3, 10^4 and
 //! 10^5 boxes.
 //!
-//! `cargo bench -p gnomon --bench setup`
+//! `cargo bench -p gnomon-core --bench setup`
 
 use std::hint::black_box;
 

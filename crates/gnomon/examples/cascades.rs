@@ -1,7 +1,7 @@
 //! Four LiSPSM cascades over a street of towers: prints each cascade's view depths, its
 //! projection, its fallbacks and which map a few points read.
 //!
-//! `cargo run -p gnomon --example cascades`
+//! `cargo run -p gnomon-core --example cascades`
 
 use glam::DVec3;
 use gnomon::{

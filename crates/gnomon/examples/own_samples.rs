@@ -2,7 +2,7 @@
 //! gives the surface points its pixels see, and the warp limit judges LiSPSM on them instead
 //! of on rays cast at the receiver boxes.
 //!
-//! `cargo run -p gnomon --example own_samples`
+//! `cargo run -p gnomon-core --example own_samples`
 
 use glam::DVec3;
 use gnomon::{

@@ -2,7 +2,7 @@
 //! count its instructions (`scripts/setup-instructions.sh`): on a noisy machine the count says
 //! more than a timing, and it is the same on every run.
 //!
-//! `cargo run --release -p gnomon --example setup_loop -- SETUP BOXES ITERATIONS`, SETUP one
+//! `cargo run --release -p gnomon-core --example setup_loop -- SETUP BOXES ITERATIONS`, SETUP one
 //! of [`SETUPS`]; the scene, camera and lights are the criterion bench's
 //! (`benches/common/city.rs`).
 

@@ -1,5 +1,6 @@
 //! Perspective aliasing measured from a technique's actual matrices, as in the LiSPSM paper
-//! (Wimmer et al. 2004, section 4 and Figure 6; `shared/papers/lispsm-wimmer-2004.md`) and
+//! (Wimmer, Scherzer and Purgathofer, "Light Space Perspective Shadow Maps", 2004, section 4
+//! and Figure 6) and
 //! the SPPSM paper's Figure 1.
 //!
 //! The paper's *ideal configuration*: a camera at the origin looking down -Z with near plane

@@ -1,5 +1,4 @@
-//! TSM's 80% rule, measured from the matrix (Martin and Tan 2004, as summarised in
-//! shared/papers/README.md): the focus point, 80% of the way along the view from the near
+//! TSM's 80% rule, measured from the matrix (Martin and Tan 2004, section 4): the focus point, 80% of the way along the view from the near
 //! plane to the far end of the view body, lands at y = xi; the near plane's centre lands on
 //! the top line or beyond it (y >= 1, inside the inset).
 

@@ -1,7 +1,7 @@
 //! Point lights: a map per cube face, each fitted like a spot light's map (`cube`: the
 //! focused map with unit cube clipping per face), and any single-map technique run per face.
 //!
-//! The shadows lecture (`shared/papers/shadows-lecture-volumes-and-maps.md`) covers point
+//! The shadows lecture ("Shadows", volumes and maps) covers point
 //! lights with six 90-degree maps; the unit cube clipping blog post fits each frustum to what
 //! it must hold. Each face here is a spot light at the point light's position looking along
 //! the face's axis ([`PointLight::face_light`]): a square frustum a few texels wider than the

@@ -2,8 +2,8 @@
 //!
 //! Focusing: Brabec, Annen and Seidel, "Practical shadow mapping" (JGT 2002), and the convex
 //! body B of Wimmer, Scherzer and Purgathofer, "Light Space Perspective Shadow Maps" (EGSR
-//! 2004, section 3.3). Unit cube clipping: the blog post on robust unit cube clipping (see
-//! `shared/papers/unit-cube-clipping-blog-post.txt`).
+//! 2004, section 3.3). Unit cube clipping: the blog post on robust unit cube clipping for
+//! uniform, TSM, LiSPSM, PSM and XPSM maps (after Kozlov).
 
 use glam::DVec3;
 

@@ -1,7 +1,7 @@
 //! Light space perspective shadow maps (LiSPSM).
 //!
 //! Wimmer, Scherzer and Purgathofer, "Light Space Perspective Shadow Maps" (EGSR 2004,
-//! revised 2005), `shared/papers/lispsm-wimmer-2004.md`.
+//! revised 2005).
 //!
 //! Light space (section 3.4): the map's depth axis is the light direction; its +y axis (the
 //! paper's light-space z) is the view direction made perpendicular to the light; x completes

@@ -2,7 +2,7 @@
 //! recaps them.
 //!
 //! Stamminger and Drettakis, "Perspective shadow maps" (SIGGRAPH 2002); Kozlov, "Perspective
-//! shadow maps: care and feeding" (GPU Gems, 2004); `shared/papers/unit-cube-clipping-blog-post.txt`.
+//! shadow maps: care and feeding" (GPU Gems, 2004); the blog post on robust unit cube clipping.
 //!
 //! The shadow map is built in the post-perspective space (PPS) of a virtual camera: the real
 //! camera slid back along its view direction by `slide_back`, with its near and far planes at

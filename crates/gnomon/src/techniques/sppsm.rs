@@ -1,7 +1,6 @@
 //! Separating-plane perspective shadow maps (SPPSM).
 //!
-//! Mikkelsen, "Separating-Plane Perspective Shadow Mapping" (2007),
-//! `shared/papers/sppsm-separating-plane-mikkelsen-2007.md`.
+//! Mikkelsen, "Separating-Plane Perspective Shadow Mapping" (2007).
 //!
 //! Two maps for the same camera and light: the focused map (FSM) and a perspective one (PSM
 //! as in the paper, or LiSPSM, TSM, XPSM). For a map M (world to unnormalised texel

@@ -1,7 +1,7 @@
 //! Trapezoidal shadow maps (TSM).
 //!
 //! Martin and Tan, "Anti-aliasing and continuity with trapezoidal shadow maps" (EGSR 2004),
-//! as summarised in `shared/papers/README.md`; unit cube clipping as the blog post says:
+//! with its 80% rule as section 4 states it; unit cube clipping as the blog post says:
 //! build the tight focused map first and run TSM in its clip space.
 //!
 //! In the focused map's normalised coordinates: Q = the convex hull of the projected view

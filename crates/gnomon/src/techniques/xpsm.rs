@@ -1,8 +1,8 @@
 //! Extended perspective shadow maps (XPSM).
 //!
-//! After Gussev's book chapter (`shared/papers/xpsm-extended-perspective-shadow-maps-gem.txt`),
-//! with the equations restored in `shared/papers/README.md`, and the blog post's w < epsilon_W
-//! fix.
+//! After Gussev, as a book chapter on eXtended Perspective Shadow Maps presents it (whose
+//! equations the steps below restate), with the w < epsilon_W fix of the blog post on robust
+//! unit cube clipping.
 //!
 //! Light space looks along the light; V is the view direction there and p = V.xy / |V.xy| the
 //! projection vector (the view direction made perpendicular to the light: the map's y axis,

@@ -1,5 +1,5 @@
-//! Exact shadows: stenciled shadow volumes (the shadows lecture,
-//! `shared/papers/shadows-lecture-volumes-and-maps.md`; Crow 1977, Heidmann 1991, z-fail after
+//! Exact shadows: stenciled shadow volumes (the shadows lecture's "Shadow Volumes" slides;
+//! Crow 1977, Heidmann 1991, z-fail after
 //! Carmack and Everitt and Kilgard 2002).
 //!
 //! [`MeshTopology`] welds a mesh's vertices and builds its edge-to-triangle adjacency,
