@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Makes docs/viewer.png, the README's picture of `gnomon view`: the viewer with its panel in
+# Makes docs/src/images/viewer.png, the book's picture of `gnomon view`: the viewer with its panel in
 # a 1280x720 Xvfb screen, captured by ImageMagick (apt-get install -y xvfb xauth imagemagick).
 # Usage: bash scripts/viewer-screenshot.sh [OUT.png] [gnomon view options...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out="${1:-docs/viewer.png}"
+out="${1:-docs/src/images/viewer.png}"
 shift || true
-cargo build --release -p gnomon-cli
+cargo build --release -p gnomon-cli --features viewer
 options=("$@")
 [ "${#options[@]}" = 0 ] && options=(--view overview --technique lispsm --split focused)
 inner=$(mktemp)

@@ -65,14 +65,14 @@ struct Rows<'a> {
 
 /// Share of N.L > 0.1 pixels a map gets wrong against the exact mask.
 #[derive(Debug, Clone, Copy, Default)]
-struct MaskErrors {
+pub(crate) struct MaskErrors {
     compared: usize,
     false_shadow: usize,
     missed_shadow: usize,
 }
 
 impl MaskErrors {
-    fn wrong_percent(&self) -> f64 {
+    pub(crate) fn wrong_percent(&self) -> f64 {
         100.0 * (self.false_shadow + self.missed_shadow) as f64 / self.compared.max(1) as f64
     }
 }
@@ -84,12 +84,22 @@ const MISSED_SHADOW: [u8; 3] = [30, 110, 245];
 /// Compares a map's mask with the exact one on the pixels with N.L > 0.1 (`n_dot_l`, the
 /// view's), and draws the frame in grey with false shadow in red and missed shadow in blue.
 fn mask_errors(map: &Frame, n_dot_l: &[f32], exact: &Frame) -> (MaskErrors, Vec<u8>) {
+    mask_errors_of(&map.color, &map.mask, n_dot_l, &exact.mask)
+}
+
+/// [`mask_errors`] over a frame's colour and mask and the exact mask.
+pub(crate) fn mask_errors_of(
+    color: &[u8],
+    mask: &[u8],
+    n_dot_l: &[f32],
+    exact: &[u8],
+) -> (MaskErrors, Vec<u8>) {
     let mut errors = MaskErrors::default();
-    let mut image = Vec::with_capacity(map.color.len());
-    for (i, rgba) in map.color.chunks_exact(4).enumerate() {
+    let mut image = Vec::with_capacity(color.len());
+    for (i, rgba) in color.chunks_exact(4).enumerate() {
         let grey = (0.3 * rgba[0] as f64 + 0.59 * rgba[1] as f64 + 0.11 * rgba[2] as f64) as u8;
         let mut rgb = [grey / 2 + 64; 3];
-        let (m, e) = (map.mask[i], exact.mask[i]);
+        let (m, e) = (mask[i], exact[i]);
         if m != MASK_EMPTY && e != MASK_EMPTY && n_dot_l[i] > 0.1 {
             errors.compared += 1;
             if m == MASK_UNLIT && e == MASK_LIT {

@@ -1,19 +1,21 @@
 //! `gnomon demo`: a scene (the built-in demo by default) from its named views with every
-//! technique and with exact shadow volumes, written as images with an `index.html` that shows
-//! them side by side.
+//! technique, the exact shadow volumes and soft shadows, written as a gallery
+//! ([`crate::gallery`]): a front page of the rows that differ, and every cell on a second page.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use gnomon_render::{RenderSettings, ShadowedLight, StencilMode};
-use serde_json::json;
+use gnomon_render::{Frame, RenderSettings, Renderer, ShadowedLight, StencilMode};
+use gnomon_scene::NamedView;
+use serde_json::{Value, json};
 
 use crate::CliError;
-use crate::args::render_command;
 use crate::args::{SceneArgs, TechniqueParams, ViewListArgs, light_setups};
-use crate::render::{open_renderer, write_frame, write_text};
-use crate::report;
+use crate::args::{render_command, render_command_of};
+use crate::gallery::{Cell, Kind, ViewCells};
+use crate::render::{SoftArgs, open_renderer};
+use crate::rows::{Row, RowScene};
 
 /// `gnomon demo`.
 #[derive(Debug, Clone, Args)]
@@ -22,20 +24,20 @@ pub struct DemoArgs {
     pub scene: SceneArgs,
     #[command(flatten)]
     pub views: ViewListArgs,
-    /// Where to write the results.
+    /// Where to write the gallery (index.html, all.html, setups.json and the images).
     #[arg(long, default_value = "gnomon-demo")]
     pub out: PathBuf,
     /// Shadow-map resolution in texels.
     #[arg(long, default_value_t = crate::args::DEFAULT_SHADOW_MAP, allow_hyphen_values = true, value_parser = crate::args::parse_shadow_map)]
     pub shadow_map: u32,
     /// Image width in pixels, 64 to 4096 (the height follows at 16:9).
-    #[arg(long, default_value_t = 960, value_parser = clap::value_parser!(u32).range(64..=4096))]
+    #[arg(long, default_value_t = 640, value_parser = clap::value_parser!(u32).range(64..=4096))]
     pub width: u32,
     #[command(flatten)]
     pub params: TechniqueParams,
 }
 
-/// The radius of the area lights of the gallery's soft column: the sun's angular radius
+/// The radius of the area lights of the gallery's soft row: the sun's angular radius
 /// (degrees), and for spot and point lights a street lamp's globe of 25 cm (world units).
 fn soft_radius(light: &gnomon::Light) -> f64 {
     match light {
@@ -44,420 +46,452 @@ fn soft_radius(light: &gnomon::Light) -> f64 {
     }
 }
 
-/// The hard lights that sample each area light in the gallery's soft column (a picture;
+/// The hard lights that sample each area light in the gallery's soft row (a picture;
 /// `compare --pcf pcss` measures with 64 by default).
 const SOFT_SAMPLES: usize = 32;
 
 /// The map technique the gallery softens with PCSS (it takes every kind of light).
 const PCSS_TECHNIQUE: &str = "lispsm";
 
-/// Writes `frame` as `STEM.png` in `out` (and with `light_view` its maps as the light sees
-/// them, `STEM_light.png`) and gives its gallery cell: the images, `caption` and the command
-/// that draws it.
-fn cell(
-    out: &std::path::Path,
-    stem: &str,
-    frame: &gnomon_render::Frame,
-    light_view: bool,
-    caption: &str,
-    command: &str,
-) -> Result<String, CliError> {
-    let light = light_view.then(|| out.join(format!("{stem}_light.png")));
-    write_frame(
-        frame,
-        &out.join(format!("{stem}.png")),
-        None,
-        light.as_deref(),
-    )?;
-    let light_image = if light_view {
-        format!("<br><img src=\"{stem}_light.png\" width=240>")
-    } else {
-        String::new()
-    };
-    Ok(format!(
-        "<td><img src=\"{stem}.png\" width=480>{light_image}<br>{caption}<br><code>{command}</code></td>"
-    ))
+/// Each map's light-view thumbnail, in texels: the page shows them a few hundred pixels wide.
+const LIGHT_VIEW_SIZE: u32 = 384;
+
+/// Everything a demo run shares between its views, made once.
+struct Demo<'a> {
+    args: &'a DemoArgs,
+    options: String,
+    renderer: Renderer,
+    settings: RenderSettings,
+    rows: Vec<Row>,
+    row_scene: RowScene,
+    planar: Option<gnomon::planar::PlanarReceiver>,
+    pcss_row: Row,
+    progress: indicatif::ProgressBar,
+    json: Vec<Value>,
 }
 
-/// Runs `gnomon demo`.
+/// Runs `gnomon demo`: load, draw every view, write the pages.
 pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let started = Instant::now();
     let loaded = args.scene.load()?;
     let views = args.views.select(&loaded.views)?;
-    let scene = &loaded.scene;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", args.out.display())))?;
-    let width = args.width;
-    let height = width * 9 / 16;
-    let mut renderer = open_renderer(scene, (width, height), Some(args.shadow_map))?;
-    eprintln!("gnomon demo: rendering on {}", renderer.gpu().describe());
-    let settings = RenderSettings {
-        width,
-        height,
-        light_view: true,
-        ..RenderSettings::default()
+    let mut demo = Demo::open(args, &loaded, views.len())?;
+    let mut drawn = Vec::with_capacity(views.len());
+    for view in &views {
+        drawn.push(demo.draw_view(view)?);
+    }
+    demo.progress.set_message("writing the pages");
+    let page = crate::gallery::Page {
+        scene: &loaded.name,
+        size: demo.size(),
+        shadow_map: args.shadow_map,
+        device: demo.renderer.gpu().describe(),
     };
-    // Every technique, SPPSM with the texels of one map, the cascade rows, and the focused
-    // map read as the lecture's other light-space maps (projective, object IDs, IDs and
-    // depth).
-    let names: Vec<String> = std::iter::once("all")
-        .chain(crate::names::MAP_READS.iter().map(|(n, _)| *n))
-        .map(String::from)
-        .collect();
-    let techniques = crate::rows::rows(&names, &args.params, args.shadow_map, true)?;
-    let row_scene =
-        crate::rows::RowScene::new(&loaded.scene, techniques.iter().any(|r| r.projective()))?;
-    // Planar shadows where the scene has a ground to fall on.
-    let planar = crate::render::planar_receiver(&loaded.scene, None).ok();
-    let pcss_row = crate::rows::row(PCSS_TECHNIQUE, &args.params, args.shadow_map)?;
-    // Every map technique, planar shadows, the shadow volumes, then soft shadows: the area
-    // light as a cluster of hard lights with exact volumes, and PCSS.
-    let per_view = techniques.len() + 3 + usize::from(planar.is_some());
-    let total = views.len() * per_view;
-    let mut rows = String::new();
-    let mut all = Vec::new();
-    let mut sums = [0.0f64; 3];
-    let mut volume_sums = [0.0f64; 2];
-    for (v, view) in views.iter().enumerate() {
+    crate::gallery::write(&args.out, &page, &drawn)?;
+    crate::render::write_text(
+        &args.out.join("setups.json"),
+        &serde_json::to_string_pretty(&demo.json).expect("JSON of plain values"),
+    )?;
+    demo.progress.inc(1);
+    demo.progress.finish_and_clear();
+    eprintln!(
+        "gnomon demo: {} views, {} frames on {} in {:.1} s",
+        views.len(),
+        demo.progress.length().unwrap_or(0) - 1,
+        demo.renderer.gpu().describe(),
+        started.elapsed().as_secs_f64()
+    );
+    crate::say!("wrote {}", args.out.join("index.html").display());
+    Ok(())
+}
+
+impl<'a> Demo<'a> {
+    /// The renderer, the rows (every technique, the cascade rows, the lecture's other map
+    /// reads), planar shadows where the scene has a ground, and a progress bar over every
+    /// frame of every view and the pages.
+    fn open(
+        args: &'a DemoArgs,
+        loaded: &crate::args::LoadedScene,
+        views: usize,
+    ) -> Result<Self, CliError> {
+        let (width, height) = (args.width, args.width * 9 / 16);
+        let renderer = open_renderer(&loaded.scene, (width, height), Some(args.shadow_map))?;
+        let names: Vec<String> = std::iter::once("all")
+            .chain(crate::names::MAP_READS.iter().map(|(n, _)| *n))
+            .map(String::from)
+            .collect();
+        let rows = crate::rows::rows(&names, &args.params, args.shadow_map, true)?;
+        let row_scene = RowScene::new(&loaded.scene, rows.iter().any(|r| r.projective()))?;
+        let planar = crate::render::planar_receiver(&loaded.scene, None).ok();
+        let pcss_row = crate::rows::row(PCSS_TECHNIQUE, &args.params, args.shadow_map)?;
+        // Every map row, planar, the volumes, the soft reference and PCSS per view; the pages.
+        let per_view = rows.len() + 3 + usize::from(planar.is_some());
+        let progress = indicatif::ProgressBar::new((views * per_view + 1) as u64);
+        progress.set_style(
+            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
+                .expect("a valid template"),
+        );
+        Ok(Self {
+            args,
+            options: loaded.options.clone(),
+            renderer,
+            settings: RenderSettings {
+                width,
+                height,
+                light_view: true,
+                light_view_size: LIGHT_VIEW_SIZE,
+                metrics: true,
+                ..RenderSettings::default()
+            },
+            rows,
+            row_scene,
+            planar,
+            pcss_row,
+            progress,
+            json: Vec::new(),
+        })
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (self.settings.width, self.settings.height)
+    }
+
+    /// One view: every map row, planar shadows, the exact volumes, the soft reference and
+    /// PCSS; then each map cell's wrong pixels against the volumes.
+    fn draw_view(&mut self, view: &NamedView) -> Result<ViewCells, CliError> {
+        let (width, height) = self.size();
         let camera = view.camera(width as f64 / height as f64)?;
-        // Every light of the view (a scene file's view may have several).
         let lights = view.lights()?;
-        let mut cells = String::new();
-        // What the pixels see from each light, once per view, shared by every technique.
         let samples = lights
             .iter()
-            .map(|light| renderer.view_samples(&camera, light))
+            .map(|light| self.renderer.view_samples(&camera, light))
             .collect::<Result<Vec<_>, _>>()?;
-        for (t, row) in techniques.iter().enumerate() {
-            if let Some(why) = row.refuses(&lights) {
-                cells.push_str(&format!("<td>{}: not drawn ({why})</td>", row.label));
-                all.push(json!({ "view": view.name, "technique": row.label, "skipped": why }));
-                continue;
-            }
-            let row_bounds = row_scene.prepare(&mut renderer, row.projective())?;
-            let (setups, setup_us) = light_setups(row, &camera, &lights, row_bounds, &samples)?;
-            let setup = &setups[0];
-            let shadowed = ShadowedLight::pairs(&lights, &setups);
-            let frame = renderer.render_lights(&camera, &shadowed, &row.settings(&settings))?;
-            let stem = format!("{}_{}", view.name, row.label);
-            let timings = frame.timings;
-            sums[0] += setup_us;
-            sums[1] += timings.shadow_pass_ms;
-            sums[2] += timings.main_pass_ms;
-            let fallback = setup.fallback().map_or("none", |f| f.name());
-            eprintln!(
-                "[{:>2}/{total}] {:<15} {:<8} setup {:>7.1} us  shadow pass {:>6.1} ms  main pass {:>6.1} ms  fallback {fallback}",
-                v * per_view + t + 1,
-                view.name,
-                row.label,
-                setup_us,
-                timings.shadow_pass_ms,
-                timings.main_pass_ms,
-            );
-            let command = crate::args::render_command_of(
-                &loaded.options,
-                view,
-                (Some(&row.technique), row.technique_name()),
-                &row.params,
-                row.resolution,
-                (width, height),
-                &format!(" --out {stem}.png --light-view {stem}_light.png"),
-            );
-            let caption = format!(
-                "{} &middot; setup {setup_us:.0} &micro;s &middot; shadow pass {:.1} ms &middot; \
-                 main pass {:.1} ms &middot; fallback {fallback}",
-                row.label, timings.shadow_pass_ms, timings.main_pass_ms
-            );
-            cells.push_str(&cell(&args.out, &stem, &frame, true, &caption, &command)?);
-            all.push(json!({
-                "view": view.name,
-                "technique": row.label,
-                "setup_us": setup_us,
-                "shadow_pass_ms": timings.shadow_pass_ms,
-                "main_pass_ms": timings.main_pass_ms,
-                "setup": report::setup_json(setup),
-            }));
+        let mut cells = Vec::new();
+        for i in 0..self.rows.len() {
+            cells.push(self.map_cell(view, &camera, &lights, &samples, i)?);
         }
-        row_scene.restore(&mut renderer)?;
-        if let Some(receiver) = &planar {
-            // Planar projected shadows on the ground (nothing else receives: the limit).
-            let drawn = renderer.render_planar_lit_by(&camera, &lights, receiver, &settings)?;
-            let stem = format!("{}_planar", view.name);
-            let timings = drawn.frame.timings;
-            eprintln!(
-                "[{:>2}/{total}] {:<15} {:<8} {} flattened triangles  flattening and stencil {:>6.1} ms  shading {:>6.1} ms",
-                v * per_view + per_view - 3,
-                view.name,
+        self.row_scene.restore(&mut self.renderer)?;
+        if self.planar.is_some() {
+            cells.push(self.planar_cell(view, &camera, &lights)?);
+        }
+        let exact = self.volumes_cell(view, &camera, &lights)?;
+        let (soft, factor) = self.soft_cell(view, &camera, &lights)?;
+        let pcss = self.pcss_cell(view, &camera, &lights, &samples, &factor)?;
+        cells.extend([exact, soft, pcss]);
+        let mut drawn = ViewCells {
+            view: view.clone(),
+            directional: matches!(lights[0], gnomon::Light::Directional(_)),
+            cells,
+        };
+        drawn.judge_against_exact();
+        Ok(drawn)
+    }
+
+    /// Renders `frame`'s images into the gallery folder and advances the progress bar.
+    fn write_cell(&self, cell: &Cell, frame: &Frame) -> Result<(), CliError> {
+        let light = cell
+            .light_view
+            .then(|| self.args.out.join(format!("{}_light.png", cell.stem)));
+        crate::render::write_frame(
+            frame,
+            &self.args.out.join(format!("{}.png", cell.stem)),
+            None,
+            light.as_deref(),
+        )?;
+        self.progress
+            .set_message(format!("{} {}", cell.view, cell.label));
+        self.progress.inc(1);
+        Ok(())
+    }
+
+    /// Row `i` (a shadow-map technique) on `view`, or a cell that says why it is not drawn.
+    fn map_cell(
+        &mut self,
+        view: &NamedView,
+        camera: &gnomon::Camera,
+        lights: &[gnomon::Light],
+        samples: &[gnomon::ViewSamples],
+        i: usize,
+    ) -> Result<Cell, CliError> {
+        let row = &self.rows[i];
+        let stem = format!("{}_{}", view.name, row.label);
+        if let Some(why) = row.refuses(lights) {
+            self.progress.inc(1);
+            self.json
+                .push(json!({ "view": view.name, "technique": row.label, "skipped": why }));
+            return Ok(Cell::skipped(&view.name, &row.label, why));
+        }
+        let bounds = self
+            .row_scene
+            .prepare(&mut self.renderer, row.projective())?;
+        let (setups, setup_us) = light_setups(row, camera, lights, bounds, samples)?;
+        let shadowed = ShadowedLight::pairs(lights, &setups);
+        let frame =
+            self.renderer
+                .render_lights(camera, &shadowed, &row.settings(&self.settings))?;
+        let t = frame.timings;
+        let command = render_command_of(
+            &self.options,
+            view,
+            (Some(&row.technique), row.technique_name()),
+            &row.params,
+            row.resolution,
+            self.size(),
+            &format!(" --out {stem}.png --light-view {stem}_light.png"),
+        );
+        let cell = Cell {
+            figures: format!(
+                "setup {setup_us:.0} µs · shadow pass {:.1} ms · main pass {:.1} ms",
+                t.shadow_pass_ms, t.main_pass_ms
+            ),
+            fallbacks: crate::gallery::fallback_words(&setups[0]),
+            light_view: true,
+            ..Cell::drawn(&view.name, &row.label, stem, command, Kind::Map, &frame)
+        };
+        self.write_cell(&cell, &frame)?;
+        self.json.push(json!({
+            "view": view.name,
+            "technique": row.label,
+            "setup_us": setup_us,
+            "shadow_pass_ms": t.shadow_pass_ms,
+            "main_pass_ms": t.main_pass_ms,
+            "setup": crate::report::setup_json(&setups[0]),
+        }));
+        Ok(cell)
+    }
+
+    /// Planar projected shadows on the ground (nothing else receives: the limit).
+    fn planar_cell(
+        &mut self,
+        view: &NamedView,
+        camera: &gnomon::Camera,
+        lights: &[gnomon::Light],
+    ) -> Result<Cell, CliError> {
+        let receiver = self.planar.as_ref().expect("asked where there is a ground");
+        let drawn = self
+            .renderer
+            .render_planar_lit_by(camera, lights, receiver, &self.settings)?;
+        let stem = format!("{}_planar", view.name);
+        let t = drawn.frame.timings;
+        let command = render_command_of(
+            &self.options,
+            view,
+            (None, crate::names::PLANAR),
+            &self.args.params,
+            self.args.shadow_map,
+            self.size(),
+            &format!(" --out {stem}.png"),
+        );
+        let cell = Cell {
+            figures: format!(
+                "{} flattened triangles · flattening and stencil {:.1} ms · shading {:.1} ms",
+                drawn.stats.triangles, t.shadow_pass_ms, t.main_pass_ms
+            ),
+            ..Cell::drawn(
+                &view.name,
                 crate::names::PLANAR,
-                drawn.stats.triangles,
-                timings.shadow_pass_ms,
-                timings.main_pass_ms,
-            );
-            let caption = format!(
-                "planar projected shadows (the ground only) &middot; {} flattened triangles \
-                 &middot; flattening and stencil {:.1} ms &middot; shading {:.1} ms",
-                drawn.stats.triangles, timings.shadow_pass_ms, timings.main_pass_ms,
-            );
-            let command = crate::args::render_command_of(
-                &loaded.options,
-                view,
-                (None, crate::names::PLANAR),
-                &args.params,
-                args.shadow_map,
-                (width, height),
-                &format!(" --out {stem}.png"),
-            );
-            cells.push_str(&cell(
-                &args.out,
-                &stem,
+                stem,
+                command,
+                Kind::Planar,
                 &drawn.frame,
-                false,
-                &caption,
-                &command,
-            )?);
-            all.push(json!({
-                "view": view.name,
-                "technique": crate::names::PLANAR,
-                "flattened_triangles": drawn.stats.triangles,
-                "flattening_and_stencil_ms": timings.shadow_pass_ms,
-                "shading_ms": timings.main_pass_ms,
-            }));
-        }
-        // Exact shadows: stenciled shadow volumes, z-pass or z-fail chosen per caster.
-        let drawn =
-            renderer.render_volumes_lit_by(&camera, &lights, &settings, StencilMode::PerCaster)?;
+            )
+        };
+        self.write_cell(&cell, &drawn.frame)?;
+        self.json.push(json!({
+            "view": view.name,
+            "technique": crate::names::PLANAR,
+            "flattened_triangles": drawn.stats.triangles,
+            "flattening_and_stencil_ms": t.shadow_pass_ms,
+            "shading_ms": t.main_pass_ms,
+        }));
+        Ok(cell)
+    }
+
+    /// Exact shadows: stenciled shadow volumes, z-pass or z-fail chosen per caster.
+    fn volumes_cell(
+        &mut self,
+        view: &NamedView,
+        camera: &gnomon::Camera,
+        lights: &[gnomon::Light],
+    ) -> Result<Cell, CliError> {
+        let drawn = self.renderer.render_volumes_lit_by(
+            camera,
+            lights,
+            &self.settings,
+            StencilMode::PerCaster,
+        )?;
         let stem = format!("{}_volumes", view.name);
-        let (timings, stats) = (drawn.frame.timings, drawn.stats);
-        volume_sums[0] += timings.shadow_pass_ms;
-        volume_sums[1] += timings.main_pass_ms;
-        eprintln!(
-            "[{:>2}/{total}] {:<15} {:<8} {} volume triangles ({} casters z-pass, {} z-fail)  extrusion and stencil {:>6.1} ms  shading {:>6.1} ms",
-            v * per_view + per_view - 2,
-            view.name,
-            "volumes",
-            stats.triangles,
-            stats.z_pass_casters,
-            stats.z_fail_casters,
-            timings.shadow_pass_ms,
-            timings.main_pass_ms,
-        );
-        let caption = format!(
-            "exact shadow volumes &middot; {} triangles ({} casters z-pass, {} z-fail) &middot; \
-             extrusion and stencil {:.1} ms &middot; shading {:.1} ms",
-            stats.triangles,
-            stats.z_pass_casters,
-            stats.z_fail_casters,
-            timings.shadow_pass_ms,
-            timings.main_pass_ms,
-        );
+        let (t, stats) = (drawn.frame.timings, drawn.stats);
         let command = render_command(
-            &loaded.options,
+            &self.options,
             view,
             None,
-            &args.params,
-            args.shadow_map,
-            (width, height),
+            &self.args.params,
+            self.args.shadow_map,
+            self.size(),
             &format!(" --stencil per-caster --out {stem}.png"),
         );
-        cells.push_str(&cell(
-            &args.out,
-            &stem,
-            &drawn.frame,
-            false,
-            &caption,
-            &command,
-        )?);
-        all.push(json!({
+        let cell = Cell {
+            figures: format!(
+                "{} volume triangles ({} casters z-pass, {} z-fail) · extrusion and stencil \
+                 {:.1} ms · shading {:.1} ms",
+                stats.triangles,
+                stats.z_pass_casters,
+                stats.z_fail_casters,
+                t.shadow_pass_ms,
+                t.main_pass_ms
+            ),
+            ..Cell::drawn(
+                &view.name,
+                "volumes",
+                stem,
+                command,
+                Kind::Exact,
+                &drawn.frame,
+            )
+        };
+        self.write_cell(&cell, &drawn.frame)?;
+        self.json.push(json!({
             "view": view.name,
             "technique": "volumes",
             "stencil": "per-caster",
             "volume_triangles": stats.triangles,
-            "z_pass_casters": stats.z_pass_casters,
-            "z_fail_casters": stats.z_fail_casters,
-            "extrusion_and_stencil_ms": timings.shadow_pass_ms,
-            "shading_ms": timings.main_pass_ms,
+            "extrusion_and_stencil_ms": t.shadow_pass_ms,
+            "shading_ms": t.main_pass_ms,
         }));
-        // Soft shadows of the main light as an area light: the cluster reference, then PCSS.
-        let soft = crate::render::SoftArgs {
-            pcf: crate::render::PcfArg::Hardware2x2,
+        Ok(cell)
+    }
+
+    /// The soft args of the view's main light as an area light.
+    fn soft_args(lights: &[gnomon::Light], pcf: crate::render::PcfArg) -> SoftArgs {
+        SoftArgs {
+            pcf,
             area_light: Some(soft_radius(&lights[0])),
-            area_samples: Some(SOFT_SAMPLES),
-        };
+            area_samples: (pcf != crate::render::PcfArg::Pcss).then_some(SOFT_SAMPLES),
+        }
+    }
+
+    /// Soft shadows of the main light as an area light: the reference, a cluster of hard
+    /// lights with exact volumes; also its shadow factor, which PCSS is judged against.
+    fn soft_cell(
+        &mut self,
+        view: &NamedView,
+        camera: &gnomon::Camera,
+        lights: &[gnomon::Light],
+    ) -> Result<(Cell, Vec<Option<f32>>), CliError> {
+        let soft = Self::soft_args(lights, crate::render::PcfArg::Hardware2x2);
         let clusters = soft
-            .area_clusters(&lights, &row_scene.bounds().scene_box())?
+            .area_clusters(lights, &self.row_scene.bounds().scene_box())?
             .expect("an area light is given");
-        let reference =
-            renderer.render_soft_volumes(&camera, &clusters, &settings, StencilMode::PerCaster)?;
+        let reference = self.renderer.render_soft_volumes(
+            camera,
+            &clusters,
+            &self.settings,
+            StencilMode::PerCaster,
+        )?;
         let stem = format!("{}_soft", view.name);
         let t = reference.frame.timings;
-        eprintln!(
-            "[{:>2}/{total}] {:<15} {:<8} {SOFT_SAMPLES} hard lights with volumes  {:>6.1} ms",
-            v * per_view + per_view - 1,
-            view.name,
-            "soft",
-            t.shadow_pass_ms + t.main_pass_ms,
-        );
-        let radius_words = match lights[0] {
-            gnomon::Light::Directional(_) => format!("{} degrees", soft_radius(&lights[0])),
-            _ => format!("{} m", soft_radius(&lights[0])),
-        };
-        let caption = format!(
-            "soft shadows of an area light of {radius_words} (the reference): {SOFT_SAMPLES} \
-             hard lights with exact volumes, averaged &middot; {:.1} ms",
-            t.shadow_pass_ms + t.main_pass_ms,
-        );
         let command = render_command(
-            &loaded.options,
+            &self.options,
             view,
             None,
-            &args.params,
-            args.shadow_map,
-            (width, height),
+            &self.args.params,
+            self.args.shadow_map,
+            self.size(),
             &format!("{} --out {stem}.png", soft.non_default_flags()),
         );
-        cells.push_str(&cell(
-            &args.out,
-            &stem,
-            &reference.frame,
-            false,
-            &caption,
-            &command,
-        )?);
-        all.push(json!({
+        let cell = Cell {
+            figures: format!(
+                "{SOFT_SAMPLES} hard lights with exact volumes · {:.1} ms",
+                t.shadow_pass_ms + t.main_pass_ms
+            ),
+            ..Cell::drawn(
+                &view.name,
+                "soft",
+                stem,
+                command,
+                Kind::Soft,
+                &reference.frame,
+            )
+        };
+        self.write_cell(&cell, &reference.frame)?;
+        self.json.push(json!({
             "view": view.name,
             "technique": "soft-volumes",
             "area_light": soft.area_light,
             "area_samples": SOFT_SAMPLES,
             "ms": t.shadow_pass_ms + t.main_pass_ms,
         }));
-        let pcss = crate::render::SoftArgs {
-            pcf: crate::render::PcfArg::Pcss,
-            area_samples: None,
-            ..soft
-        };
-        let stem = format!("{}_pcss", view.name);
-        let label = format!("pcss ({PCSS_TECHNIQUE})");
-        if let Some(why) = pcss_row.refuses(&lights) {
-            cells.push_str(&format!("<td>{label}: not drawn ({why})</td>"));
-        } else {
-            let row_bounds = row_scene.prepare(&mut renderer, false)?;
-            let (setups, setup_us) =
-                light_setups(&pcss_row, &camera, &lights, row_bounds, &samples)?;
-            let shadowed = ShadowedLight::pairs(&lights, &setups);
-            let frame = renderer.render_lights(
-                &camera,
-                &shadowed,
-                &RenderSettings {
-                    filter: gnomon_render::Filter::Pcss,
-                    area_light_radius: pcss.pcss_radius(),
-                    metrics: true,
-                    ..settings
-                },
-            )?;
-            let error = gnomon_render::penumbra_error(
-                &reference.factor,
-                frame.shadow.as_deref().expect("a map frame has its factor"),
-                &frame.metrics.as_ref().expect("asked for").n_dot_l,
-            );
-            let t = frame.timings;
-            eprintln!(
-                "[{:>2}/{total}] {:<15} {:<8} setup {:>7.1} us  shadow pass {:>6.1} ms  main pass {:>6.1} ms  penumbra error {:.4}",
-                v * per_view + per_view,
-                view.name,
-                "pcss",
-                setup_us,
-                t.shadow_pass_ms,
-                t.main_pass_ms,
-                error.mean,
-            );
-            let caption = format!(
-                "{label}, the same area light &middot; penumbra error {:.3} (against the \
-                 reference, over {} pixels) &middot; shadow pass {:.1} ms &middot; main pass \
-                 {:.1} ms",
-                error.mean, error.pixels, t.shadow_pass_ms, t.main_pass_ms,
-            );
-            let command = crate::args::render_command_of(
-                &loaded.options,
-                view,
-                (Some(&pcss_row.technique), pcss_row.technique_name()),
-                &pcss_row.params,
-                pcss_row.resolution,
-                (width, height),
-                &format!("{} --out {stem}.png", pcss.non_default_flags()),
-            );
-            cells.push_str(&cell(&args.out, &stem, &frame, false, &caption, &command)?);
-            all.push(json!({
-                "view": view.name,
-                "technique": "pcss",
-                "map_technique": PCSS_TECHNIQUE,
-                "area_light": pcss.area_light,
-                "penumbra_error": error.mean,
-                "penumbra_pixels": error.pixels,
-                "setup_us": setup_us,
-                "shadow_pass_ms": t.shadow_pass_ms,
-                "main_pass_ms": t.main_pass_ms,
-            }));
-        }
-        rows.push_str(&format!(
-            "<tr><th>{}<br><small>{}</small></th>{cells}</tr>",
-            view.name, view.description
-        ));
+        Ok((cell, reference.factor))
     }
-    let header: String = techniques
-        .iter()
-        .map(|t| format!("<th>{}</th>", t.label))
-        .chain(
-            planar
-                .as_ref()
-                .map(|_| "<th>planar (the ground)</th>".to_string()),
-        )
-        .chain([
-            "<th>volumes (exact)</th>".to_string(),
-            "<th>soft (reference)</th>".to_string(),
-            format!("<th>pcss ({PCSS_TECHNIQUE})</th>"),
-        ])
-        .collect();
-    let html = format!(
-        "<!doctype html><meta charset=utf-8><title>gnomon demo</title>\
-         <style>body{{font-family:sans-serif}} td,th{{vertical-align:top;padding:6px}}</style>\
-         <h1>gnomon demo: {} scene</h1><p>Each cell: the frame, and below it the shadow map as the \
-         light sees it with the camera's view frustum in red; then the exact \
-         shadows of stenciled shadow volumes, and soft shadows of the main light as an area \
-         light (the sun's 0.27 degrees, a lamp's 25 cm globe): the reference (a cluster of hard \
-         lights with exact volumes) and PCSS. {}x{} pixels, {}x{} shadow maps, \
-         rendered on {}.</p><table><tr><th>view</th>{header}</tr>{rows}</table>\
-         <p>Setups and timings: <a href=setups.json>setups.json</a></p>",
-        loaded.name,
-        width,
-        height,
-        args.shadow_map,
-        args.shadow_map,
-        renderer.gpu().describe()
-    );
-    let write = |name: &str, text: &str| write_text(&args.out.join(name), text);
-    write("index.html", &html)?;
-    write(
-        "setups.json",
-        &serde_json::to_string_pretty(&all).expect("JSON of plain values"),
-    )?;
-    let maps = all
-        .iter()
-        .filter(|e| e["skipped"].is_null() && e["setup_us"].is_number())
-        .count()
-        .max(1) as f64;
-    let views = views.len() as f64;
-    eprintln!(
-        "mean over {maps} shadow-map frames: setup {:.1} us, shadow pass {:.1} ms, main pass {:.1} ms; \
-         over {views} shadow-volume frames: extrusion and stencil {:.1} ms, shading {:.1} ms; \
-         {:.1} s in all (pass times from {})",
-        sums[0] / maps,
-        sums[1] / maps,
-        sums[2] / maps,
-        volume_sums[0] / views,
-        volume_sums[1] / views,
-        started.elapsed().as_secs_f64(),
-        renderer.timing_source().name()
-    );
-    crate::say!("wrote {}", args.out.join("index.html").display());
-    Ok(())
+
+    /// PCSS on the LiSPSM map with the same area light, and its penumbra error against the
+    /// reference's shadow factor.
+    fn pcss_cell(
+        &mut self,
+        view: &NamedView,
+        camera: &gnomon::Camera,
+        lights: &[gnomon::Light],
+        samples: &[gnomon::ViewSamples],
+        reference: &[Option<f32>],
+    ) -> Result<Cell, CliError> {
+        let label = format!("pcss ({PCSS_TECHNIQUE})");
+        if let Some(why) = self.pcss_row.refuses(lights) {
+            self.progress.inc(1);
+            return Ok(Cell::skipped(&view.name, &label, why));
+        }
+        let pcss = Self::soft_args(lights, crate::render::PcfArg::Pcss);
+        let bounds = self.row_scene.prepare(&mut self.renderer, false)?;
+        let (setups, setup_us) = light_setups(&self.pcss_row, camera, lights, bounds, samples)?;
+        let shadowed = ShadowedLight::pairs(lights, &setups);
+        let settings = RenderSettings {
+            filter: gnomon_render::Filter::Pcss,
+            area_light_radius: pcss.pcss_radius(),
+            light_view: false,
+            ..self.settings
+        };
+        let frame = self.renderer.render_lights(camera, &shadowed, &settings)?;
+        let error = gnomon_render::penumbra_error(
+            reference,
+            frame.shadow.as_deref().expect("a map frame has its factor"),
+            &frame.metrics.as_ref().expect("asked for").n_dot_l,
+        );
+        let stem = format!("{}_pcss", view.name);
+        let t = frame.timings;
+        let command = render_command_of(
+            &self.options,
+            view,
+            (
+                Some(&self.pcss_row.technique),
+                self.pcss_row.technique_name(),
+            ),
+            &self.pcss_row.params,
+            self.pcss_row.resolution,
+            self.size(),
+            &format!("{} --out {stem}.png", pcss.non_default_flags()),
+        );
+        let cell = Cell {
+            figures: format!(
+                "penumbra error {:.3} against the reference over {} pixels · shadow pass {:.1} \
+                 ms · main pass {:.1} ms",
+                error.mean, error.pixels, t.shadow_pass_ms, t.main_pass_ms
+            ),
+            ..Cell::drawn(&view.name, &label, stem, command, Kind::Soft, &frame)
+        };
+        self.write_cell(&cell, &frame)?;
+        self.json.push(json!({
+            "view": view.name,
+            "technique": "pcss",
+            "map_technique": PCSS_TECHNIQUE,
+            "area_light": pcss.area_light,
+            "penumbra_error": error.mean,
+            "penumbra_pixels": error.pixels,
+            "setup_us": setup_us,
+            "shadow_pass_ms": t.shadow_pass_ms,
+            "main_pass_ms": t.main_pass_ms,
+        }));
+        Ok(cell)
+    }
 }

@@ -18,6 +18,7 @@ mod bench;
 mod compare;
 mod demo;
 mod flicker;
+mod gallery;
 mod heatmap;
 pub mod names;
 mod output;

@@ -411,8 +411,38 @@ fn demo_writes_every_view_and_technique() {
             "no {row} in the demo"
         );
     }
-    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
-    assert!(html.contains("overview") && html.contains("volumes (exact)"));
+    // The front page: the rows a user compares, each judged, on a few sun views; every image
+    // either page names was written.
+    let front = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    for row in [
+        "cascades-stable",
+        "cascades-best",
+        "sppsm",
+        "volumes",
+        "soft",
+    ] {
+        assert!(
+            front.contains(&format!("<b>{row}</b>")),
+            "no {row} on the front page"
+        );
+    }
+    assert!(front.matches("% wrong").count() >= 3, "{front}");
+    assert!(front.contains("_crop_wrong.png") && front.contains("all.html"));
+    let all = std::fs::read_to_string(dir.join("all.html")).unwrap();
+    for view in gnomon_scene::DEMO_VIEWS {
+        assert!(
+            all.contains(&format!("<h2>{} ", view.name)),
+            "{}",
+            view.name
+        );
+    }
+    assert!(all.contains("gnomon render") && all.contains("not drawn here"));
+    for page in [&front, &all] {
+        for image in page.split("src=\"").skip(1) {
+            let name = &image[..image.find('"').unwrap()];
+            assert!(dir.join(name).exists(), "{name} is named but not written");
+        }
+    }
     for view in gnomon_scene::DEMO_VIEWS {
         let volumes = entries
             .iter()

@@ -429,7 +429,7 @@ impl Renderer {
             .map(|texel| f32::from_le_bytes([texel[4], texel[5], texel[6], texel[7]]))
             .collect();
         let light_view = if settings.light_view {
-            Some(self.light_view(camera, lights)?)
+            Some(self.light_view(camera, lights, settings.light_view_size)?)
         } else {
             None
         };
@@ -453,12 +453,14 @@ impl Renderer {
         &mut self,
         camera: &Camera,
         lights: &[ShadowedLight<'_>],
+        largest: u32,
     ) -> Result<LightView, RenderError> {
+        let largest = largest.clamp(64, MAX_LIGHT_VIEW);
         let mut views = Vec::new();
         let mut k = 0u32;
         for l in lights {
             for (i, map) in l.setup.maps.iter().enumerate() {
-                let (size, offset) = (map.resolution.min(MAX_LIGHT_VIEW), self.slot(k));
+                let (size, offset) = (map.resolution.min(largest), self.slot(k));
                 let targets = self.headless.as_mut().expect("made by render");
                 if targets
                     .light_view

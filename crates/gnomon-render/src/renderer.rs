@@ -125,6 +125,9 @@ pub struct RenderSettings {
     /// Also return the shadow maps as the light sees them, with the view frustum drawn over
     /// them (headless frames).
     pub light_view: bool,
+    /// The largest side of each map's light-view picture in texels (at most the map's own
+    /// resolution and 2048): a gallery's thumbnails need far fewer than a 2048 map has.
+    pub light_view_size: u32,
     /// Also return the per-pixel sampling metrics ([`crate::Frame::metrics`]; headless).
     pub metrics: bool,
     /// Two-map setups: tint each pixel by the map it reads (red: the second, perspective
@@ -195,6 +198,7 @@ impl Default for RenderSettings {
             bias: DepthBias::default(),
             ambient: 0.25,
             light_view: false,
+            light_view_size: 2048,
             metrics: false,
             tint: false,
             read: MapRead::Depth,
