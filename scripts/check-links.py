@@ -3,8 +3,10 @@
 its own): each href that is not absolute must name a file of the book, and a #fragment an id
 in that file. Prints one line per broken link and exits 1 if there is any.
 
-Usage: scripts/check-links.py docs/book
+Usage: scripts/check-links.py docs/book [FILE.md ...]: also checks that every relative link
+of each Markdown file (the README) names a file of the repository.
 """
+import re
 import sys
 from html.parser import HTMLParser
 from pathlib import Path
@@ -67,5 +69,25 @@ def main(root):
     return 1 if broken else 0
 
 
+def check_markdown(path):
+    """Relative links of a Markdown file, outside code blocks: each must name a file."""
+    path = Path(path)
+    text = re.sub(r"```.*?```", "", path.read_text(encoding="utf-8"), flags=re.S)
+    broken = 0
+    for link in re.findall(r"\]\(([^)\s]+)\)", text):
+        parts = urlsplit(link)
+        if parts.scheme or link.startswith("#"):
+            continue
+        if not (path.parent / unquote(parts.path)).exists():
+            print(f"{path}: broken link {link}")
+            broken += 1
+    return broken
+
+
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1] if len(sys.argv) > 1 else "docs/book"))
+    book = sys.argv[1] if len(sys.argv) > 1 else "docs/book"
+    failed = main(book)
+    markdown_broken = sum(check_markdown(md) for md in sys.argv[2:])
+    if markdown_broken:
+        print(f"check-links: {markdown_broken} broken links in Markdown files")
+    sys.exit(1 if failed or markdown_broken else 0)

@@ -55,6 +55,14 @@ cargo run -q --locked -p gnomon-core --example cascades >/dev/null
 cargo run -q --locked -p gnomon-core --example own_samples >/dev/null
 echo "test.sh: cargo doc (warnings are errors)"
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --locked --features gnomon-cli/viewer
+# The book: mdBook 0.5 (installed once, light: only the search feature), then a check of its
+# relative links and anchors, which mdBook 0.5 does not make.
+echo "test.sh: the book"
+if ! mdbook --version 2>/dev/null | grep -q "v0.5.4"; then
+    cargo install -q --locked mdbook --version 0.5.4 --no-default-features --features search
+fi
+mdbook build docs >/dev/null 2>&1 || mdbook build docs
+python3 scripts/check-links.py docs/book README.md CHANGELOG.md crates/*/README.md
 echo "test.sh: cargo test (GPU tests on Vulkan)"
 cargo test --workspace --locked --features gnomon-cli/viewer
 # The GPU tests again on GL (llvmpipe through EGL): what a machine without a Vulkan driver

@@ -426,7 +426,7 @@ fn demo_writes_every_view_and_technique() {
             "no {row} on the front page"
         );
     }
-    assert!(front.matches("% wrong").count() >= 3, "{front}");
+    assert!(front.matches("%</b> wrong").count() >= 3, "{front}");
     assert!(front.contains("_crop_wrong.png") && front.contains("all.html"));
     let all = std::fs::read_to_string(dir.join("all.html")).unwrap();
     for view in gnomon_scene::DEMO_VIEWS {
