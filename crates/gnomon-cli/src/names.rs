@@ -54,10 +54,8 @@ pub const PARABOLOID_CUBE_TEXELS: &str = "paraboloid-cube-texels";
 /// - `cascades-best`: gnomon's best measured configuration: LiSPSM in each cascade (with the
 ///   warp limit), the practical split with lambda 0.5, no blend band, and the number of
 ///   cascades (1 to 4) chosen per view: 1, 2, ... while the median undersampling over the
-///   view samples falls (`--cascade-adaptive`; since 2026-12-04: over the demo's sun views
-///   0.084% wrong against 0.087% with four, over the suite's random sun views 0.414% against
-///   0.518%, one LiSPSM map 0.423%; log splits, lambda 0.3 to 0.8, 3, 5 or 8 cascades, and
-///   TSM, XPSM, PSM or focused fits all measured worse).
+///   view samples falls (`--cascade-adaptive`; log splits, other lambdas, other counts and
+///   the other fits all measured worse: the book's cascades page).
 pub const CASCADE_ROWS: [(&str, &str); 3] = [
     (
         "cascades-stable",

@@ -536,9 +536,9 @@ fn box_around(arrays: &BoxArrays, ids: impl Iterator<Item = usize>) -> (DVec3, D
 }
 
 /// How many receivers listed one by one [`VisibleScene::extents_under`] tests at once
-/// against the box around them (neighbours in the classification's order lie close, so the
-/// box is little larger than theirs): for the benches' four cascades over 10^4 boxes, 4 took
-/// 1.703 M instructions a setup, 3 took 1.698 M, 6 and 8 1.71 to 1.73 M, and none 1.781 M.
+/// against the box around them. Neighbours in the classification's order lie close, so the
+/// box is little larger than theirs; the count was chosen by instruction counts
+/// (`scripts/setup-instructions.sh`, CHANGELOG.md).
 const RUN: usize = 4;
 
 /// How a walk of the visible receivers ([`VisibleScene::extents_under`]) sees boxes and

@@ -6,14 +6,11 @@
 //! basis, so the results do not depend on the threads: they are the same to the bit either
 //! way, and come back in the parts' order.
 //!
-//! When it pays: the four LiSPSM cascades of the criterion bench's city (1000 boxes) cost
-//! about 1.07 M instructions, 93% of them in the slices, and on this project's 2-core machine
-//! setups run back to back take about 90 µs in parallel against 140 µs on one thread. But in
-//! a frame loop, where the pool's threads go to sleep between frames, waking them costs
-//! about what the second core saves there (with 16 ms between setups: 487 against 454 µs),
-//! and a cube face's or a stable slice's work is less than a wake-up. So the feature is off
-//! by default: an engine that sets up several lights back to back, or whose threads wake
-//! cheaply, turns it on (README, "A city of 10^4 buildings").
+//! When it pays: setups run back to back, where the slices keep both cores busy. In a frame
+//! loop the pool's threads go to sleep between frames, and waking them costs about what the
+//! second core saves; a cube face's or a stable slice's work is less than a wake-up. So the
+//! feature is off by default: an engine that sets up several lights back to back, or whose
+//! threads wake cheaply, turns it on (the measurements are in CHANGELOG.md).
 
 /// `f(0), f(1), ... f(count - 1)`, in that order, computed in parallel where the feature is
 /// on.
