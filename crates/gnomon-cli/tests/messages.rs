@@ -32,7 +32,12 @@ fn a_negative_size_is_named_as_such() {
 
 #[test]
 fn shadow_map_sizes_out_of_range_name_the_real_range() {
-    for size in ["--shadow-map=-5", "--shadow-map=100000", "--shadow-map=4", "--shadow-map=x"] {
+    for size in [
+        "--shadow-map=-5",
+        "--shadow-map=100000",
+        "--shadow-map=4",
+        "--shadow-map=x",
+    ] {
         let mut args = vec!["setup", size];
         args.extend(STREET);
         refused(&args, "give 8 to 32768 texels");
@@ -82,7 +87,10 @@ fn render_is_quiet_and_lists_what_it_wrote() {
     assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{stderr}");
     for path in [&frame, &mask, &light] {
         assert!(std::path::Path::new(path).exists(), "{path}");
-        assert!(stderr.contains(path.as_str()), "{path} not listed: {stderr}");
+        assert!(
+            stderr.contains(path.as_str()),
+            "{path} not listed: {stderr}"
+        );
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
