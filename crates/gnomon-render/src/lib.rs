@@ -52,9 +52,8 @@ pub use timing::TimingSource;
 pub use volumes::{StencilMode, VolumeFrame, VolumeStats};
 
 /// The farthest far plane the renderer draws (metres, or the scene's units): it draws
-/// relative to the camera in f32 with reversed-Z float depth, which holds to within the
-/// tests' 99.5% agreement with exact shadows at 500 km (near 1, the scene anywhere within the
-/// core's coordinate range); farther views are refused.
+/// relative to the camera in f32 with reversed-Z float depth, which the precision tests hold
+/// to exact shadows out to about half this distance; farther views are refused.
 pub const MAX_VIEW_DISTANCE: f64 = 1e6;
 
 /// Mask value of a pixel lit by the light.

@@ -7,11 +7,10 @@
 //! Clusters are progressive: one of more than [`BASE_AREA_SAMPLES`] samples is the base
 //! cluster of [`BASE_AREA_SAMPLES`] plus a second spiral of the rest, so that a larger cluster
 //! refines the default one instead of replacing it. Why: the error of N points on a disc cut by
-//! a shadow's straight edge falls like N^(-3/4) at best (Beck's bound for half-planes), and two
-//! unrelated spirals of 64 and 256 points differ by about 1.07% of the shadow factor over the
-//! penumbra (a model of random straight edges; 0.93% to 1.30% by edge angle). Nested, 256
-//! differs from 64 by 0.82% (0.69% to 0.95% by angle) while its own error grows from 0.33% to
-//! 0.39%. An engine can also accumulate the base cluster first and the rest later.
+//! a shadow's straight edge falls like N^(-3/4) at best (Beck's bound for half-planes), so two
+//! unrelated spirals of 64 and 256 points differ by more than the nested ones do, for almost
+//! the same error of the larger one. An engine can also accumulate the base cluster first and
+//! the rest later.
 
 use glam::DVec3;
 

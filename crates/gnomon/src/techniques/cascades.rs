@@ -42,10 +42,9 @@
 //! a stable cascade's point the first map whose square holds it ([`CascadeSelect`]). A
 //! stable map holds every caster over its square (its depth range is the scene box's), and the
 //! nearer slices' maps are finer and reach past their slices (the sphere's square), so picking
-//! by coverage reads finer texels there: on the demo's seven sun views at 640x360, Bevy's
-//! stable cascades (`compare`'s `cascades-stable`, four maps of 1024) are wrong on 0.151% of
-//! the pixels picking by coverage against 0.293% picking by depth, as Bevy does. A fitted map
-//! holds only its slice's depth range and casters, so it is picked by depth.
+//! by coverage reads finer texels there, and halves the stable cascades' wrong pixels on the
+//! demo's sun views (CHANGELOG.md). A fitted map holds only its slice's depth range and
+//! casters, so it is picked by depth.
 
 use glam::{DMat4, DVec3, DVec4};
 
@@ -203,8 +202,7 @@ pub struct Cascades {
     /// Why stop at the first number that does not help, rather than try them all: most
     /// views keep one or two cascades, so this sets up 3 of the 10 slices of 1 to 4 on most
     /// views, and on the scene suite's random sun views the first such number was the better
-    /// pick (0.414% wrong pixels against 0.431% for the least median over all; see the
-    /// README's cascades section). Not with explicit split distances.
+    /// pick (the book's Results, "Cascades and flicker"). Not with explicit split distances.
     pub adaptive: bool,
     /// With `adaptive`, the number of cascades the previous frame kept, if any (values above
     /// `count` read as `count`): the search above keeps it unless the number it finds

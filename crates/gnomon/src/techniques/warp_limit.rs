@@ -43,15 +43,13 @@ pub(crate) const HALVINGS: u32 = 3;
 /// and [`MAX_MARGIN`] allows for the worst of a few hundred. They still show a gross
 /// failure: such a part's warp is kept unless its worst sample is more than [`GROSS`] times
 /// that of the map focused on the receivers alone (`focused::receivers_map`: never finer
-/// than the focused map, and made without walking the casters). A PSM cube face seen by 6
-/// samples was 120 times coarser than the focused map there.
+/// than the focused map, and made without walking the casters). Left unjudged, a PSM cube
+/// face seen by a handful of samples was far coarser than the focused map there.
 pub(crate) const FEW_SAMPLES: usize = crate::samples::ViewSamples::MIN_LIT;
-/// How many times coarser a worst sample must be to fail a part that only a few samples see.
-/// Measured: in the demo's `low_sun` view the far cascade slice (13 samples) has a LiSPSM
-/// warp 2.6 times as coarse at its worst sample as the focused map; with the focused map in
-/// its place, `cascades-best` read more wrong pixels (0.115% against 0.106% at 640x360, 2048
-/// maps) and more false flicker on a turn (0.158% against 0.095%). The PSM cube faces that
-/// failed in random scenes were 4.3 to 150 times as coarse as the focused map.
+/// How many times coarser a worst sample must be to fail a part that only a few samples see:
+/// a slightly coarser warp over a few samples still beat the focused map on the demo's far
+/// cascade slices, while the cube faces that failed in random scenes were coarser by far more
+/// (the measurements are in CHANGELOG.md).
 pub(crate) const GROSS: f64 = 4.0;
 
 /// A perspective warp that the limit weakens (PSM, LiSPSM, TSM, XPSM): its parameters' check,
