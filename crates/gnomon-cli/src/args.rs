@@ -23,7 +23,7 @@ pub fn parse_shadow_map(s: &str) -> Result<u32, String> {
     let range = gnomon::MIN_RESOLUTION..=gnomon::MAX_RESOLUTION;
     let out_of_range = || {
         format!(
-            "'{s}' is not a shadow-map size: give {} to {} texels",
+            "'{s}' is not a shadow-map resolution: give {} to {} texels",
             range.start(),
             range.end()
         )
