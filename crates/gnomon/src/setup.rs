@@ -285,6 +285,18 @@ impl CascadeSlices {
         &self.view_depths[..=self.count]
     }
 
+    /// Map `i`'s view depths, near and far: its slice, and the blend band at the end of slice
+    /// i - 1, where the selection by depth already reads it.
+    pub fn map_view_depths(&self, i: usize) -> [f64; 2] {
+        let z = &self.view_depths;
+        let near = if i == 0 {
+            z[0]
+        } else {
+            z[i] - self.blend * (z[i] - z[i - 1])
+        };
+        [near, z[i + 1]]
+    }
+
     /// The shadow distance: the last view depth.
     pub fn shadow_distance(&self) -> f64 {
         self.view_depths[self.count]

@@ -506,15 +506,10 @@ impl Cascades {
                 .fallbacks
                 .push(Fallback::StableNeedsDirectionalLight);
         }
-        let depths = slices.view_depths;
         // Map i's view depths: it also covers the blend band at the end of slice i - 1.
         let range = |i: usize| {
-            let near = if i == 0 {
-                depths[0]
-            } else {
-                depths[i] - self.blend * (depths[i] - depths[i - 1])
-            };
-            (near, depths[i + 1])
+            let [near, far] = slices.map_view_depths(i);
+            (near, far)
         };
         // A fitted map covers its slice and a millionth of the slice's length beyond each end
         // (within the view), so that a point the selection routes to it at a border lands
@@ -583,8 +578,7 @@ impl Cascades {
                 }
                 None => diagnostics.light_frame = LightFrameKind::Fixed,
             }
-            let (near, far) = range(i);
-            map.view_depth_range = Some([near, far]);
+            map.view_depth_range = Some(slices.map_view_depths(i));
             diagnostics.maps.push(own);
             maps.push(map);
         }
