@@ -159,7 +159,8 @@ impl<'a> Demo<'a> {
     }
 
     /// One view: every map row, planar shadows, the exact volumes, the soft reference and
-    /// PCSS; then each map cell's wrong pixels against the volumes.
+    /// PCSS; then each map cell's wrong pixels against the volumes, keeping only the pixels
+    /// the front page may show.
     fn draw_view(&mut self, view: &NamedView) -> Result<ViewCells, CliError> {
         let (width, height) = self.size();
         let camera = view.camera(width as f64 / height as f64)?;
@@ -186,6 +187,7 @@ impl<'a> Demo<'a> {
             cells,
         };
         drawn.judge_against_exact();
+        drawn.keep_front_pixels_only();
         Ok(drawn)
     }
 

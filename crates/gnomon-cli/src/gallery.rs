@@ -130,6 +130,22 @@ impl ViewCells {
         }
     }
 
+    /// Drops the pixels the pages will not show: every cell's N.L, and the frames, masks and
+    /// error images of the rows that are not on the front page (their figures stay). A demo
+    /// holds every view's cells until it writes the pages.
+    pub fn keep_front_pixels_only(&mut self) {
+        for cell in &mut self.cells {
+            cell.n_dot_l = None;
+            if !FRONT_ROWS.iter().any(|(label, _)| *label == cell.label) {
+                cell.color = Vec::new();
+                cell.mask = Vec::new();
+                if let Some((_, image)) = &mut cell.wrong {
+                    *image = Vec::new();
+                }
+            }
+        }
+    }
+
     fn cell(&self, label: &str) -> Option<&Cell> {
         self.cells
             .iter()
