@@ -166,10 +166,12 @@ fn run_view(_args: &view_args::ViewCommandArgs) -> Result<(), CliError> {
 /// here.
 fn rerun_without_device_select(command: &Command) -> Option<ExitCode> {
     const VAR: &str = "NODEVICE_SELECT";
-    let opens_gpu = !matches!(
-        command,
-        Command::Setup(_) | Command::Export(_) | Command::Analyze(_)
-    );
+    let opens_gpu = match command {
+        Command::Setup(_) | Command::Export(_) | Command::Analyze(_) => false,
+        // Without the window, `view` only says how to get it.
+        Command::View(_) => cfg!(feature = "viewer"),
+        _ => true,
+    };
     if !opens_gpu || std::env::var_os(VAR).is_some() {
         return None;
     }
