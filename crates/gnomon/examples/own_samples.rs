@@ -7,7 +7,7 @@
 use glam::DVec3;
 use gnomon::{
     Aabb, Camera, DirectionalLight, Lens, Light, Lispsm, MapSettings, SceneBounds, SetupError,
-    ViewSamples, compute_setup, compute_setup_with_samples,
+    ViewSamples, compute_setup_with_samples,
 };
 
 fn main() -> Result<(), SetupError> {
@@ -32,37 +32,28 @@ fn main() -> Result<(), SetupError> {
             )
         })
     });
-    let samples = ViewSamples::from_surface_points(&camera, &light, points);
-    let mine = compute_setup_with_samples(
-        &Lispsm::default(),
-        &camera,
-        &light,
-        &scene,
-        MapSettings::default(),
-        &samples,
-    )?;
-    let boxes = compute_setup(
-        &Lispsm::default(),
-        &camera,
-        &light,
-        &scene,
-        MapSettings::default(),
-    )?;
-    for (name, setup) in [("own samples", &mine), ("box samples", &boxes)] {
+    let own = ViewSamples::from_surface_points(&camera, &light, points);
+    // What the core casts at the receiver boxes when no samples are handed in.
+    let boxes = ViewSamples::new(&camera, &light, &scene);
+    for (name, samples) in [("own samples", &own), ("box samples", &boxes)] {
+        let setup = compute_setup_with_samples(
+            &Lispsm::default(),
+            &camera,
+            &light,
+            &scene,
+            MapSettings::default(),
+            samples,
+        )?;
+        let fallbacks: Vec<&str> = setup
+            .diagnostics
+            .fallbacks
+            .iter()
+            .map(|f| f.name())
+            .collect();
         println!(
-            "{name}: {} samples judged, warp strength {:?}, fallbacks {:?}",
-            if name == "own samples" {
-                samples.len()
-            } else {
-                ViewSamples::new(&camera, &light, &scene).len()
-            },
+            "{name}: {} samples judged, warp strength {:?}, fallbacks {fallbacks:?}",
+            samples.len(),
             setup.diagnostics.warp_strength,
-            setup
-                .diagnostics
-                .fallbacks
-                .iter()
-                .map(|f| f.name())
-                .collect::<Vec<_>>()
         );
     }
     Ok(())
