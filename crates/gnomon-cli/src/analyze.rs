@@ -5,9 +5,8 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use gnomon::analysis::{AliasingCurve, IdealConfiguration, setup_view_axis_aliasing_in_texels};
-use gnomon::{MapSettings, Psm, ShadowTechnique, Technique, compute_setup};
-use serde_json::json;
+use gnomon::analysis::{AliasingCurve, IdealConfiguration};
+use gnomon_tools::analysis::{AnalysisRow, analyze};
 
 use crate::CliError;
 use crate::args::TechniqueParams;
@@ -42,49 +41,6 @@ pub struct AnalyzeArgs {
     pub plot: Option<PathBuf>,
 }
 
-/// One analysed technique.
-struct Row {
-    label: String,
-    fallback: Option<&'static str>,
-    curve: Result<AliasingCurve, String>,
-}
-
-/// The techniques analysed: every technique with its parameters, and PSM as in the papers
-/// (the virtual camera not slid back: n = z_n; no warp limit), which the LiSPSM paper's
-/// Figure 6 plots.
-fn techniques(params: &TechniqueParams) -> Vec<(String, Technique)> {
-    let mut out = Vec::new();
-    // The ideal configuration has a directional light.
-    let sun = gnomon::Light::Directional(
-        gnomon::DirectionalLight::new(glam::DVec3::NEG_Y).expect("a unit direction"),
-    );
-    for technique in Technique::all().into_iter().filter(|t| t.takes(&sun)) {
-        // The papers' warps along the view axis: the warp limit judges a frame's pixels, and
-        // the ideal configuration's scene is the view frustum's box, which holds the eye.
-        let technique = TechniqueParams {
-            no_warp_limit: true,
-            ..*params
-        }
-        .apply(technique);
-        // Cascades measured with no blend band.
-        let technique = match technique {
-            Technique::Cascades(c) => Technique::Cascades(gnomon::Cascades { blend: 0.0, ..c }),
-            other => other,
-        };
-        if let Technique::Psm(_) = technique {
-            out.push((
-                "psm-paper".to_string(),
-                Technique::Psm(Psm {
-                    slide_back: Some(0.0),
-                    limit: false,
-                }),
-            ));
-        }
-        out.push((technique.name().to_string(), technique));
-    }
-    out
-}
-
 /// Runs `gnomon analyze`.
 pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
     if let Some(path) = &args.plot {
@@ -97,59 +53,16 @@ pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
             args.samples
         )));
     }
-    let (camera, light, scene) = (config.camera()?, config.light()?, config.scene()?);
-    let mut rows = Vec::new();
-    for (label, technique) in techniques(&args.params) {
-        let setup = compute_setup(
-            &technique,
-            &camera,
-            &light,
-            &scene,
-            MapSettings::with_resolution(args.shadow_map),
-        )?;
-        // In the texels of one --shadow-map map (cascades with --equal-texels share them).
-        let curve =
-            setup_view_axis_aliasing_in_texels(&setup, &config, args.samples, args.shadow_map)
-                .map_err(|e| e.to_string());
-        rows.push(Row {
-            label,
-            fallback: setup.fallback().map(|f| f.name()),
-            curve,
-        });
-    }
+    let analysis = analyze(config, &args.params, args.samples, args.shadow_map)?;
+    let rows = &analysis.rows;
     if let Some(path) = &args.plot {
-        plot(path, &config, &rows)?;
+        plot(path, &config, rows)?;
     }
     let ideal = config.logarithmic_ideal();
     if args.json {
-        let techniques: Vec<_> = rows
-            .iter()
-            .map(|r| match &r.curve {
-                Ok(c) => json!({
-                    "technique": r.label,
-                    "fallback": r.fallback,
-                    "max": c.max,
-                    "z_of_max": c.z_of_max,
-                    "at_z_n": c.at_near,
-                    "at_z_f": c.at_far,
-                    "min": c.min,
-                    "z_of_min": c.z_of_min,
-                    "curve": c.z.iter().zip(&c.dp_ds).map(|(z, v)| [*z, *v]).collect::<Vec<_>>(),
-                }),
-                Err(e) => json!({"technique": r.label, "fallback": r.fallback, "error": e}),
-            })
-            .collect();
-        let out = json!({
-            "z_n": config.z_near,
-            "z_f": config.z_far,
-            "gamma_degrees": config.gamma_degrees,
-            "shadow_map": args.shadow_map,
-            "logarithmic_ideal": ideal,
-            "techniques": techniques,
-        });
         crate::say!(
             "{}",
-            serde_json::to_string_pretty(&out).expect("JSON of plain values")
+            serde_json::to_string_pretty(&analysis.to_json()).expect("JSON of plain values")
         );
         return Ok(());
     }
@@ -172,7 +85,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
         "min",
         "z of min"
     );
-    for r in &rows {
+    for r in rows {
         match &r.curve {
             Ok(c) => crate::say!(
                 "{:<10} {:>9.3} {:>9.2} {:>9.3} {:>9.3} {:>9.3} {:>9.2}  {}",
@@ -200,7 +113,11 @@ pub fn run(args: &AnalyzeArgs) -> Result<(), CliError> {
 /// The curves on a log y axis, with the logarithmic ideal as a dashed line, and the legend
 /// beside the plot (not over the data). A curve that coincides with an earlier one (to a
 /// thousandth everywhere) is drawn dashed over it and its legend entry says which it equals.
-fn plot(path: &std::path::Path, config: &IdealConfiguration, rows: &[Row]) -> Result<(), CliError> {
+fn plot(
+    path: &std::path::Path,
+    config: &IdealConfiguration,
+    rows: &[AnalysisRow],
+) -> Result<(), CliError> {
     use plotters::prelude::*;
     let error = |e: String| CliError::runtime(format!("cannot plot to {}: {e}", path.display()));
     let curves: Vec<(&str, &AliasingCurve)> = rows

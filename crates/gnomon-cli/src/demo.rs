@@ -259,7 +259,7 @@ impl<'a> Demo<'a> {
             "setup_us": setup_us,
             "shadow_pass_ms": t.shadow_pass_ms,
             "main_pass_ms": t.main_pass_ms,
-            "setup": crate::report::setup_json(&setups[0]),
+            "setup": gnomon_tools::setup_json(&setups[0]),
         }));
         Ok(cell)
     }

@@ -127,6 +127,12 @@ impl CliError {
     }
 }
 
+impl From<gnomon_tools::UsageError> for CliError {
+    fn from(e: gnomon_tools::UsageError) -> Self {
+        CliError::usage(e.0)
+    }
+}
+
 impl From<gnomon::SetupError> for CliError {
     fn from(e: gnomon::SetupError) -> Self {
         Self::usage(e.to_string())

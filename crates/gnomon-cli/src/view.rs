@@ -1147,9 +1147,7 @@ impl OptionPanel {
         let draw = DrawArgs::from_arg_matches(&matches).map_err(|e| e.to_string())?;
         if let Some(technique) = draw.technique.map_technique() {
             let technique = draw.params.apply(technique);
-            draw.params
-                .check_used_by(&[technique])
-                .map_err(|e| e.message)?;
+            draw.params.check_used_by(&[technique]).map_err(|e| e.0)?;
         }
         Ok(draw)
     }
