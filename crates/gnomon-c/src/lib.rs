@@ -262,3 +262,6 @@ pub unsafe extern "C" fn gnomon_setup(
         Ok(())
     })
 }
+
+#[cfg(test)]
+mod tests;
