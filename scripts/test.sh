@@ -65,6 +65,25 @@ mdbook build docs >/dev/null 2>&1 || mdbook build docs
 python3 scripts/check-links.py docs/book README.md CHANGELOG.md crates/*/README.md
 echo "test.sh: cargo test (GPU tests on Vulkan)"
 cargo test --workspace --locked --features gnomon-cli/viewer
+# The bindings as their users build them: the C header up to date (cbindgen --verify), the
+# Python wheel built by maturin and installed (unoptimised: it builds in a few minutes, and
+# the tests time nothing), then pytest over the Python package (its renders on Vulkan) and
+# over the C and C++ examples, compiled with cc and c++ and checked against
+# `gnomon setup --json` (the command line and the C library as the tests above built them).
+echo "test.sh: the bindings: the C header, the Python wheel, pytest"
+if ! cbindgen --version 2>/dev/null | grep -q "cbindgen 0.29"; then
+    cargo install -q --locked cbindgen --version "^0.29"
+fi
+cbindgen --quiet --config crates/gnomon-c/cbindgen.toml --crate gnomon-c --verify \
+    --output crates/gnomon-c/include/gnomon.h crates/gnomon-c
+python3 -c "import maturin, numpy, pytest, matplotlib" 2>/dev/null ||
+    python3 -m pip install -q --root-user-action=ignore "maturin==1.16.*" numpy pytest matplotlib
+cargo build -q --locked --profile test -p gnomon-cli -p gnomon-c --features gnomon-cli/viewer
+rm -rf target/wheels
+maturin build -q --locked --profile dev -m crates/gnomon-py/Cargo.toml -o target/wheels
+python3 -m pip install -q --root-user-action=ignore --force-reinstall --no-deps target/wheels/gnomon-*.whl
+GNOMON_BIN=target/debug/gnomon python3 -m pytest -q -p no:cacheprovider crates/gnomon-py/tests crates/gnomon-c/tests
+
 # The GPU tests again on GL (llvmpipe through EGL): what a machine without a Vulkan driver
 # gets. They fail, never skip, without an adapter.
 # The tests run one at a time there: each renderer test opens its own EGL context, and Mesa's
@@ -76,6 +95,7 @@ cargo test --workspace --locked --features gnomon-cli/viewer
 echo "test.sh: cargo test, GPU tests on GL (WGPU_BACKEND=gl)"
 WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli --features gnomon-cli/viewer -- --test-threads=1
 
-# What would be published: each crate packs and builds from its package alone.
+# What would be published: each crate packs and builds from its package alone (the bindings
+# ship as a wheel and a C library, not as crates).
 echo "test.sh: cargo package --workspace"
-cargo package --workspace --locked --allow-dirty -q
+cargo package --workspace --exclude gnomon-py --exclude gnomon-c --locked --allow-dirty -q

@@ -9,7 +9,7 @@ use std::time::Instant;
 use clap::Args;
 
 use gnomon_render::{
-    Filter, Frame, MASK_EMPTY, MASK_LIT, MASK_UNLIT, RenderSettings, ShadowedLight, StencilMode,
+    Filter, Frame, MaskErrors, PixelVerdict, RenderSettings, ShadowedLight, StencilMode,
 };
 use serde_json::{Value, json};
 
@@ -63,20 +63,6 @@ struct Rows<'a> {
     planar: bool,
 }
 
-/// Share of N.L > 0.1 pixels a map gets wrong against the exact mask.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct MaskErrors {
-    compared: usize,
-    false_shadow: usize,
-    missed_shadow: usize,
-}
-
-impl MaskErrors {
-    pub(crate) fn wrong_percent(&self) -> f64 {
-        100.0 * (self.false_shadow + self.missed_shadow) as f64 / self.compared.max(1) as f64
-    }
-}
-
 /// Colours of the mask-error image.
 const FALSE_SHADOW: [u8; 3] = [230, 30, 30];
 const MISSED_SHADOW: [u8; 3] = [30, 110, 245];
@@ -98,18 +84,13 @@ pub(crate) fn mask_errors_of(
     let mut image = Vec::with_capacity(color.len());
     for (i, rgba) in color.chunks_exact(4).enumerate() {
         let grey = (0.3 * rgba[0] as f64 + 0.59 * rgba[1] as f64 + 0.11 * rgba[2] as f64) as u8;
-        let mut rgb = [grey / 2 + 64; 3];
-        let (m, e) = (mask[i], exact[i]);
-        if m != MASK_EMPTY && e != MASK_EMPTY && n_dot_l[i] > 0.1 {
-            errors.compared += 1;
-            if m == MASK_UNLIT && e == MASK_LIT {
-                errors.false_shadow += 1;
-                rgb = FALSE_SHADOW;
-            } else if m == MASK_LIT && e == MASK_UNLIT {
-                errors.missed_shadow += 1;
-                rgb = MISSED_SHADOW;
-            }
-        }
+        let verdict = PixelVerdict::of(mask[i], exact[i], n_dot_l[i]);
+        errors.add(verdict);
+        let rgb = match verdict {
+            PixelVerdict::FalseShadow => FALSE_SHADOW,
+            PixelVerdict::MissedShadow => MISSED_SHADOW,
+            _ => [grey / 2 + 64; 3],
+        };
         image.extend_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
     }
     (errors, image)
@@ -490,8 +471,8 @@ fn compare_scene(
                 "maps": setup.maps.len(),
                 "fallback": setup.fallback().map(|f| f.name()),
                 "wrong_percent": errors.wrong_percent(),
-                "false_shadow_percent": 100.0 * errors.false_shadow as f64 / errors.compared.max(1) as f64,
-                "missed_shadow_percent": 100.0 * errors.missed_shadow as f64 / errors.compared.max(1) as f64,
+                "false_shadow_percent": errors.false_shadow_percent(),
+                "missed_shadow_percent": errors.missed_shadow_percent(),
                 "compared_pixels": errors.compared,
                 "undersampling": undersampling,
                 "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
@@ -547,8 +528,8 @@ fn compare_scene(
                         "command": command,
                         "maps": 0,
                         "wrong_percent": errors.wrong_percent(),
-                        "false_shadow_percent": 100.0 * errors.false_shadow as f64 / errors.compared.max(1) as f64,
-                        "missed_shadow_percent": 100.0 * errors.missed_shadow as f64 / errors.compared.max(1) as f64,
+                        "false_shadow_percent": errors.false_shadow_percent(),
+                        "missed_shadow_percent": errors.missed_shadow_percent(),
                         "compared_pixels": errors.compared,
                         "setup_us": 0.0,
                         "frame_ms": frame_ms,

@@ -177,22 +177,14 @@ pub fn draw(metrics: &PixelMetrics, width: u32, height: u32) -> Vec<u8> {
 /// p50, p95, p99 and max of `values` over the visible pixels that face the light
 /// ([`PixelMetrics::lit_facing`]: N.L > 0.1), as JSON (null when none).
 pub fn percentiles(metrics: &PixelMetrics, values: &[f32]) -> Value {
-    let mut v: Vec<f64> = (0..values.len())
-        .filter(|&i| metrics.lit_facing(i))
-        .map(|i| values[i] as f64)
-        .filter(|x| x.is_finite())
-        .collect();
-    if v.is_empty() {
-        return Value::Null;
-    }
-    v.sort_by(f64::total_cmp);
-    let at = |q: f64| v[((q * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
-    json!({
-        "p50": at(0.50),
-        "p95": at(0.95),
-        "p99": at(0.99),
-        "max": v[v.len() - 1],
-        "pixels": v.len(),
+    metrics.percentiles(values).map_or(Value::Null, |p| {
+        json!({
+            "p50": p.p50,
+            "p95": p.p95,
+            "p99": p.p99,
+            "max": p.max,
+            "pixels": p.pixels,
+        })
     })
 }
 

@@ -5,6 +5,7 @@
 
 mod analyze;
 mod arrays;
+mod compare;
 mod objects;
 mod render;
 mod scene;
@@ -45,5 +46,6 @@ fn _gnomon(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(setup::project, m)?)?;
     m.add_function(wrap_pyfunction!(analyze::analyze, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     Ok(())
 }

@@ -118,6 +118,8 @@ enum Drawn {
 /// opened on the first call; the GIL is released while it draws.
 #[pyfunction]
 #[pyo3(signature = (scene, camera, light, technique = "focused", size = (640, 360), resolution = 2048, **params))]
+// The Python signature's arguments, each a keyword argument there.
+#[allow(clippy::too_many_arguments)]
 pub fn render(
     py: Python<'_>,
     scene: PyRef<'_, Scene>,
@@ -154,7 +156,7 @@ pub fn render(
             let (frame, setup) = match drawn {
                 Drawn::Volumes => (draw_volumes(&mut renderer, &camera, light, size)?, None),
                 Drawn::Maps(t) => {
-                    let (frame, setup) =
+                    let (frame, setup, _) =
                         draw_maps(&mut renderer, &t, &camera, light, &bounds, size, resolution)?;
                     (frame, Some(setup))
                 }
@@ -170,7 +172,7 @@ pub fn render(
     })
 }
 
-fn image_size((w, h): (i64, i64)) -> PyResult<(u32, u32)> {
+pub(crate) fn image_size((w, h): (i64, i64)) -> PyResult<(u32, u32)> {
     let side = |v: i64| u32::try_from(v).ok().filter(|v| (1..=16384).contains(v));
     match (side(w), side(h)) {
         (Some(w), Some(h)) => Ok((w, h)),
@@ -182,7 +184,7 @@ fn image_size((w, h): (i64, i64)) -> PyResult<(u32, u32)> {
 
 /// The camera, refused where its aspect is not the image's (the picture would be
 /// stretched) or it sees farther than the renderer draws precisely.
-fn checked_camera(camera: CoreCamera, (w, h): (u32, u32)) -> PyResult<CoreCamera> {
+pub(crate) fn checked_camera(camera: CoreCamera, (w, h): (u32, u32)) -> PyResult<CoreCamera> {
     let (lens, image_aspect) = (camera.lens(), f64::from(w) / f64::from(h));
     if (lens.aspect / image_aspect - 1.0).abs() > 1e-3 {
         return Err(gnomon_error(format!(
@@ -214,7 +216,7 @@ fn process_gpu() -> Result<Gpu, String> {
 }
 
 /// A renderer of `scene`, refusing an image or map larger than the GPU's largest texture.
-fn open_renderer(
+pub(crate) fn open_renderer(
     scene: &Arc<RenderScene>,
     size: (u32, u32),
     resolution: u32,
@@ -233,7 +235,9 @@ fn open_renderer(
     Renderer::new(gpu, scene).map_err(|e| e.to_string())
 }
 
-fn draw_maps(
+/// A map technique's frame (with metrics) and its setup, which takes the renderer's view
+/// samples, and how long the setup took in microseconds.
+pub(crate) fn draw_maps(
     renderer: &mut Renderer,
     technique: &Technique,
     camera: &CoreCamera,
@@ -241,14 +245,16 @@ fn draw_maps(
     bounds: &gnomon::SceneBounds,
     (width, height): (u32, u32),
     resolution: u32,
-) -> Result<(gnomon_render::Frame, ShadowSetup), String> {
+) -> Result<(gnomon_render::Frame, ShadowSetup, f64), String> {
     let samples = renderer
         .view_samples(camera, &light)
         .map_err(|e| e.to_string())?;
     let map = MapSettings::with_resolution(resolution);
+    let started = std::time::Instant::now();
     let setup =
         gnomon::compute_setup_with_samples(technique, camera, &light, bounds, map, &samples)
             .map_err(|e| e.to_string())?;
+    let setup_us = started.elapsed().as_secs_f64() * 1e6;
     let settings = RenderSettings {
         width,
         height,
@@ -260,10 +266,10 @@ fn draw_maps(
         .render_lights(camera, &ShadowedLight::pairs(&lights, &setups), &settings)
         .map_err(|e| e.to_string())?;
     let [setup] = setups;
-    Ok((frame, setup))
+    Ok((frame, setup, setup_us))
 }
 
-fn draw_volumes(
+pub(crate) fn draw_volumes(
     renderer: &mut Renderer,
     camera: &CoreCamera,
     light: Light,

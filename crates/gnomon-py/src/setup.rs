@@ -1,6 +1,6 @@
 //! `setup` and what it returns (a setup and its maps), and `project`.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use gnomon::{MapSettings, ShadowMap, ShadowSetup, ViewSamples};
 use pyo3::prelude::*;
@@ -17,16 +17,22 @@ use crate::values::{json_to_py, technique};
 #[pyclass(frozen, module = "gnomon")]
 pub struct Setup {
     pub(crate) setup: Arc<ShadowSetup>,
-    json: Value,
+    /// The JSON form, made on first use: a frame loop that reads only the matrices never
+    /// pays for it.
+    json: OnceLock<Value>,
 }
 
 impl Setup {
     pub(crate) fn new(setup: ShadowSetup) -> Self {
-        let json = gnomon_tools::setup_json(&setup);
         Self {
             setup: Arc::new(setup),
-            json,
+            json: OnceLock::new(),
         }
+    }
+
+    fn json(&self) -> &Value {
+        self.json
+            .get_or_init(|| gnomon_tools::setup_json(&self.setup))
     }
 }
 
@@ -50,9 +56,9 @@ impl Setup {
         self.setup
             .maps
             .iter()
-            .zip(self.json["maps"].as_array().into_iter().flatten())
+            .zip(self.json()["maps"].as_array().into_iter().flatten())
             .map(|(map, json)| Map {
-                map: map.clone(),
+                map: *map,
                 json: json.clone(),
             })
             .collect()
@@ -62,20 +68,20 @@ impl Setup {
     /// `dual_paraboloid`, `cube_faces`) and that kind's data, as in `to_json()`.
     #[getter]
     fn selection<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_to_py(py, &self.json["selection"])
+        json_to_py(py, &self.json()["selection"])
     }
 
     /// What the setup did (fallbacks with their reasons, the light frame, gamma, caster
     /// counts, ...), as a dict; each map has its own fallbacks and warp strength.
     #[getter]
     fn diagnostics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_to_py(py, &self.json["diagnostics"])
+        json_to_py(py, &self.json()["diagnostics"])
     }
 
     /// The setup as JSON text: exactly what `gnomon setup --json` prints for the same
     /// inputs (matrices column-major).
     fn to_json(&self) -> String {
-        serde_json::to_string_pretty(&self.json).expect("JSON of plain values")
+        serde_json::to_string_pretty(self.json()).expect("JSON of plain values")
     }
 
     fn __len__(&self) -> usize {
@@ -193,6 +199,8 @@ impl Map {
 /// Raises `GnomonError` on bad input, with the core's one-line message.
 #[pyfunction]
 #[pyo3(signature = (technique, camera, light, scene, resolution = 2048, samples = None, **params))]
+// The Python signature's arguments, each a keyword argument there.
+#[allow(clippy::too_many_arguments)]
 pub fn setup(
     py: Python<'_>,
     technique: &str,

@@ -15,6 +15,10 @@ use crate::gnomon_error;
 /// `-` (`cascade_split="log"`, `stable=True`, `cascades=3`); `None` leaves one at its
 /// default and a list of numbers is written comma-separated (`cascade_split=[10, 40]`).
 pub(crate) fn params(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<TechniqueParams> {
+    // The defaults without building the parser: a frame loop's call stays cheap.
+    if kwargs.is_none_or(|d| d.is_empty()) {
+        return Ok(TechniqueParams::default());
+    }
     let mut values = Vec::new();
     for (key, value) in kwargs.into_iter().flat_map(|d| d.iter()) {
         let name: String = key.extract()?;

@@ -8,6 +8,7 @@ import json
 import os
 import pathlib
 import subprocess
+import sys
 import threading
 
 import numpy as np
@@ -303,3 +304,38 @@ def test_render_of_boxes_and_its_refusals():
     moved = loaded.moved(loaded.casters + [0, 1, 0], loaded.receivers)
     with pytest.raises(gnomon.GnomonError, match="meshes cannot follow"):
         gnomon.render(moved, *loaded.view("street"))
+
+
+def test_the_readme_example_prints_what_the_readme_says():
+    text = (ROOT / "README.md").read_text()
+    section = text.split("## From Python", 1)[1].split("\n## ", 1)[0]
+    command = next(line for line in section.splitlines() if line.startswith('python -c "'))
+    code = command[len('python -c "'):-1]
+    expected = section.split("```text\n", 1)[1].split("```", 1)[0]
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == expected
+
+
+def test_compare_rows_equal_the_command_lines_report(tmp_path):
+    scene = gnomon.Scene.demo()
+    camera, sun = scene.view("low_sun", aspect=320 / 180)
+    rows = gnomon.compare(scene, camera, sun, techniques=["focused", "lispsm", "cascades"], size=(320, 180), resolution=1024)
+    cli(
+        "compare", "--views", "low_sun", "--techniques", "focused,lispsm,cascades", "--size", "320x180",
+        "--shadow-map", "1024", "--out", str(tmp_path),
+    )
+    report = json.loads((tmp_path / "report.json").read_text())
+    theirs = {r["technique"]: r for r in report["views"][0]["techniques"]}
+    assert [r["technique"] for r in rows] == ["focused", "lispsm", "cascades"]
+    for row in rows:
+        expected = theirs[row["technique"]]
+        for key in ("maps", "fallback", "wrong_percent", "false_shadow_percent", "missed_shadow_percent",
+                    "compared_pixels", "undersampling", "area_undersampling", "shadow_map"):
+            assert row[key] == expected[key], key
+        assert row["setup_us"] > 0 and row["frame_ms"] > 0
+    assert rows[0]["wrong_percent"] > rows[2]["wrong_percent"]
+    with pytest.raises(gnomon.GnomonError, match="unknown technique 'volume'"):
+        gnomon.compare(scene, camera, sun, techniques=["volume"], size=(320, 180))
+    with pytest.raises(gnomon.GnomonError, match="--stable"):
+        gnomon.compare(scene, camera, sun, techniques=["focused"], size=(320, 180), stable=True)

@@ -206,3 +206,14 @@ def render(
     **params: Param,
 ) -> Frame:
     """Render with `technique`'s shadows, or "volumes" for the exact shadows."""
+
+def compare(
+    scene: Scene,
+    camera: Camera,
+    light: Light,
+    techniques: Optional[Sequence[str]] = None,
+    size: tuple[int, int] = (640, 360),
+    resolution: int = 2048,
+    **params: Param,
+) -> list[dict[str, Any]]:
+    """Each technique judged against the exact volumes: gnomon compare --json's rows."""
