@@ -10,30 +10,29 @@ use pyo3::types::PyTuple;
 
 use crate::gnomon_error;
 
-/// An array argument's values (row-major) and shape.
-pub(crate) struct Numbers {
-    pub shape: Vec<usize>,
-    pub values: Vec<f64>,
-}
-
-/// `obj` as numbers: a float64 or float32 numpy array, or anything `numpy.asarray` makes
-/// floats of (lists, tuples); arrays of other dtypes are refused rather than converted.
-pub(crate) fn numbers(arg: &str, obj: &Bound<'_, PyAny>) -> PyResult<Numbers> {
+/// Reads `obj` as numbers and hands its shape and values (row-major) to `read`: a float64 or
+/// float32 numpy array, or anything `numpy.asarray` makes floats of (lists, tuples); arrays
+/// of other dtypes are refused rather than converted. A contiguous float64 array is read in
+/// place, without a copy.
+pub(crate) fn with_numbers<T>(
+    arg: &str,
+    obj: &Bound<'_, PyAny>,
+    read: impl FnOnce(&[usize], &[f64]) -> PyResult<T>,
+) -> PyResult<T> {
     if let Ok(array) = obj.cast::<PyArrayDyn<f64>>() {
-        let view = array.readonly();
-        let view = view.as_array();
-        return Ok(Numbers {
-            shape: view.shape().to_vec(),
-            values: view.iter().copied().collect(),
-        });
+        let array = array.readonly();
+        return match array.as_slice() {
+            Ok(slice) => read(array.shape(), slice),
+            Err(_) => {
+                let values: Vec<f64> = array.as_array().iter().copied().collect();
+                read(array.shape(), &values)
+            }
+        };
     }
     if let Ok(array) = obj.cast::<PyArrayDyn<f32>>() {
-        let view = array.readonly();
-        let view = view.as_array();
-        return Ok(Numbers {
-            shape: view.shape().to_vec(),
-            values: view.iter().map(|&v| f64::from(v)).collect(),
-        });
+        let array = array.readonly();
+        let values: Vec<f64> = array.as_array().iter().map(|&v| f64::from(v)).collect();
+        return read(array.shape(), &values);
     }
     if let Ok(array) = obj.cast::<PyUntypedArray>() {
         return Err(gnomon_error(format!(
@@ -50,7 +49,7 @@ pub(crate) fn numbers(arg: &str, obj: &Bound<'_, PyAny>) -> PyResult<Numbers> {
                 type_name(obj)
             ))
         })?;
-    numbers(arg, &converted)
+    with_numbers(arg, &converted, read)
 }
 
 fn type_name(obj: &Bound<'_, PyAny>) -> String {
@@ -70,50 +69,51 @@ fn shape_text(shape: &[usize]) -> String {
 
 /// A 3-vector: a sequence or array of three numbers.
 pub(crate) fn vec3(arg: &str, obj: &Bound<'_, PyAny>) -> PyResult<DVec3> {
-    let n = numbers(arg, obj)?;
-    if n.shape != [3] {
-        return Err(gnomon_error(format!(
-            "{arg}: expected 3 numbers (x, y, z), got shape {}",
-            shape_text(&n.shape)
-        )));
-    }
-    Ok(DVec3::new(n.values[0], n.values[1], n.values[2]))
+    with_numbers(arg, obj, |shape, values| {
+        if shape != [3] {
+            return Err(gnomon_error(format!(
+                "{arg}: expected 3 numbers (x, y, z), got shape {}",
+                shape_text(shape)
+            )));
+        }
+        Ok(DVec3::new(values[0], values[1], values[2]))
+    })
 }
 
 /// Points: an `(N, 3)` array.
 pub(crate) fn points(arg: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<DVec3>> {
-    let n = numbers(arg, obj)?;
-    if n.shape.len() != 2 || n.shape[1] != 3 {
-        return Err(gnomon_error(format!(
-            "{arg}: expected shape (N, 3), got {}",
-            shape_text(&n.shape)
-        )));
-    }
-    Ok(n.values
-        .chunks_exact(3)
-        .map(|p| DVec3::new(p[0], p[1], p[2]))
-        .collect())
+    with_numbers(arg, obj, |shape, values| {
+        if shape.len() != 2 || shape[1] != 3 {
+            return Err(gnomon_error(format!(
+                "{arg}: expected shape (N, 3), got {}",
+                shape_text(shape)
+            )));
+        }
+        Ok(values
+            .chunks_exact(3)
+            .map(|p| DVec3::new(p[0], p[1], p[2]))
+            .collect())
+    })
 }
 
 /// Boxes: `(N, 2, 3)` (minimum and maximum corners) or `(N, 6)` (min x, y, z, max x, y, z).
 pub(crate) fn boxes(arg: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<Aabb>> {
-    let n = numbers(arg, obj)?;
-    // An empty list is no boxes.
-    let box_shaped = matches!(n.shape.as_slice(), [_, 2, 3] | [_, 6] | [0]);
-    if !box_shaped {
-        return Err(gnomon_error(format!(
-            "{arg}: expected shape (N, 2, 3) or (N, 6) (minimum and maximum corners), got {}",
-            shape_text(&n.shape)
-        )));
-    }
-    n.values
-        .chunks_exact(6)
-        .enumerate()
-        .map(|(i, b)| {
+    with_numbers(arg, obj, |shape, values| {
+        // An empty list is no boxes.
+        if !matches!(shape, [_, 2, 3] | [_, 6] | [0]) {
+            return Err(gnomon_error(format!(
+                "{arg}: expected shape (N, 2, 3) or (N, 6) (minimum and maximum corners), got {}",
+                shape_text(shape)
+            )));
+        }
+        // Sized once: collecting into a Result grows the vector by doubling.
+        let mut out = Vec::with_capacity(values.len() / 6);
+        for (i, b) in values.chunks_exact(6).enumerate() {
             let (min, max) = (DVec3::new(b[0], b[1], b[2]), DVec3::new(b[3], b[4], b[5]));
-            Aabb::new(min, max).map_err(|e| gnomon_error(format!("{arg}[{i}]: {e}")))
-        })
-        .collect()
+            out.push(Aabb::new(min, max).map_err(|e| gnomon_error(format!("{arg}[{i}]: {e}")))?);
+        }
+        Ok(out)
+    })
 }
 
 /// Boxes as an `(N, 2, 3)` array.
@@ -143,16 +143,29 @@ pub(crate) fn vector<'py>(py: Python<'py>, values: Vec<f64>) -> Bound<'py, PyAny
     Array1::from_vec(values).into_pyarray(py).into_any()
 }
 
-/// Points as an `(N, 3)` array, a row of NaN where a point has none.
-pub(crate) fn points_array<'py>(py: Python<'py>, points: &[Option<DVec3>]) -> Bound<'py, PyAny> {
-    let values: Vec<f64> = points
-        .iter()
-        .flat_map(|p| p.map_or([f64::NAN; 3], |p| p.to_array()))
-        .collect();
-    Array2::from_shape_vec((points.len(), 3), values)
+/// Points `(N, 3)` mapped point by point (`f` gives `None` where a point has no image): an
+/// `(N, 3)` array, a row of NaN for each `None`.
+pub(crate) fn map_points<'py>(
+    arg: &str,
+    obj: &Bound<'py, PyAny>,
+    f: impl Fn(DVec3) -> Option<DVec3>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let values = with_numbers(arg, obj, |shape, values| {
+        if shape.len() != 2 || shape[1] != 3 {
+            return Err(gnomon_error(format!(
+                "{arg}: expected shape (N, 3), got {}",
+                shape_text(shape)
+            )));
+        }
+        Ok(values
+            .chunks_exact(3)
+            .flat_map(|p| f(DVec3::new(p[0], p[1], p[2])).map_or([f64::NAN; 3], |q| q.to_array()))
+            .collect::<Vec<f64>>())
+    })?;
+    Ok(Array2::from_shape_vec((values.len() / 3, 3), values)
         .expect("three values per point")
-        .into_pyarray(py)
-        .into_any()
+        .into_pyarray(obj.py())
+        .into_any())
 }
 
 /// A 3-vector as a tuple.

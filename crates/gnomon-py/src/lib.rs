@@ -16,6 +16,11 @@ use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+/// The module's own allocator: it keeps freed memory for the next call, where the system's
+/// returns large blocks to the kernel and a scene's next build faults them in again.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 create_exception!(
     gnomon,
     GnomonError,

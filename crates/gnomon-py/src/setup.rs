@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use serde_json::Value;
 
-use crate::arrays::{matrix, points, points_array, vector};
+use crate::arrays::{map_points, matrix, points, vector};
 use crate::gnomon_error;
 use crate::objects::{Camera, light_arg};
 use crate::scene::Scene;
@@ -165,12 +165,8 @@ impl Map {
     }
 
     /// Where world points land: see `gnomon.project`.
-    fn project<'py>(
-        &self,
-        py: Python<'py>,
-        points: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyAny>> {
-        project_points(py, &self.map, points)
+    fn project<'py>(&self, points: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        project_points(&self.map, points)
     }
 
     fn __repr__(&self) -> String {
@@ -276,19 +272,12 @@ fn view_samples(
 /// where a point has none (behind a perspective map's centre, beyond a paraboloid's rim).
 #[pyfunction]
 pub fn project<'py>(
-    py: Python<'py>,
     map: PyRef<'py, Map>,
     points: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    project_points(py, &map.map, points)
+    project_points(&map.map, points)
 }
 
-fn project_points<'py>(
-    py: Python<'py>,
-    map: &ShadowMap,
-    points: &Bound<'py, PyAny>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let points = self::points("points", points)?;
-    let projected: Vec<_> = points.iter().map(|&p| map.project(p)).collect();
-    Ok(points_array(py, &projected))
+fn project_points<'py>(map: &ShadowMap, points: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    map_points("points", points, |p| map.project(p))
 }
