@@ -80,15 +80,21 @@ pub(crate) fn vec3(arg: &str, obj: &Bound<'_, PyAny>) -> PyResult<DVec3> {
     })
 }
 
+/// Refuses a points argument of another shape than `(N, 3)`.
+fn check_points_shape(arg: &str, shape: &[usize]) -> PyResult<()> {
+    if shape.len() != 2 || shape[1] != 3 {
+        return Err(gnomon_error(format!(
+            "{arg}: expected shape (N, 3), got {}",
+            shape_text(shape)
+        )));
+    }
+    Ok(())
+}
+
 /// Points: an `(N, 3)` array.
 pub(crate) fn points(arg: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<DVec3>> {
     with_numbers(arg, obj, |shape, values| {
-        if shape.len() != 2 || shape[1] != 3 {
-            return Err(gnomon_error(format!(
-                "{arg}: expected shape (N, 3), got {}",
-                shape_text(shape)
-            )));
-        }
+        check_points_shape(arg, shape)?;
         Ok(values
             .chunks_exact(3)
             .map(|p| DVec3::new(p[0], p[1], p[2]))
@@ -151,12 +157,7 @@ pub(crate) fn map_points<'py>(
     f: impl Fn(DVec3) -> Option<DVec3>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let values = with_numbers(arg, obj, |shape, values| {
-        if shape.len() != 2 || shape[1] != 3 {
-            return Err(gnomon_error(format!(
-                "{arg}: expected shape (N, 3), got {}",
-                shape_text(shape)
-            )));
-        }
+        check_points_shape(arg, shape)?;
         Ok(values
             .chunks_exact(3)
             .flat_map(|p| f(DVec3::new(p[0], p[1], p[2])).map_or([f64::NAN; 3], |q| q.to_array()))

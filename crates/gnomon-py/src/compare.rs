@@ -8,10 +8,9 @@ use pyo3::types::PyDict;
 use serde_json::{Value, json};
 
 use crate::gnomon_error;
-use crate::objects::{Camera, light_arg};
-use crate::render::{checked_camera, draw_maps, draw_volumes, image_size, open_renderer};
+use crate::objects::Camera;
+use crate::render::Shot;
 use crate::scene::Scene;
-use crate::setup::resolution_arg;
 use crate::values::{json_to_py, params};
 
 /// The techniques `compare` draws unless told: the single maps a user weighs and the cascades.
@@ -40,30 +39,24 @@ pub fn compare<'py>(
     let names =
         techniques.unwrap_or_else(|| DEFAULT_TECHNIQUES.iter().map(|t| t.to_string()).collect());
     let techniques = named_techniques(&names, params)?;
-    let light = light_arg(light)?;
-    let size = image_size(size)?;
-    let camera = checked_camera(camera.camera, size)?;
-    let resolution = resolution_arg(resolution)?;
-    let render_scene = scene.render_scene()?;
-    let bounds = scene.bounds.clone();
+    let shot = Shot::new(&scene, &camera, light, size, resolution)?;
     let rows = py
         .detach(|| {
-            let mut renderer = open_renderer(&render_scene, size, resolution)?;
-            let exact = draw_volumes(&mut renderer, &camera, light, size)?;
+            let mut renderer = shot.open_renderer()?;
+            let exact = shot.draw_volumes(&mut renderer)?;
             techniques
                 .iter()
                 .zip(&names)
                 .map(|(technique, name)| {
-                    let (frame, setup, setup_us) = draw_maps(
-                        &mut renderer,
-                        technique,
-                        &camera,
-                        light,
-                        &bounds,
-                        size,
-                        resolution,
-                    )?;
-                    Ok(row(name, &frame, &exact.mask, &setup, setup_us, resolution))
+                    let (frame, setup, setup_us) = shot.draw_maps(&mut renderer, technique)?;
+                    Ok(row(
+                        name,
+                        &frame,
+                        &exact.mask,
+                        &setup,
+                        setup_us,
+                        shot.resolution,
+                    ))
                 })
                 .collect::<Result<Vec<Value>, String>>()
         })

@@ -3,7 +3,7 @@
 
 use std::sync::{Arc, Mutex, PoisonError};
 
-use gnomon::{Camera as CoreCamera, Light, MapSettings, ShadowSetup, Technique};
+use gnomon::{Camera as CoreCamera, Light, MapSettings, SceneBounds, ShadowSetup, Technique};
 use gnomon_render::{Gpu, RenderScene, RenderSettings, Renderer, ShadowedLight, StencilMode};
 use numpy::IntoPyArray;
 use numpy::ndarray::{Array2, Array3};
@@ -138,26 +138,21 @@ pub fn render(
     } else {
         Drawn::Maps(self::technique(technique, params)?)
     };
-    let light = light_arg(light)?;
-    let size = image_size(size)?;
-    let camera = checked_camera(camera.camera, size)?;
-    let resolution = resolution_arg(resolution)?;
-    let render_scene = scene.render_scene()?;
-    let bounds = scene.bounds.clone();
+    let shot = Shot::new(&scene, &camera, light, size, resolution)?;
     if let Drawn::Maps(technique) = &drawn {
         // Bad parameters for this view are refused before the GPU opens.
-        let map = MapSettings::with_resolution(resolution);
-        gnomon::compute_setup(technique, &camera, &light, &bounds, map).map_err(gnomon_error)?;
+        let map = MapSettings::with_resolution(shot.resolution);
+        gnomon::compute_setup(technique, &shot.camera, &shot.light, &shot.bounds, map)
+            .map_err(gnomon_error)?;
     }
     let (frame, setup, device) = py
         .detach(|| {
-            let mut renderer = open_renderer(&render_scene, size, resolution)?;
+            let mut renderer = shot.open_renderer()?;
             let device = renderer.gpu().describe();
             let (frame, setup) = match drawn {
-                Drawn::Volumes => (draw_volumes(&mut renderer, &camera, light, size)?, None),
+                Drawn::Volumes => (shot.draw_volumes(&mut renderer)?, None),
                 Drawn::Maps(t) => {
-                    let (frame, setup, _) =
-                        draw_maps(&mut renderer, &t, &camera, light, &bounds, size, resolution)?;
+                    let (frame, setup, _) = shot.draw_maps(&mut renderer, &t)?;
                     (frame, Some(setup))
                 }
             };
@@ -172,7 +167,106 @@ pub fn render(
     })
 }
 
-pub(crate) fn image_size((w, h): (i64, i64)) -> PyResult<(u32, u32)> {
+/// One view to draw, checked before any work: the scene's meshes and boxes, the camera (its
+/// aspect the image's), the light, the image's size and the maps' resolution.
+pub(crate) struct Shot {
+    pub scene: Arc<RenderScene>,
+    pub bounds: Arc<SceneBounds>,
+    pub camera: CoreCamera,
+    pub light: Light,
+    pub size: (u32, u32),
+    pub resolution: u32,
+}
+
+impl Shot {
+    pub(crate) fn new(
+        scene: &Scene,
+        camera: &Camera,
+        light: &Bound<'_, PyAny>,
+        size: (i64, i64),
+        resolution: i64,
+    ) -> PyResult<Self> {
+        let size = image_size(size)?;
+        Ok(Self {
+            scene: scene.render_scene()?,
+            bounds: scene.bounds.clone(),
+            camera: checked_camera(camera.camera, size)?,
+            light: light_arg(light)?,
+            size,
+            resolution: resolution_arg(resolution)?,
+        })
+    }
+
+    /// A renderer of the scene, refusing an image or map larger than the GPU's largest
+    /// texture.
+    pub(crate) fn open_renderer(&self) -> Result<Renderer, String> {
+        let gpu = process_gpu()?;
+        let (max, (w, h), r) = (gpu.max_texture_size(), self.size, self.resolution);
+        if w > max || h > max || r > max {
+            return Err(format!(
+                "the image ({w}x{h}) or the map ({r}) exceeds this GPU's largest texture, \
+                 {max} on a side ({})",
+                gpu.describe()
+            ));
+        }
+        Renderer::new(gpu, &self.scene).map_err(|e| e.to_string())
+    }
+
+    /// A map technique's frame (with metrics) and its setup, which takes the renderer's view
+    /// samples, and how long the setup took in microseconds.
+    pub(crate) fn draw_maps(
+        &self,
+        renderer: &mut Renderer,
+        technique: &Technique,
+    ) -> Result<(gnomon_render::Frame, ShadowSetup, f64), String> {
+        let (camera, light) = (&self.camera, self.light);
+        let samples = renderer
+            .view_samples(camera, &light)
+            .map_err(|e| e.to_string())?;
+        let map = MapSettings::with_resolution(self.resolution);
+        let started = std::time::Instant::now();
+        let setup = gnomon::compute_setup_with_samples(
+            technique,
+            camera,
+            &light,
+            &self.bounds,
+            map,
+            &samples,
+        )
+        .map_err(|e| e.to_string())?;
+        let setup_us = started.elapsed().as_secs_f64() * 1e6;
+        let settings = RenderSettings {
+            width: self.size.0,
+            height: self.size.1,
+            metrics: true,
+            ..RenderSettings::default()
+        };
+        let (lights, setups) = ([light], [setup]);
+        let frame = renderer
+            .render_lights(camera, &ShadowedLight::pairs(&lights, &setups), &settings)
+            .map_err(|e| e.to_string())?;
+        let [setup] = setups;
+        Ok((frame, setup, setup_us))
+    }
+
+    /// The exact shadow volumes' frame (z-fail counting).
+    pub(crate) fn draw_volumes(
+        &self,
+        renderer: &mut Renderer,
+    ) -> Result<gnomon_render::Frame, String> {
+        let settings = RenderSettings {
+            width: self.size.0,
+            height: self.size.1,
+            ..RenderSettings::default()
+        };
+        renderer
+            .render_volumes_lit_by(&self.camera, &[self.light], &settings, StencilMode::ZFail)
+            .map(|drawn| drawn.frame)
+            .map_err(|e| e.to_string())
+    }
+}
+
+fn image_size((w, h): (i64, i64)) -> PyResult<(u32, u32)> {
     let side = |v: i64| u32::try_from(v).ok().filter(|v| (1..=16384).contains(v));
     match (side(w), side(h)) {
         (Some(w), Some(h)) => Ok((w, h)),
@@ -184,7 +278,7 @@ pub(crate) fn image_size((w, h): (i64, i64)) -> PyResult<(u32, u32)> {
 
 /// The camera, refused where its aspect is not the image's (the picture would be
 /// stretched) or it sees farther than the renderer draws precisely.
-pub(crate) fn checked_camera(camera: CoreCamera, (w, h): (u32, u32)) -> PyResult<CoreCamera> {
+fn checked_camera(camera: CoreCamera, (w, h): (u32, u32)) -> PyResult<CoreCamera> {
     let (lens, image_aspect) = (camera.lens(), f64::from(w) / f64::from(h));
     if (lens.aspect / image_aspect - 1.0).abs() > 1e-3 {
         return Err(gnomon_error(format!(
@@ -213,75 +307,4 @@ fn process_gpu() -> Result<Gpu, String> {
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     *kept = Some(gpu.clone());
     Ok(gpu)
-}
-
-/// A renderer of `scene`, refusing an image or map larger than the GPU's largest texture.
-pub(crate) fn open_renderer(
-    scene: &Arc<RenderScene>,
-    size: (u32, u32),
-    resolution: u32,
-) -> Result<Renderer, String> {
-    let gpu = process_gpu()?;
-    let max = gpu.max_texture_size();
-    if size.0 > max || size.1 > max || resolution > max {
-        return Err(format!(
-            "the image ({}x{}) or the map ({resolution}) exceeds this GPU's largest texture, \
-             {max} on a side ({})",
-            size.0,
-            size.1,
-            gpu.describe()
-        ));
-    }
-    Renderer::new(gpu, scene).map_err(|e| e.to_string())
-}
-
-/// A map technique's frame (with metrics) and its setup, which takes the renderer's view
-/// samples, and how long the setup took in microseconds.
-pub(crate) fn draw_maps(
-    renderer: &mut Renderer,
-    technique: &Technique,
-    camera: &CoreCamera,
-    light: Light,
-    bounds: &gnomon::SceneBounds,
-    (width, height): (u32, u32),
-    resolution: u32,
-) -> Result<(gnomon_render::Frame, ShadowSetup, f64), String> {
-    let samples = renderer
-        .view_samples(camera, &light)
-        .map_err(|e| e.to_string())?;
-    let map = MapSettings::with_resolution(resolution);
-    let started = std::time::Instant::now();
-    let setup =
-        gnomon::compute_setup_with_samples(technique, camera, &light, bounds, map, &samples)
-            .map_err(|e| e.to_string())?;
-    let setup_us = started.elapsed().as_secs_f64() * 1e6;
-    let settings = RenderSettings {
-        width,
-        height,
-        metrics: true,
-        ..RenderSettings::default()
-    };
-    let (lights, setups) = ([light], [setup]);
-    let frame = renderer
-        .render_lights(camera, &ShadowedLight::pairs(&lights, &setups), &settings)
-        .map_err(|e| e.to_string())?;
-    let [setup] = setups;
-    Ok((frame, setup, setup_us))
-}
-
-pub(crate) fn draw_volumes(
-    renderer: &mut Renderer,
-    camera: &CoreCamera,
-    light: Light,
-    (width, height): (u32, u32),
-) -> Result<gnomon_render::Frame, String> {
-    let settings = RenderSettings {
-        width,
-        height,
-        ..RenderSettings::default()
-    };
-    renderer
-        .render_volumes_lit_by(camera, &[light], &settings, StencilMode::ZFail)
-        .map(|drawn| drawn.frame)
-        .map_err(|e| e.to_string())
 }

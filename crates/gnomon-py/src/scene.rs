@@ -48,7 +48,7 @@ impl Scene {
         casters: &Bound<'_, PyAny>,
         receivers: &Bound<'_, PyAny>,
     ) -> PyResult<Self> {
-        let (casters, receivers) = (boxes("casters", casters)?, boxes("receivers", receivers)?);
+        let (casters, receivers) = box_args(casters, receivers)?;
         let bounds = py
             .detach(|| SceneBounds::new(casters, receivers, None))
             .map_err(gnomon_error)?;
@@ -120,7 +120,7 @@ impl Scene {
         casters: &Bound<'_, PyAny>,
         receivers: &Bound<'_, PyAny>,
     ) -> PyResult<Self> {
-        let (casters, receivers) = (boxes("casters", casters)?, boxes("receivers", receivers)?);
+        let (casters, receivers) = box_args(casters, receivers)?;
         let bounds = py
             .detach(|| self.bounds.with_boxes_moved(casters, receivers, None))
             .map_err(gnomon_error)?;
@@ -241,6 +241,14 @@ impl Scene {
             )),
         }
     }
+}
+
+/// The `casters` and `receivers` arguments as boxes.
+fn box_args(
+    casters: &Bound<'_, PyAny>,
+    receivers: &Bound<'_, PyAny>,
+) -> PyResult<(Vec<Aabb>, Vec<Aabb>)> {
+    Ok((boxes("casters", casters)?, boxes("receivers", receivers)?))
 }
 
 fn cuboids(bounds: &SceneBounds) -> RenderScene {
