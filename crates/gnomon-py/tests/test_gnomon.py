@@ -339,3 +339,20 @@ def test_compare_rows_equal_the_command_lines_report(tmp_path):
         gnomon.compare(scene, camera, sun, techniques=["volume"], size=(320, 180))
     with pytest.raises(gnomon.GnomonError, match="--stable"):
         gnomon.compare(scene, camera, sun, techniques=["focused"], size=(320, 180), stable=True)
+
+
+@pytest.mark.parametrize(
+    "load,words,view",
+    [
+        (lambda: gnomon.Scene.load(ROOT / "examples/c/blocks.toml"), ["--scene-file", "examples/c/blocks.toml"], "street"),
+        (lambda: gnomon.Scene.load(str(ROOT / "assets/scenes/block.off"), mesh_height=5), ["--mesh", "assets/scenes/block.off", "--mesh-height", "5"], "oblique"),
+        (lambda: gnomon.Scene.builtin("city"), ["--scene", "city"], None),
+    ],
+)
+def test_loaded_scenes_equal_the_command_line(load, words, view):
+    scene = load()
+    view = view or scene.views[0]
+    camera, light = scene.view(view)
+    ours = gnomon.setup("lispsm", camera, light, scene)
+    theirs = cli_json("setup", "--json", *words, "--view", view, "--technique", "lispsm")
+    assert json.loads(ours.to_json()) == theirs
