@@ -89,11 +89,12 @@ GNOMON_BIN=target/debug/gnomon python3 -m pytest -q -p no:cacheprovider crates/g
 # The tests run one at a time there: each renderer test opens its own EGL context, and Mesa's
 # EGL (through libglvnd) can crash when threads that used contexts come and go at once (a
 # SIGSEGV in the renderer's frames test on CI, once in many runs, not reproduced here in 36;
-# wgpu's own CI saw the same, gfx-rs/wgpu#4285). One cargo invocation for both packages: the
-# renderer alone would resolve other features and rebuild wgpu. One at a time costs about a
-# minute.
+# wgpu's own CI saw the same, gfx-rs/wgpu#4285). One cargo invocation with the bindings'
+# packages too: without them cargo resolves other features for shared crates and rebuilds
+# wgpu, winit and egui (several minutes). One at a time costs about a minute.
 echo "test.sh: cargo test, GPU tests on GL (WGPU_BACKEND=gl)"
-WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli --features gnomon-cli/viewer -- --test-threads=1
+WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli -p gnomon-py -p gnomon-c \
+    --features gnomon-cli/viewer -- --test-threads=1
 
 # What would be published: each crate packs and builds from its package alone (the bindings
 # ship as a wheel and a C library, not as crates).
