@@ -76,12 +76,7 @@ fn named_techniques(
     let techniques = names
         .iter()
         .map(|name| {
-            let technique = name.trim().parse::<Technique>().map_err(|_| {
-                gnomon_error(format!(
-                    "unknown technique '{name}' (known: {})",
-                    Technique::NAMES.join(", ")
-                ))
-            })?;
+            let technique = name.trim().parse::<Technique>().map_err(gnomon_error)?;
             Ok(params.apply(technique))
         })
         .collect::<PyResult<Vec<_>>>()?;

@@ -36,12 +36,11 @@ impl std::error::Error for UsageError {}
 /// The shadow-map technique named `name` (one of [`Technique::NAMES`]) with `params`
 /// applied, refused where it reads none of the parameters given.
 pub fn map_technique(name: &str, params: &TechniqueParams) -> Result<Technique, UsageError> {
-    let technique = name.trim().parse::<Technique>().map_err(|_| {
-        UsageError::new(format!(
-            "unknown technique '{name}' (known: {})",
-            Technique::NAMES.join(", ")
-        ))
-    })?;
+    // The core's error names the known techniques.
+    let technique = name
+        .trim()
+        .parse::<Technique>()
+        .map_err(|e| UsageError::new(e.to_string()))?;
     let technique = params.apply(technique);
     params.check_used_by(&[technique])?;
     Ok(technique)
