@@ -63,6 +63,8 @@ if ! mdbook --version 2>/dev/null | grep -q "v0.5.4"; then
 fi
 mdbook build docs >/dev/null 2>&1 || mdbook build docs
 python3 scripts/check-links.py docs/book README.md CHANGELOG.md crates/*/README.md
+# The Bevy plugin's tests (bevy_gnomon) run here too: Bevy's renderer on Vulkan, against the
+# exact shadows. Bevy is built without its GL backend, so they are not in the GL step below.
 echo "test.sh: cargo test (GPU tests on Vulkan)"
 cargo test --workspace --locked --features gnomon-cli/viewer
 # The bindings as their users build them: the C header up to date (cbindgen --verify), the
@@ -97,6 +99,7 @@ WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli -p gnomon-py 
     --features gnomon-cli/viewer -- --test-threads=1
 
 # What would be published: each crate packs and builds from its package alone (the bindings
-# ship as a wheel and a C library, not as crates).
+# ship as a wheel and a C library, not as crates; the Bevy plugin is not packed here, since
+# building Bevy once more from the package would add a quarter of an hour).
 echo "test.sh: cargo package --workspace"
-cargo package --workspace --exclude gnomon-py --exclude gnomon-c --locked --allow-dirty -q
+cargo package --workspace --exclude gnomon-py --exclude gnomon-c --exclude bevy_gnomon --locked --allow-dirty -q

@@ -34,6 +34,17 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    // Bevy panics where it finds no GPU: say so in one line.
+    std::panic::set_hook(Box::new(|info| {
+        let message = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "Bevy stopped".into());
+        let line = message.lines().next().unwrap_or_default().to_string();
+        eprintln!("error: {line} (a Vulkan driver: Mesa's lavapipe on a machine without a GPU)");
+    }));
     if options.frames.is_some() {
         return match headless::run(&options, loaded) {
             Ok(()) => ExitCode::SUCCESS,
