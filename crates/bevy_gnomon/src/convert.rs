@@ -67,14 +67,12 @@ pub(crate) fn texel_size(map: &ShadowMap, p: DVec3) -> f64 {
     }
 }
 
-/// Where a cascade is read, for its texel size: on the camera's axis, halfway through the
-/// view depths the map serves.
+/// Where a cascade is read, for its texel size: on the camera's axis, halfway in log depth
+/// through the view depths the map serves (a slice's pixels spread over its depths about
+/// evenly in log depth, as the practical split's slices do).
 pub(crate) fn read_point(camera: &Camera, depths: [f64; 2]) -> DVec3 {
-    let t: f64 = std::env::var("GT")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0.5);
-    camera.eye() + camera.forward() * (depths[0].max(1e-9).powf(1.0 - t) * depths[1].powf(t))
+    let halfway = (depths[0].max(f64::MIN_POSITIVE) * depths[1]).sqrt();
+    camera.eye() + camera.forward() * halfway
 }
 
 /// A gnomon matrix in Bevy's glam.

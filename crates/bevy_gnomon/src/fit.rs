@@ -15,7 +15,7 @@ use gnomon::{
 
 use crate::convert::{cascade, from_bevy, read_point};
 use crate::scene::GnomonScene;
-use crate::settings::{Drawable, GnomonShadows, GnomonShadowsStatus};
+use crate::settings::{DepthClipControl, Drawable, GnomonShadows, GnomonShadowsStatus};
 
 /// One camera as the fit needs it.
 struct View {
@@ -51,6 +51,7 @@ type FittedLights<'w, 's> = Query<
 /// (runs after Bevy has built its own, which stay where a fit fails).
 pub fn fit_cascades(
     scene: Res<GnomonScene>,
+    device: Res<DepthClipControl>,
     shadow_map: Res<DirectionalLightShadowMap>,
     cameras: Query<(Entity, &GlobalTransform, &Projection, &BevyCamera)>,
     mut lights: FittedLights,
@@ -64,6 +65,7 @@ pub fn fit_cascades(
         let started = Instant::now();
         let outcome = fit_light(
             &scene,
+            *device,
             shadow_map.size,
             transform,
             settings,
@@ -101,13 +103,14 @@ type CameraRow<'a> = (Entity, &'a GlobalTransform, &'a Projection, &'a BevyCamer
 /// technique, the others on its slices, since Bevy keeps one list of bounds per light.
 fn fit_light(
     scene: &GnomonScene,
+    device: DepthClipControl,
     resolution: usize,
     transform: &GlobalTransform,
     settings: &GnomonShadows,
     cameras: &[CameraRow<'_>],
     cascades: &mut BevyCascades,
 ) -> Result<LightFit, String> {
-    Drawable::check(&settings.technique).map_err(|e| e.to_string())?;
+    Drawable::check_on(&settings.technique, device).map_err(|e| e.to_string())?;
     let bounds = scene
         .bounds
         .as_ref()

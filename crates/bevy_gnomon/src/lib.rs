@@ -22,7 +22,8 @@
 //! map by view depth: uniform, focused, LiSPSM and XPSM fits, single or as cascades. TSM,
 //! PSM and SPPSM are refused ([`Drawable`]). Warped fits need the device's
 //! `DEPTH_CLIP_CONTROL`: without it Bevy emulates unclipped depth by clamping clip z before
-//! the divide by w, which is right only for orthographic maps.
+//! the divide by w, which is right only for orthographic maps; an app on such a device
+//! inserts [`DepthClipControl`]`(false)` and warped fits are refused.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -41,8 +42,8 @@ use bevy_transform::TransformSystems;
 pub use fit::fit_cascades;
 pub use scene::{GnomonScene, track_scene};
 pub use settings::{
-    BevyCascadeConfig, Drawable, GnomonShadows, GnomonShadowsStatus, MAX_BEVY_CASCADES,
-    NotDrawable, keep_bevy_config,
+    BevyCascadeConfig, DepthClipControl, Drawable, GnomonShadows, GnomonShadowsStatus,
+    MAX_BEVY_CASCADES, NotDrawable, keep_bevy_config,
 };
 
 /// Re-exported so that an app names techniques without depending on gnomon itself.
@@ -68,6 +69,7 @@ pub struct GnomonShadowsPlugin;
 impl Plugin for GnomonShadowsPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<GnomonScene>()
+            .init_resource::<DepthClipControl>()
             .configure_sets(
                 PostUpdate,
                 (

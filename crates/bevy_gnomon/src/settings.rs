@@ -112,6 +112,27 @@ impl Drawable {
         }
     }
 
+    /// As [`Drawable::check`], on a device that clips depth as asked or not: without
+    /// `DEPTH_CLIP_CONTROL`, Bevy's shadow pass clamps clip z before the divide by w, which
+    /// is right only for orthographic maps, so warped fits are refused there.
+    pub fn check_on(technique: &Technique, device: DepthClipControl) -> Result<(), NotDrawable> {
+        Self::check(technique)?;
+        let warped = match technique {
+            Technique::Lispsm(_) | Technique::Xpsm(_) => true,
+            Technique::Cascades(c) => {
+                !c.stable && matches!(c.fit, CascadeFit::Lispsm(_) | CascadeFit::Xpsm(_))
+            }
+            _ => false,
+        };
+        if warped && !device.0 {
+            return Err(NotDrawable {
+                technique: technique.name().to_string(),
+                why: "its maps are warped and this device lacks DEPTH_CLIP_CONTROL (use focused cascades)",
+            });
+        }
+        Ok(())
+    }
+
     /// The technique as Bevy can read it: stable cascades picked by view depth (gnomon's
     /// default for them is coverage, which Bevy's shader cannot do).
     pub(crate) fn for_bevy(technique: &Technique) -> Technique {
@@ -124,6 +145,20 @@ impl Drawable {
             }
             t => *t,
         }
+    }
+}
+
+/// Whether the render device has `DEPTH_CLIP_CONTROL`, which Bevy's directional shadow pass
+/// needs to draw warped maps right. The plugin cannot see the device (it does not depend on
+/// the renderer), so an app on a device without it says so:
+/// `app.insert_resource(DepthClipControl(render_device.features().contains(...)))`.
+/// Defaults to `true` (Vulkan, Metal and DX12 drivers have it).
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DepthClipControl(pub bool);
+
+impl Default for DepthClipControl {
+    fn default() -> Self {
+        Self(true)
     }
 }
 

@@ -581,3 +581,43 @@ fn removing_the_component_gives_bevy_its_own_cascades_back() {
         bevys[0].clip_from_world
     );
 }
+
+#[test]
+fn without_depth_clip_control_warped_fits_are_refused_and_orthographic_ones_drawn() {
+    for (technique, drawn) in [
+        (GnomonShadows::default().technique, false),
+        (Technique::Xpsm(Default::default()), false),
+        (
+            Technique::Cascades(Cascades {
+                fit: CascadeFit::Focused,
+                ..Default::default()
+            }),
+            true,
+        ),
+        (
+            Technique::Cascades(Cascades {
+                stable: true,
+                ..Default::default()
+            }),
+            true,
+        ),
+    ] {
+        let mut app = app(true);
+        app.insert_resource(bevy_gnomon::DepthClipControl(false));
+        spawn_boxes(&mut app, &city());
+        spawn_camera(&mut app, EYE, TARGET, 0);
+        let light = spawn_light(
+            &mut app,
+            Some(GnomonShadows {
+                technique,
+                ..default()
+            }),
+        );
+        app.update();
+        let error = status(&app, light).error;
+        assert_eq!(error.is_none(), drawn, "{technique:?}: {error:?}");
+        if let Some(e) = error {
+            assert!(e.contains("DEPTH_CLIP_CONTROL"), "{e}");
+        }
+    }
+}

@@ -10,9 +10,12 @@ use bevy::log::LogPlugin;
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
 use bevy::render::render_resource::TextureFormat;
+use bevy::render::renderer::RenderDevice;
+use bevy::render::settings::WgpuFeatures;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
+use bevy_gnomon::GnomonShadowsStatus;
 
 use crate::args::Options;
 use crate::world::Loaded;
@@ -69,6 +72,24 @@ impl Headless {
         }
     }
 
+    /// Whether the device clips depth as asked (`DEPTH_CLIP_CONTROL`): without it Bevy
+    /// emulates unclipped depth in a way that is wrong for warped maps.
+    #[allow(dead_code)]
+    pub fn depth_clip_control(&self) -> bool {
+        self.app
+            .world()
+            .resource::<RenderDevice>()
+            .features()
+            .contains(WgpuFeatures::DEPTH_CLIP_CONTROL)
+    }
+
+    /// Why the plugin left Bevy's cascades on the last frame, if it did.
+    pub fn refused(&mut self) -> Option<String> {
+        let world = self.app.world_mut();
+        let mut statuses = world.query::<&GnomonShadowsStatus>();
+        statuses.iter(world).find_map(|s| s.error.clone())
+    }
+
     /// Runs `n` frames.
     pub fn frames(&mut self, n: u32) {
         for _ in 0..n {
@@ -122,6 +143,10 @@ pub fn run(options: &Options, loaded: Loaded) -> Result<(), String> {
     let (w, h) = options.size;
     let mut headless = Headless::new(options, loaded);
     headless.frames(options.frames.unwrap_or(1));
+    // A refused fit leaves Bevy's cascades: say so rather than write Bevy's picture.
+    if let Some(error) = headless.refused() {
+        return Err(format!("gnomon's fit was not used: {error}"));
+    }
     let (frame, mask) = match &options.mask {
         Some(_) => headless.frame_and_mask()?,
         None => (headless.settled()?, Vec::new()),

@@ -11,8 +11,10 @@ use bevy::light::{DirectionalLightShadowMap, GlobalAmbientLight};
 use bevy::light::{NotShadowCaster, NotShadowReceiver};
 use bevy::mesh::{Indices, PrimitiveTopology};
 use bevy::prelude::*;
+use bevy::render::renderer::RenderDevice;
+use bevy::render::settings::WgpuFeatures;
 use bevy::render::view::Msaa;
-use bevy_gnomon::{GnomonShadows, GnomonShadowsPlugin};
+use bevy_gnomon::{DepthClipControl, GnomonShadows, GnomonShadowsPlugin};
 use glam::DMat4;
 use gnomon_scene::{NamedView, SceneFile};
 
@@ -254,7 +256,15 @@ pub fn configure(app: &mut App, options: &Options, loaded: Loaded) {
         .insert_resource(Views(loaded.views.clone()))
         .insert_resource(Scene(loaded))
         .insert_resource(Settings(options.clone()))
-        .add_systems(Startup, spawn);
+        .add_systems(Startup, (spawn, tell_device));
+}
+
+/// Tells the plugin whether this device draws warped maps right.
+fn tell_device(mut commands: Commands, device: Option<Res<RenderDevice>>) {
+    if let Some(device) = device {
+        let clips = device.features().contains(WgpuFeatures::DEPTH_CLIP_CONTROL);
+        commands.insert_resource(DepthClipControl(clips));
+    }
 }
 
 fn spawn(
