@@ -9,6 +9,7 @@
 #[path = "../examples/scene/args.rs"]
 #[allow(dead_code)]
 mod args;
+mod common;
 #[path = "../examples/scene/headless.rs"]
 #[allow(dead_code)]
 mod headless;
@@ -16,28 +17,10 @@ mod headless;
 #[allow(dead_code)]
 mod world;
 
-use clap::Parser;
 use gnomon_render::{Gpu, MASK_EMPTY, RenderScene, RenderSettings, Renderer, StencilMode};
 use gnomon_scene::{NamedView, ViewLight};
 
-const SIZE: (u32, u32) = (640, 360);
-const NOT_JUDGED: u8 = 128;
-
-/// The options the example would get for a view and whose shadows (`bevy`, or gnomon's
-/// technique and its options, as the example takes them).
-fn options(view: &str, shadows: &str, views: &[NamedView]) -> args::Options {
-    let size = format!("{}x{}", SIZE.0, SIZE.1);
-    let mut words = vec!["scene", "--view", view, "--size", &size];
-    match shadows {
-        "bevy" => words.extend(["--shadows", "bevy"]),
-        technique => {
-            words.extend(["--shadows", "gnomon", "--technique"]);
-            words.extend(technique.split_whitespace());
-        }
-    }
-    let cli = args::Cli::try_parse_from(words).unwrap();
-    args::options(cli, views).unwrap()
-}
+use common::{NOT_JUDGED, SIZE, options};
 
 /// The exact mask of a view: gnomon's shadow volumes (z-fail) on the same camera and sun.
 fn exact_mask(renderer: &mut Renderer, view: &NamedView) -> Vec<u8> {

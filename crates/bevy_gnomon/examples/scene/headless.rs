@@ -6,6 +6,7 @@ use std::sync::{Arc, Mutex};
 use bevy::asset::RenderAssetUsages;
 use bevy::camera::RenderTarget;
 use bevy::image::Image;
+use bevy::light::cascade::{CascadeShadowConfig, Cascades};
 use bevy::log::LogPlugin;
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
@@ -18,7 +19,7 @@ use bevy::winit::WinitPlugin;
 use bevy_gnomon::GnomonShadowsStatus;
 
 use crate::args::Options;
-use crate::world::Loaded;
+use crate::world::{HeldCascades, Loaded};
 
 /// Mask values, as gnomon's own masks write them.
 const MASK_LIT: u8 = 255;
@@ -34,6 +35,8 @@ pub struct Headless {
     app: App,
     target: Handle<Image>,
     size: (u32, u32),
+    /// The last mask's frames without shadows and of object ids, kept for `mask_again`.
+    judging: Option<(Vec<u8>, Vec<u8>)>,
 }
 
 impl Headless {
@@ -69,6 +72,7 @@ impl Headless {
             app,
             target,
             size: (w, h),
+            judging: None,
         }
     }
 
@@ -112,9 +116,44 @@ impl Headless {
         crate::world::show_ids(self.app.world_mut(), true);
         let ids = self.settled();
         crate::world::show_ids(self.app.world_mut(), false);
+        self.judging = Some((unshadowed?, ids?));
+        Ok((shadowed.clone(), self.mask_of(&shadowed)))
+    }
+
+    /// The mask of the next frame, judged as the last `frame_and_mask` was (for a frame that
+    /// differs from it only in its shadows).
+    #[allow(dead_code)]
+    pub fn mask_again(&mut self) -> Result<Vec<u8>, String> {
+        let shadowed = self.settled()?;
+        Ok(self.mask_of(&shadowed))
+    }
+
+    fn mask_of(&self, shadowed: &[u8]) -> Vec<u8> {
         let (w, h) = self.size;
-        let mask = mask(w as usize, h as usize, &shadowed, &unshadowed?, &ids?);
-        Ok((shadowed, mask))
+        let (unshadowed, ids) = self.judging.as_ref().expect("frame_and_mask first");
+        mask(w as usize, h as usize, shadowed, unshadowed, ids)
+    }
+
+    /// The sun's cascade configuration and cascades as last built.
+    #[allow(dead_code)]
+    pub fn cascades(&mut self) -> HeldCascades {
+        let world = self.app.world_mut();
+        let mut suns = world.query::<(&CascadeShadowConfig, &Cascades)>();
+        let (config, cascades) = suns.iter(world).next().expect("a sun");
+        HeldCascades(Some((config.clone(), cascades.clone())))
+    }
+
+    /// Draws `held` cascades instead of those built each frame (`HeldCascades(None)`: the
+    /// built ones again).
+    #[allow(dead_code)]
+    pub fn hold(&mut self, held: HeldCascades) {
+        self.app.insert_resource(held);
+    }
+
+    /// Moves only the camera to `options`' eye and target.
+    #[allow(dead_code)]
+    pub fn move_camera(&mut self, options: &Options) {
+        crate::world::move_camera(self.app.world_mut(), options);
     }
 
     /// The next frame, as sRGB bytes (RGBA).

@@ -6,15 +6,15 @@ use std::path::Path;
 use bevy::asset::RenderAssetUsages;
 use bevy::camera::{Exposure, RenderTarget};
 use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
-use bevy::light::cascade::CascadeShadowConfigBuilder;
+use bevy::light::cascade::{CascadeShadowConfig, CascadeShadowConfigBuilder, Cascades};
 use bevy::light::{DirectionalLightShadowMap, GlobalAmbientLight};
-use bevy::light::{NotShadowCaster, NotShadowReceiver};
+use bevy::light::{NotShadowCaster, NotShadowReceiver, SimulationLightSystems};
 use bevy::mesh::{Indices, PrimitiveTopology};
 use bevy::prelude::*;
 use bevy::render::renderer::RenderDevice;
 use bevy::render::settings::WgpuFeatures;
 use bevy::render::view::Msaa;
-use bevy_gnomon::{DepthClipControl, GnomonShadows, GnomonShadowsPlugin};
+use bevy_gnomon::{DepthClipControl, GnomonShadowSystems, GnomonShadows, GnomonShadowsPlugin};
 use glam::DMat4;
 use gnomon_scene::{NamedView, SceneFile};
 
@@ -160,6 +160,32 @@ fn camera_transform(options: &Options) -> Transform {
     Transform::from_translation(options.eye).looking_at(options.target, up(options))
 }
 
+/// Moves the camera alone (a camera path).
+pub fn move_camera(world: &mut World, options: &Options) {
+    let mut cameras = world.query_filtered::<&mut Transform, With<Camera3d>>();
+    for mut transform in cameras.iter_mut(world) {
+        *transform = camera_transform(options);
+    }
+}
+
+/// Cascades drawn instead of those built this frame: the flicker test draws a frame's camera
+/// with the last frame's maps, so that what changed between the two masks is what the maps'
+/// change did.
+#[derive(Resource, Default, Clone)]
+pub struct HeldCascades(pub Option<(CascadeShadowConfig, Cascades)>);
+
+fn hold_cascades(
+    held: Res<HeldCascades>,
+    mut suns: Query<(&mut CascadeShadowConfig, &mut Cascades), With<DirectionalLight>>,
+) {
+    if let Some((config, cascades)) = &held.0 {
+        for (mut c, mut k) in &mut suns {
+            *c = config.clone();
+            *k = cascades.clone();
+        }
+    }
+}
+
 /// Moves the camera to `options`' view and puts a new sun in the old one's place (its
 /// direction, its shadows Bevy's or gnomon's), so that nothing of the last view's cascades
 /// stays.
@@ -256,7 +282,14 @@ pub fn configure(app: &mut App, options: &Options, loaded: Loaded) {
         .insert_resource(Views(loaded.views.clone()))
         .insert_resource(Scene(loaded))
         .insert_resource(Settings(options.clone()))
-        .add_systems(Startup, (spawn, tell_device));
+        .init_resource::<HeldCascades>()
+        .add_systems(Startup, (spawn, tell_device))
+        .add_systems(
+            PostUpdate,
+            hold_cascades
+                .after(GnomonShadowSystems::FitCascades)
+                .before(SimulationLightSystems::UpdateLightFrusta),
+        );
 }
 
 /// Tells the plugin whether this device draws warped maps right.
