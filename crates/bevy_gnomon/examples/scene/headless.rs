@@ -181,7 +181,16 @@ impl Headless {
 pub fn run(options: &Options, loaded: Loaded) -> Result<(), String> {
     let (w, h) = options.size;
     let mut headless = Headless::new(options, loaded);
-    headless.frames(options.frames.unwrap_or(1));
+    // Three frames to build the pipelines and upload the meshes, then the timed ones.
+    headless.frames(3);
+    let frames = options.frames.unwrap_or(1);
+    let started = std::time::Instant::now();
+    headless.frames(frames);
+    let seconds = started.elapsed().as_secs_f64();
+    eprintln!(
+        "{frames} frames in {seconds:.2} s: {:.2} ms a frame",
+        1e3 * seconds / f64::from(frames)
+    );
     // A refused fit leaves Bevy's cascades: say so rather than write Bevy's picture.
     if let Some(error) = headless.refused() {
         return Err(format!("gnomon's fit was not used: {error}"));

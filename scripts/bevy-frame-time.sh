@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Bevy's frame time with gnomon's cascades over Bevy's own: the example headless at 1280x720
+# on the demo's street view, the two runs interleaved ROUNDS times (default 3), each timing
+# FRAMES frames (default 60) after three to warm up. Prints each run and the ratio of the
+# medians. Timing on a shared CPU is noisy: compare the ratio of one run, not absolute times.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+rounds=${ROUNDS:-3}
+frames=${FRAMES:-60}
+view=${VIEW:-street}
+cargo build -q --release -p bevy_gnomon --example scene
+out=$(mktemp -d)
+for _ in $(seq "$rounds"); do
+    for shadows in bevy gnomon; do
+        ms=$(target/release/examples/scene --view "$view" --size 1280x720 --shadows "$shadows" \
+            --frames "$frames" --screenshot "$out/$shadows.png" 2>&1 |
+            sed -n 's/.*: \([0-9.]*\) ms a frame/\1/p')
+        echo "$shadows $ms"
+        echo "$ms" >>"$out/$shadows"
+    done
+done
+median() { sort -n "$1" | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+b=$(median "$out/bevy")
+g=$(median "$out/gnomon")
+echo "median ms a frame: bevy $b, gnomon $g, ratio $(awk -v g="$g" -v b="$b" 'BEGIN {printf "%.3f", g / b}')"
+rm -rf "$out"
