@@ -4,35 +4,20 @@
 //!
 //! `cargo bench -p bevy_gnomon --bench plugin`
 
-use bevy::asset::AssetPlugin;
 use bevy::camera::primitives::Aabb as BevyAabb;
-use bevy::camera::{CameraPlugin, PerspectiveProjection, Projection};
+use bevy::camera::{PerspectiveProjection, Projection};
 use bevy::ecs::system::SystemId;
-use bevy::light::LightPlugin;
-use bevy::mesh::MeshPlugin;
 use bevy::prelude::*;
-use bevy::transform::TransformPlugin;
-use bevy_gnomon::{GnomonShadows, GnomonShadowsPlugin, fit_cascades, track_scene};
+use bevy_gnomon::{GnomonShadows, fit_cascades, track_scene};
 use criterion::{Criterion, criterion_group, criterion_main};
+
+#[path = "../tests/bare/mod.rs"]
+mod bare;
 
 /// An app with `n` box meshes on a square grid, a camera at street level and a sun, updated
 /// once (so that Bevy's bounds, transforms and cascades exist), and the plugin's systems.
 fn city(n: usize) -> (App, Vec<Entity>, [SystemId; 2]) {
-    let mut app = App::new();
-    app.add_plugins((
-        MinimalPlugins,
-        AssetPlugin::default(),
-        bevy::window::WindowPlugin {
-            primary_window: None,
-            ..default()
-        },
-        bevy::image::ImagePlugin::default(),
-        MeshPlugin,
-        TransformPlugin,
-        CameraPlugin,
-        LightPlugin,
-        GnomonShadowsPlugin,
-    ));
+    let mut app = bare::app(true);
     let side = (n as f64).sqrt().ceil() as usize;
     let entities = (0..n)
         .map(|i| {

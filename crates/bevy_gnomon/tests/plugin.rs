@@ -1,46 +1,27 @@
 //! The plugin inside a Bevy app without a renderer: what it writes into Bevy's cascades,
 //! against gnomon's own setup of the same camera, light and boxes.
 
-use bevy::asset::AssetPlugin;
 use bevy::camera::primitives::Aabb as BevyAabb;
-use bevy::camera::{Camera, Camera3d, CameraPlugin, PerspectiveProjection, Projection};
+use bevy::camera::{Camera, Camera3d, PerspectiveProjection, Projection};
 use bevy::light::cascade::{CascadeShadowConfig, Cascades as BevyCascades};
-use bevy::light::{DirectionalLight, LightPlugin, NotShadowCaster, NotShadowReceiver};
+use bevy::light::{DirectionalLight, NotShadowCaster, NotShadowReceiver};
 use bevy::math::{Mat4, Vec3, Vec4};
-use bevy::mesh::{Mesh3d, MeshPlugin};
+use bevy::mesh::Mesh3d;
 use bevy::prelude::*;
-use bevy::transform::TransformPlugin;
 use bevy_gnomon::gnomon::{
     self, CascadeFit, CascadeSelect, Cascades, Lens, Light, MapSettings, SceneBounds, Technique,
 };
-use bevy_gnomon::{GnomonScene, GnomonShadows, GnomonShadowsPlugin, GnomonShadowsStatus};
+use bevy_gnomon::{GnomonScene, GnomonShadows, GnomonShadowsStatus};
 use glam::DVec3;
+
+mod bare;
 
 const EYE: Vec3 = Vec3::new(-30.0, 6.0, -28.0);
 const TARGET: Vec3 = Vec3::new(10.0, 0.0, 12.0);
 const LIGHT_DIR: Vec3 = Vec3::new(0.45, -0.8, 0.25);
 const LENS: (f32, f32, f32, f32) = (60.0, 16.0 / 9.0, 0.5, 200.0);
 
-fn app(with_plugin: bool) -> App {
-    let mut app = App::new();
-    app.add_plugins((
-        MinimalPlugins,
-        AssetPlugin::default(),
-        bevy::window::WindowPlugin {
-            primary_window: None,
-            ..default()
-        },
-        bevy::image::ImagePlugin::default(),
-        MeshPlugin,
-        TransformPlugin,
-        CameraPlugin,
-        LightPlugin,
-    ));
-    if with_plugin {
-        app.add_plugins(GnomonShadowsPlugin);
-    }
-    app
-}
+use bare::app;
 
 /// A ground slab and a grid of boxes of varied heights: `(centre, half extents)`.
 fn city() -> Vec<(Vec3, Vec3)> {
