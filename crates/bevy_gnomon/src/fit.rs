@@ -132,15 +132,13 @@ fn fit_light(
     };
     let technique = Drawable::for_bevy(&settings.technique);
     let lead = fit_view(&technique, first, &light, bounds, map, transform)?;
-    let mut fallbacks = lead.fallbacks.clone();
+    let on_slices = on_bounds(&technique, &lead.bounds);
     let others = others
         .iter()
-        .map(|v| {
-            let on_slices = on_bounds(&technique, &lead.bounds);
-            fit_view(&on_slices, v, &light, bounds, map, transform).map(|f| (v.entity, f))
-        })
+        .map(|v| fit_view(&on_slices, v, &light, bounds, map, transform).map(|f| (v.entity, f)))
         .collect::<Result<Vec<_>, _>>()?;
     let (bounds, overlap, maps) = (lead.bounds, lead.overlap, lead.cascades.len());
+    let mut fallbacks = lead.fallbacks;
     cascades.cascades.insert(first.entity, lead.cascades);
     for (entity, fitted) in others {
         fallbacks.extend(fitted.fallbacks);

@@ -157,7 +157,8 @@ fn projection(options: &Options) -> Projection {
 }
 
 fn camera_transform(options: &Options) -> Transform {
-    Transform::from_translation(options.eye).looking_at(options.target, up(options))
+    Transform::from_translation(options.eye)
+        .looking_at(options.target, up_for(options.target - options.eye))
 }
 
 /// Moves the camera alone (a camera path).
@@ -222,7 +223,7 @@ pub fn spawn_sun(commands: &mut Commands, options: &Options) -> Entity {
             ..default()
         },
         config,
-        Transform::default().looking_to(options.light_dir, light_up(options.light_dir)),
+        Transform::default().looking_to(options.light_dir, up_for(options.light_dir)),
     ));
     if options.shadows == Shadows::Gnomon {
         sun.insert(gnomon_shadows(options));
@@ -238,17 +239,8 @@ pub fn gnomon_shadows(options: &Options) -> GnomonShadows {
     }
 }
 
-/// +Y, unless the camera looks straight up or down.
-fn up(options: &Options) -> Vec3 {
-    let forward = (options.target - options.eye).normalize();
-    if forward.cross(Vec3::Y).length() < 1e-4 {
-        Vec3::Z
-    } else {
-        Vec3::Y
-    }
-}
-
-fn light_up(direction: Vec3) -> Vec3 {
+/// +Y, unless `direction` is straight up or down (then +Z).
+fn up_for(direction: Vec3) -> Vec3 {
     if direction.normalize().cross(Vec3::Y).length() < 1e-4 {
         Vec3::Z
     } else {
