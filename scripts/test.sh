@@ -67,6 +67,9 @@ python3 scripts/check-links.py docs/book README.md CHANGELOG.md crates/*/README.
 # exact shadows. Bevy is built without its GL backend, so they are not in the GL step below.
 echo "test.sh: cargo test (GPU tests on Vulkan)"
 cargo test --workspace --locked --features gnomon-cli/viewer
+# The packages that draw, with the bindings and the Bevy plugin: one selection for the steps
+# below, so that cargo resolves one feature set for the crates they share.
+gpu_packages=(-p gnomon-render -p gnomon-cli -p gnomon-py -p gnomon-c -p bevy_gnomon)
 # The bindings as their users build them: the C header up to date (cbindgen --verify), the
 # Python wheel built by maturin and installed (unoptimised: it builds in a few minutes, and
 # the tests time nothing), then pytest over the Python package (its renders on Vulkan) and
@@ -80,7 +83,10 @@ cbindgen --quiet --config crates/gnomon-c/cbindgen.toml --crate gnomon-c --verif
     --output crates/gnomon-c/include/gnomon.h crates/gnomon-c
 python3 -c "import maturin, numpy, pytest, matplotlib" 2>/dev/null ||
     python3 -m pip install -q --root-user-action=ignore "maturin==1.16.*" numpy pytest matplotlib
-cargo build -q --locked --profile test -p gnomon-cli -p gnomon-c --features gnomon-cli/viewer
+# The same packages, features and targets as the GL step below (and so as the workspace test
+# above): another selection resolves other features for wgpu and builds it once more.
+cargo build -q --locked --profile test "${gpu_packages[@]}" --features gnomon-cli/viewer \
+    --lib --bins --tests
 rm -rf target/wheels
 maturin build -q --locked --profile dev -m crates/gnomon-py/Cargo.toml -o target/wheels
 python3 -m pip install -q --root-user-action=ignore --force-reinstall --no-deps target/wheels/gnomon-*.whl
@@ -97,8 +103,8 @@ GNOMON_BIN=target/debug/gnomon python3 -m pytest -q -p no:cacheprovider crates/g
 # at a time costs about a minute. Bevy is built without its GL backend, so its two rendering
 # tests (run on Vulkan above) are left out here; the plugin's own tests draw nothing and run.
 echo "test.sh: cargo test, GPU tests on GL (WGPU_BACKEND=gl)"
-WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli -p gnomon-py -p gnomon-c \
-    -p bevy_gnomon --features gnomon-cli/viewer -- --test-threads=1 \
+WGPU_BACKEND=gl cargo test --locked "${gpu_packages[@]}" --features gnomon-cli/viewer -- \
+    --test-threads=1 \
     --skip the_plugins_default_is_wrong_on_at_most_half_as_many_pixels_as_bevys \
     --skip stable_fits_do_not_flicker_along_dolly_and_pan_paths
 
@@ -106,4 +112,9 @@ WGPU_BACKEND=gl cargo test --locked -p gnomon-render -p gnomon-cli -p gnomon-py 
 # ship as a wheel and a C library, not as crates; the Bevy plugin is not packed here, since
 # building Bevy once more from the package would add a quarter of an hour).
 echo "test.sh: cargo package --workspace"
+# CI's disk is not always large: the packages build from scratch anyway, so the test builds go
+# first where asked (.ci/run asks).
+if [ -n "${GNOMON_FREE_DISK:-}" ]; then
+    rm -rf target/debug target/wheels
+fi
 cargo package --workspace --exclude gnomon-py --exclude gnomon-c --exclude bevy_gnomon --locked --allow-dirty -q
