@@ -73,9 +73,19 @@ fn the_split_rules_cut_the_view_as_their_formulas_say() {
     for (split, expected) in [
         (CascadeSplit::Log, (0..=k).map(log).collect::<Vec<_>>()),
         (CascadeSplit::Uniform, (0..=k).map(uniform).collect()),
+        // lambda weighs the logarithmic split (Zhang et al.): at 0.5 a swapped weight would
+        // not show, at 0.2 and 0.8 it does.
         (
             CascadeSplit::Practical { lambda: 0.5 },
             (0..=k).map(|i| 0.5 * log(i) + 0.5 * uniform(i)).collect(),
+        ),
+        (
+            CascadeSplit::Practical { lambda: 0.2 },
+            (0..=k).map(|i| 0.2 * log(i) + 0.8 * uniform(i)).collect(),
+        ),
+        (
+            CascadeSplit::Practical { lambda: 0.8 },
+            (0..=k).map(|i| 0.8 * log(i) + 0.2 * uniform(i)).collect(),
         ),
     ] {
         let s = setup(

@@ -10,6 +10,7 @@ mod common;
 
 use common::{Z_F, Z_N, distant_spot, dp_ds, ideal_map, ideal_map_lit_by, within};
 use glam::DVec3;
+use gnomon::analysis::{IdealConfiguration, view_axis_dp_ds};
 use gnomon::{
     Aabb, Camera, DirectionalLight, Focused, Lens, Light, Lispsm, MapSettings, SceneBounds,
     ShadowMap, SpotLight, compute_setup,
@@ -40,6 +41,33 @@ fn optimal_n_equalises_the_error_at_near_and_far_at_9_9() {
         .copied()
         .fold((0.0, f64::INFINITY), |a, p| if p.1 < a.1 { p } else { a });
     assert!((5.0..20.0).contains(&z_min), "minimum at z = {z_min}");
+}
+
+/// n_opt = z_n + sqrt(z_n z_f) equalises the ends for any near plane, not only z_n = 1
+/// (where sqrt(z_f) would do too), and the error scales with the scene: the same view ten
+/// times larger has ten times the dp/ds (s is normalised to the map).
+#[test]
+fn optimal_n_equalises_the_ends_at_other_near_planes_and_scales_with_the_scene() {
+    let ends = |z_n: f64, z_f: f64| {
+        let config = IdealConfiguration::new(z_n, z_f, 90.0).unwrap();
+        let setup = compute_setup(
+            &Lispsm::default(),
+            &config.camera().unwrap(),
+            &config.light().unwrap(),
+            &config.scene().unwrap(),
+            MapSettings::with_resolution(1024),
+        )
+        .unwrap();
+        assert_eq!(setup.fallback(), None);
+        let at = |z| view_axis_dp_ds(&setup.maps[0], &config, z).unwrap();
+        (at(z_n), at(z_f))
+    };
+    let (near, far) = ends(2.0, 200.0);
+    println!("z_n = 2, z_f = 200: dp/ds(z_n) = {near:.4}, dp/ds(z_f) = {far:.4}");
+    assert!(within(near, far, 0.02), "near {near}, far {far}");
+    let (near10, far10) = ends(20.0, 2000.0);
+    assert!(within(near10, 10.0 * near, 0.01), "{near10} vs 10 x {near}");
+    assert!(within(far10, 10.0 * far, 0.01), "{far10} vs 10 x {far}");
 }
 
 #[test]
