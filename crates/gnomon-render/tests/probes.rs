@@ -1,10 +1,11 @@
 //! Probes read the maps as the main pass does: at the surface points a frame's pixels see,
 //! `lit_at_points` gives the frame's own mask (focused, LiSPSM and cascades, on the demo's
-//! named views).
+//! named views), even when the renderer last drew another light's maps.
 
 mod common;
 
-use gnomon::{Cascades, Lispsm, ShadowTechnique, Technique};
+use glam::DVec3;
+use gnomon::{Cascades, DirectionalLight, Light, Lispsm, ShadowTechnique, Technique};
 use gnomon_render::{MASK_LIT, MASK_UNLIT, RenderScene, RenderSettings, ShadowedLight};
 
 #[test]
@@ -35,6 +36,17 @@ fn probes_at_the_pixels_points_give_the_frames_mask() {
                 &technique,
                 &camera,
                 &light,
+                2048,
+                &settings,
+            );
+            // The sun from the opposite side drawn last: the probes must draw this setup's
+            // own maps, not read the ones left from the frame before.
+            common::render(
+                &mut renderer,
+                &scene,
+                &technique,
+                &camera,
+                &opposite(&light),
                 2048,
                 &settings,
             );
@@ -83,4 +95,13 @@ fn probes_at_the_pixels_points_give_the_frames_mask() {
             );
         }
     }
+}
+
+/// The sun at the same height from the opposite side.
+fn opposite(light: &Light) -> Light {
+    let Light::Directional(sun) = light else {
+        panic!("the views named here are lit by the sun");
+    };
+    let d = sun.direction();
+    Light::Directional(DirectionalLight::new(DVec3::new(-d.x, d.y, -d.z)).unwrap())
 }
