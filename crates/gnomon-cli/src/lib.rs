@@ -143,6 +143,12 @@ impl From<gnomon_render::RenderError> for CliError {
     fn from(e: gnomon_render::RenderError) -> Self {
         match e {
             gnomon_render::RenderError::Invalid(_) => Self::usage(e.to_string()),
+            // The library names the failure; what to install is the command line's to say.
+            gnomon_render::RenderError::NoAdapter(_) => Self::runtime(format!(
+                "{e}; on a machine without a GPU driver install Mesa's software Vulkan driver \
+                 (apt-get install -y mesa-vulkan-drivers) or its GL driver (apt-get install -y \
+                 libegl-mesa0 libgl1-mesa-dri, WGPU_BACKEND=gl)"
+            )),
             _ => Self::runtime(e.to_string()),
         }
     }
