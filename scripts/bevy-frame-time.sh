@@ -3,6 +3,8 @@
 # on the demo's street view, the two runs interleaved ROUNDS times (default 3), each timing
 # FRAMES frames (default 60) after three to warm up. Prints each run and the ratio of the
 # medians. Timing on a shared CPU is noisy: compare the ratio of one run, not absolute times.
+# Further arguments go to both runs (e.g. --shadow-map 512); GNOMON_ARGS to gnomon's only
+# (e.g. "--technique cascades --stable").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rounds=${ROUNDS:-3}
@@ -12,8 +14,13 @@ cargo build -q --release -p bevy_gnomon --example scene
 out=$(mktemp -d)
 for _ in $(seq "$rounds"); do
     for shadows in bevy gnomon; do
+        extra=("$@")
+        if [ "$shadows" = gnomon ] && [ -n "${GNOMON_ARGS:-}" ]; then
+            read -r -a more <<<"$GNOMON_ARGS"
+            extra+=("${more[@]}")
+        fi
         ms=$(target/release/examples/scene --view "$view" --size 1280x720 --shadows "$shadows" \
-            --frames "$frames" --screenshot "$out/$shadows.png" 2>&1 |
+            --frames "$frames" --screenshot "$out/$shadows.png" "${extra[@]}" 2>&1 |
             sed -n 's/.*: \([0-9.]*\) ms a frame/\1/p')
         echo "$shadows $ms"
         echo "$ms" >>"$out/$shadows"
