@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::{Z_F, Z_N, distant_spot, dp_ds, ideal_map, ideal_map_lit_by, within};
+use common::{Z_F, Z_N, distant_spot, dp_ds, ideal_map, ideal_map_lit_by, map_in, within};
 use glam::DVec3;
 use gnomon::analysis::{IdealConfiguration, view_axis_dp_ds};
 use gnomon::{
@@ -50,16 +50,8 @@ fn optimal_n_equalises_the_error_at_near_and_far_at_9_9() {
 fn optimal_n_equalises_the_ends_at_other_near_planes_and_scales_with_the_scene() {
     let ends = |z_n: f64, z_f: f64| {
         let config = IdealConfiguration::new(z_n, z_f, 90.0).unwrap();
-        let setup = compute_setup(
-            &Lispsm::default(),
-            &config.camera().unwrap(),
-            &config.light().unwrap(),
-            &config.scene().unwrap(),
-            MapSettings::with_resolution(1024),
-        )
-        .unwrap();
-        assert_eq!(setup.fallback(), None);
-        let at = |z| view_axis_dp_ds(&setup.maps[0], &config, z).unwrap();
+        let map = map_in(&config, &Lispsm::default(), &config.light().unwrap());
+        let at = |z| view_axis_dp_ds(&map, &config, z).unwrap();
         (at(z_n), at(z_f))
     };
     let (near, far) = ends(2.0, 200.0);

@@ -40,7 +40,15 @@ pub fn distant_spot() -> Light {
 /// The technique's map in the ideal configuration under `light` (asserting that no fallback
 /// fired).
 pub fn ideal_map_lit_by(technique: &dyn ShadowTechnique, light: &Light) -> ShadowMap {
-    let config = ideal();
+    map_in(&ideal(), technique, light)
+}
+
+/// The technique's map in `config` under `light` (asserting that no fallback fired).
+pub fn map_in(
+    config: &IdealConfiguration,
+    technique: &dyn ShadowTechnique,
+    light: &Light,
+) -> ShadowMap {
     let setup = compute_setup(
         technique,
         &config.camera().unwrap(),
