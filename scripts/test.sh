@@ -47,6 +47,12 @@ cargo fmt --all --check
 echo "test.sh: cargo clippy"
 cargo clippy --workspace --all-targets --locked --features gnomon-cli/viewer -- -D warnings
 cargo clippy -p gnomon-cli --all-targets --locked -- -D warnings
+# The crates without an import circle between their files stay so (scripts/shape.py also
+# prints the circles of the others and the functions over 100 lines).
+echo "test.sh: the code's shape"
+python3 scripts/shape.py --self-test
+python3 scripts/shape.py --max-cycles 0 --crate bevy_gnomon --crate gnomon-c --crate gnomon-py \
+    --crate gnomon-tools --crate gnomon-viewer
 echo "test.sh: the core with its opt-in feature (parallel): clippy and tests"
 cargo clippy -p gnomon-core --features parallel --all-targets --locked -- -D warnings
 cargo test -p gnomon-core --features parallel --locked --lib
