@@ -89,8 +89,9 @@ cbindgen --quiet --config crates/gnomon-c/cbindgen.toml --crate gnomon-c --verif
     --output crates/gnomon-c/include/gnomon.h crates/gnomon-c
 python3 -c "import maturin, numpy, pytest, matplotlib" 2>/dev/null ||
     python3 -m pip install -q --root-user-action=ignore "maturin==1.16.*" numpy pytest matplotlib
-# The same packages, features and targets as the GL step below (and so as the workspace test
-# above): another selection resolves other features for wgpu and builds it once more.
+# The same packages, features and targets as the GL step below, which then builds nothing
+# again. (The workspace test above resolves other features for some shared crates, so this
+# builds them once more: about ten minutes on 2 cores.)
 cargo build -q --locked --profile test "${gpu_packages[@]}" --features gnomon-cli/viewer \
     --lib --bins --tests
 rm -rf target/wheels
