@@ -74,8 +74,11 @@ python3 scripts/check-links.py docs/book README.md CHANGELOG.md crates/*/README.
 echo "test.sh: cargo test (GPU tests on Vulkan)"
 cargo test --workspace --locked --features gnomon-cli/viewer
 # The packages that draw, with the bindings and the Bevy plugin: one selection for the steps
-# below, so that cargo resolves one feature set for the crates they share.
-gpu_packages=(-p gnomon-render -p gnomon-cli -p gnomon-py -p gnomon-c -p bevy_gnomon)
+# below, so that cargo resolves one feature set for the crates they share. gnomon-scene (its
+# tests take a second) is in it for its dev-dependency proptest, which turns on rand's
+# `std` and `sys_rng`: without it these features match no longer the workspace test's, and
+# cargo builds Bevy, whose bevy_math uses rand, a second time.
+gpu_packages=(-p gnomon-scene -p gnomon-render -p gnomon-cli -p gnomon-py -p gnomon-c -p bevy_gnomon)
 # The bindings as their users build them: the C header up to date (cbindgen --verify), the
 # Python wheel built by maturin and installed (unoptimised: it builds in a few minutes, and
 # the tests time nothing), then pytest over the Python package (its renders on Vulkan) and
@@ -90,8 +93,7 @@ cbindgen --quiet --config crates/gnomon-c/cbindgen.toml --crate gnomon-c --verif
 python3 -c "import maturin, numpy, pytest, matplotlib" 2>/dev/null ||
     python3 -m pip install -q --root-user-action=ignore "maturin==1.16.*" numpy pytest matplotlib
 # The same packages, features and targets as the GL step below, which then builds nothing
-# again. (The workspace test above resolves other features for some shared crates, so this
-# builds them once more: about ten minutes on 2 cores.)
+# again; with the features of the workspace test above, this only links.
 cargo build -q --locked --profile test "${gpu_packages[@]}" --features gnomon-cli/viewer \
     --lib --bins --tests
 rm -rf target/wheels
