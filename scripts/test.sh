@@ -76,7 +76,7 @@ cargo test --workspace --locked --features gnomon-cli/viewer
 # The packages that draw, with the bindings and the Bevy plugin: one selection for the steps
 # below, so that cargo resolves one feature set for the crates they share. gnomon-scene (its
 # tests take a second) is in it for its dev-dependency proptest, which turns on rand's
-# `std` and `sys_rng`: without it these features match no longer the workspace test's, and
+# `std` and `sys_rng`: without it these features no longer match the workspace test's, and
 # cargo builds Bevy, whose bevy_math uses rand, a second time.
 gpu_packages=(-p gnomon-scene -p gnomon-render -p gnomon-cli -p gnomon-py -p gnomon-c -p bevy_gnomon)
 # The bindings as their users build them: the C header up to date (cbindgen --verify), the
