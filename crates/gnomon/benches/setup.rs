@@ -1,6 +1,7 @@
 //! Setup time with 10, 100 and 1000 caster boxes on a ground slab: boxes that only cast
 //! (`_casters_only`) and boxes that cast and receive (the rest); and `scale/`: 10^3, 10^4 and
-//! 10^5 boxes.
+//! 10^5 boxes; `street/`: a city that grows from 10^3 to 10^5 boxes around a street-level camera
+//! that sees the same part of it.
 //!
 //! `cargo bench -p gnomon-core --bench setup`
 
@@ -9,11 +10,14 @@ use std::hint::black_box;
 #[path = "common/city.rs"]
 mod city;
 
-use city::{adaptive_cascades, bench_camera, city, lamp, lamp_over_city, spot, sun};
+use city::{
+    adaptive_cascades, bench_camera, city, lamp, lamp_over_city, spot, street_camera, street_city,
+    sun,
+};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use gnomon::{
-    Cascades, Cube, Focused, Lispsm, MapSettings, Psm, Sppsm, Tsm, Uniform, ViewSamples, Xpsm,
-    compute_setup, compute_setup_with_samples,
+    Cascades, Cube, Focused, Lispsm, MapSettings, Psm, ShadowTechnique, Sppsm, Tsm, Uniform,
+    ViewSamples, Xpsm, compute_setup, compute_setup_with_samples,
 };
 
 fn bench(c: &mut Criterion) {
@@ -285,6 +289,25 @@ fn bench(c: &mut Criterion) {
         );
     }
     scale.finish();
+    // Street: a city that grows outward while the camera sees the same streets; an engine
+    // without our renderer casts the samples itself, so these do too.
+    let mut street = c.benchmark_group("street");
+    street.sample_size(20);
+    let camera = street_camera();
+    for n in [1_000usize, 10_000, 100_000] {
+        let scene = street_city(n);
+        let techniques: [(&str, &dyn ShadowTechnique); 3] = [
+            ("focused", &Focused),
+            ("lispsm", &Lispsm::default()),
+            ("sppsm", &Sppsm::default()),
+        ];
+        for (name, technique) in techniques {
+            street.bench_with_input(BenchmarkId::new(name, n), &scene, |b, s| {
+                b.iter(|| compute_setup(technique, black_box(&camera), &sun, s, settings).unwrap())
+            });
+        }
+    }
+    street.finish();
 }
 
 criterion_group! {

@@ -4,7 +4,7 @@
 //!
 //! `cargo run --release -p gnomon-core --example setup_loop -- SETUP BOXES ITERATIONS`, SETUP one
 //! of [`SETUPS`]; the scene, camera and lights are the criterion bench's
-//! (`benches/common/city.rs`).
+//! (`benches/common/city.rs`); the `street_` setups use its street city and camera.
 
 use std::hint::black_box;
 use std::process::ExitCode;
@@ -12,14 +12,17 @@ use std::process::ExitCode;
 #[path = "../benches/common/city.rs"]
 mod city;
 
-use city::{adaptive_cascades, bench_camera, city, lamp, lamp_over_city, spot, sun};
+use city::{
+    adaptive_cascades, bench_camera, city, lamp, lamp_over_city, spot, street_camera, street_city,
+    sun,
+};
 use gnomon::{
     Cascades, Cube, Focused, Lispsm, MapSettings, SetupError, ShadowSetup, ShadowTechnique, Sppsm,
     ViewSamples, compute_setup, compute_setup_with_samples,
 };
 
 /// The setups, named as the criterion bench names them (at 1000 boxes, `setup/NAME/1000`).
-const SETUPS: [&str; 10] = [
+const SETUPS: [&str; 13] = [
     "focused_directional",
     "lispsm_directional",
     "lispsm_directional_given_samples",
@@ -30,6 +33,9 @@ const SETUPS: [&str; 10] = [
     "cube_point_given_samples",
     "cube_point_over_city_given_samples",
     "focused_spot",
+    "street_focused",
+    "street_lispsm",
+    "street_sppsm",
 ];
 
 fn main() -> ExitCode {
@@ -49,7 +55,11 @@ fn main() -> ExitCode {
         );
         return ExitCode::from(2);
     };
-    let (camera, scene) = (bench_camera(), city(boxes, true));
+    let (camera, scene) = if name.starts_with("street_") {
+        (street_camera(), street_city(boxes))
+    } else {
+        (bench_camera(), city(boxes, true))
+    };
     let settings = MapSettings::with_resolution(2048);
     let light = match *name {
         "cube_point_given_samples" => lamp(250.0),
@@ -74,7 +84,8 @@ fn main() -> ExitCode {
                 stable: true,
                 ..Cascades::default()
             }),
-            "sppsm_directional" => casting(&Sppsm::default()),
+            "sppsm_directional" | "street_sppsm" => casting(&Sppsm::default()),
+            "street_lispsm" => casting(&Lispsm::default()),
             "cube_point_given_samples" | "cube_point_over_city_given_samples" => given(&Cube),
             _ => casting(&Focused),
         }

@@ -35,6 +35,48 @@ pub fn city(n: usize, boxes_receive: bool) -> SceneBounds {
     SceneBounds::new(boxes, receivers, None).unwrap()
 }
 
+/// Grid pitch of [`street_city`] in metres: 9 m blocks and 6 m streets.
+const STREET_PITCH: f64 = 15.0;
+
+/// A city of `n` boxes that grows outward on a fixed 15 m grid (its side grows as sqrt(n)),
+/// casters and receivers, on a ground slab under it all. Seen by [`street_camera`], whose far
+/// plane stays inside the city from 10^3 boxes on, the part the camera sees and the casters
+/// up-sun of it are the same at every size: setup time should not grow with `n`.
+pub fn street_city(n: usize) -> SceneBounds {
+    let side = (n as f64).sqrt().ceil() as usize;
+    let first = -((side / 2) as f64);
+    let mut boxes = Vec::with_capacity(n);
+    for k in 0..n {
+        let i = first + (k % side) as f64;
+        let j = first + (k / side) as f64;
+        let h = 2.0 + ((k * 7919) % 38) as f64;
+        let min = DVec3::new(i * STREET_PITCH, 0.0, j * STREET_PITCH);
+        let size = DVec3::new(0.6 * STREET_PITCH, h, 0.6 * STREET_PITCH);
+        boxes.push(Aabb::new(min, min + size).unwrap());
+    }
+    let half = (side as f64 / 2.0 + 1.0) * STREET_PITCH;
+    let ground = Aabb::new(DVec3::new(-half, -1.0, -half), DVec3::new(half, 0.0, half)).unwrap();
+    let mut receivers = boxes.clone();
+    receivers.push(ground);
+    SceneBounds::new(boxes, receivers, None).unwrap()
+}
+
+/// A pedestrian's camera in a street of [`street_city`], looking along it; far plane 150 m.
+pub fn street_camera() -> Camera {
+    let x = 0.8 * STREET_PITCH;
+    Camera::look_at(
+        DVec3::new(x, 1.7, 0.0),
+        DVec3::new(x, 1.0, -100.0),
+        DVec3::Y,
+        Lens {
+            near: 0.5,
+            far: 150.0,
+            ..Lens::default()
+        },
+    )
+    .unwrap()
+}
+
 /// The camera over the city's corner, looking across it.
 pub fn bench_camera() -> Camera {
     Camera::look_at(
