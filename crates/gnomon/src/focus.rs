@@ -1250,6 +1250,7 @@ pub(crate) fn caster_extents(
                 node: |n: usize| projector.box_extents(&tree.node_box(n)),
                 caster: |i: usize| projector.box_extents(&scene.casters()[i]),
                 point: |p: DVec3| projector.project(p),
+                holds_cut_parts: false,
             };
             walk_casters(
                 scene,
@@ -1291,6 +1292,13 @@ pub(crate) trait CasterImages {
     fn clips_near(&self, _i: usize) -> bool {
         false
     }
+    /// Whether [`CasterImages::node`] and [`CasterImages::caster`] hold the image of every part
+    /// of a box, cut or not ([`Extents::ALL`] where the map has none for part of it): a box
+    /// beside the receivers is then culled before it is opened or cut, which keeps the walk
+    /// to the boxes near the view when the cutting planes run across the whole scene.
+    fn holds_cut_parts(&self) -> bool {
+        Self::AFFINE || Self::EXACT
+    }
 }
 
 /// A directional light's frame: boxes projected from their centres and half extents.
@@ -1321,6 +1329,9 @@ pub(crate) struct MapImages<N, C, P> {
     pub node: N,
     pub caster: C,
     pub point: P,
+    /// Whether `node` and `caster` give [`Extents::ALL`] for a box the map has no image of
+    /// in part (see [`CasterImages::holds_cut_parts`]).
+    pub holds_cut_parts: bool,
 }
 
 impl<N, C, P> CasterImages for MapImages<N, C, P>
@@ -1338,6 +1349,9 @@ where
     }
     fn point(&self, p: DVec3) -> DVec3 {
         (self.point)(p)
+    }
+    fn holds_cut_parts(&self) -> bool {
+        self.holds_cut_parts
     }
 }
 
@@ -1394,6 +1408,8 @@ pub(crate) fn walk_casters<I: CasterImages>(
     // Subtrees counted whole while the extents did not yet hold them in x and y (early in the
     // walk they are small), to be opened at the end if they still do not.
     let mut put_off = PutOff::new(&over);
+    let whole = images.holds_cut_parts();
+    let beside = |e: &Extents| !receivers.xy_overlaps(e, xy_slack) || e.min.z > receivers.max.z;
     loop {
         while let Some((node, active, open)) = stack.pop() {
             let active = match active {
@@ -1412,9 +1428,9 @@ pub(crate) fn walk_casters<I: CasterImages>(
             // A node's image holds its boxes' (for a point light, where the node lies in
             // front of it: inside every plane of its frustum, or where the images are of the
             // parts inside it).
-            if !open && (active == 0 || I::AFFINE || I::EXACT) {
+            if !open && (active == 0 || whole) {
                 let image = images.node(node);
-                if !receivers.xy_overlaps(&image, xy_slack) || image.min.z > receivers.max.z {
+                if beside(&image) {
                     continue;
                 }
                 // Nothing its boxes hold over the receivers can add: counted, not opened.
@@ -1459,6 +1475,7 @@ pub(crate) fn walk_casters<I: CasterImages>(
                         images.caster(i),
                         light_near_first && mask & 1 != 0 && images.clips_near(i),
                     ),
+                    Some(_) if whole && beside(&images.caster(i)) => continue,
                     Some(mask) => {
                         scratch.clear();
                         let caster = &scene.casters()[i];
@@ -1474,7 +1491,7 @@ pub(crate) fn walk_casters<I: CasterImages>(
                         (e, near_cut)
                     }
                 };
-                if !receivers.xy_overlaps(&box_ext, xy_slack) || box_ext.min.z > receivers.max.z {
+                if beside(&box_ext) {
                     continue;
                 }
                 relevant += 1;

@@ -257,6 +257,11 @@ impl LimitedWarp for Psm {
         // Casters through their hierarchy: in the map's x and y, with their linear depth.
         let row = linear_row.truncate().abs();
         let box_on_map = |b: &Aabb| {
+            // The corners' images bound the box's where the map's w is positive on all of it
+            // (in front of the virtual camera and of l); else the walk must open or cut it.
+            if corner_values(&[map_w], b).iter().any(|[w]| *w <= 0.0) {
+                return Extents::ALL;
+            }
             let e = plane_map.box_extents(b);
             let (c, r) = (linear(b.center()), row.dot(b.half_extents()));
             Extents {
@@ -269,6 +274,7 @@ impl LimitedWarp for Psm {
             node: |n: usize| box_on_map(&tree.node_box(n)),
             caster: |i: usize| box_on_map(&scene.casters()[i]),
             point: on_map,
+            holds_cut_parts: true,
         };
         let walked = walk_casters(
             scene,
