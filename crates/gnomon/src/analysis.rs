@@ -26,7 +26,7 @@ use crate::bounds::{Aabb, SceneBounds};
 use crate::camera::{Camera, Lens};
 use crate::error::{SetupError, check_scalar};
 use crate::light::{DirectionalLight, Light};
-use crate::setup::{MapSelection, ShadowMap, ShadowSetup};
+use crate::map::{MapSelection, ShadowMap, ShadowSetup};
 
 /// The LiSPSM paper's ideal configuration, with the tilt gamma between the view direction
 /// and the light's direction of travel free.
@@ -285,7 +285,8 @@ fn aliasing_curve(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::setup::{MapSettings, compute_setup};
+    use crate::map::MapSettings;
+    use crate::setup::compute_setup;
     use crate::techniques::{Focused, Lispsm, Psm, Uniform};
 
     fn curve(technique: &dyn crate::ShadowTechnique, gamma: f64) -> AliasingCurve {

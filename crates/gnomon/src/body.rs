@@ -25,7 +25,8 @@ use crate::frame::Frame;
 use crate::geometry::{ConvexPolyhedron, Plane, convex_hull_2d};
 use crate::light::Light;
 use crate::light_space::Projector;
-use crate::setup::{MapSettings, SetupInput};
+use crate::map::MapSettings;
+use crate::technique::SetupInput;
 
 /// The convex body B for a camera, a light and a scene (LiSPSM paper, section 3.3): the view
 /// frustum inside the scene box, extended toward the light, clipped by the scene box and, for

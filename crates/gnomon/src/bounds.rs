@@ -354,7 +354,8 @@ mod tests {
     fn moved_boxes_refit_the_hierarchies() {
         use crate::camera::{Camera, Lens};
         use crate::light::{DirectionalLight, Light};
-        use crate::setup::{MapSettings, Technique, compute_setup};
+        use crate::map::MapSettings;
+        use crate::setup::{Technique, compute_setup};
         let grid = |shift: f64| -> Vec<Aabb> {
             (0..400)
                 .map(|k| {

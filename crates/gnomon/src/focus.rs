@@ -18,9 +18,9 @@ use crate::bounds::{Aabb, BoxArrays, SceneBounds};
 use crate::bvh::{BoxPlanes, BoxTree, Classified, all_planes, grown, straddled};
 use crate::geometry::{ConvexPolyhedron, Plane};
 
+use crate::diagnostics::Diagnostics;
 use crate::light_space::{AxisFrustum, Extents, LightFrame, Projector};
 use crate::put_off::PutOff;
-use crate::setup::Diagnostics;
 
 /// How an axis-aligned box lies against a set of planes.
 pub(crate) enum BoxSide {
@@ -1699,7 +1699,8 @@ mod tests {
             use crate::bvh::test_scenes;
             use crate::frame::Frame;
             use crate::light::{DirectionalLight, Light, SpotLight};
-            use crate::setup::{MapSettings, SetupInput};
+            use crate::map::MapSettings;
+            use crate::technique::SetupInput;
             use crate::techniques::basis::{FocusBasis, Part};
             let scene = test_scenes::mixed(&boxes);
             let camera = test_scenes::camera(eye, target);
@@ -1763,7 +1764,7 @@ mod tests {
                 let got = basis.visible.receiver_extents(&scene, projector);
                 let eps = 1e-9 * (1.0 + (want.max - want.min).abs().max_element() + want.min.abs().max_element());
                 prop_assert!(close(&got, &want, eps), "receivers {:?} vs {:?}", got, want);
-                let mut diagnostics = crate::setup::Diagnostics::new(&camera, &light, &scene);
+                let mut diagnostics = crate::diagnostics::Diagnostics::new(&camera, &light, &scene);
                 let got = caster_extents(&scene, projector, &want, &basis.caster_planes, spot, tolerance, &mut diagnostics);
                 let (want_casters, relevant) = casters_one_by_one(&scene, projector, &want, &basis.caster_planes, tolerance);
                 // Subtrees that add nothing are counted whole: at least the relevant ones.

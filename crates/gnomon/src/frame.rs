@@ -21,7 +21,7 @@ use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
 use crate::light_space::Projector;
 use crate::samples::ViewSamples;
-use crate::setup::SetupInput;
+use crate::technique::SetupInput;
 use crate::techniques::{fixed_projector, tolerance};
 
 /// The shared facts of one camera, light and scene; see the module documentation.

@@ -110,17 +110,20 @@ mod body;
 mod bounds;
 mod bvh;
 mod camera;
+mod diagnostics;
 mod error;
 mod focus;
 mod frame;
 pub mod geometry;
 mod light;
 mod light_space;
+mod map;
 mod parallel;
 pub mod planar;
 mod put_off;
 mod samples;
 mod setup;
+mod technique;
 pub mod techniques;
 pub mod volumes;
 
@@ -128,18 +131,19 @@ pub use body::convex_body_b;
 pub use bounds::{Aabb, SceneBounds};
 pub use bvh::BoxIndex;
 pub use camera::{Camera, Lens};
+pub use diagnostics::{CastersBySide, Diagnostics, Fallback, LightFrameKind, MapDiagnostics};
 pub use error::SetupError;
 pub use light::{
     CUBE_FACE_BORDER_TEXELS, CubeFace, DirectionalLight, Light, PointLight, SPOT_NEAR_FRACTION,
     SpotLight, cube_face_tangent,
 };
-pub use samples::{ViewSample, ViewSamples, undersampling};
-pub use setup::{
-    CascadeSlices, CastersBySide, CubeFaceMaps, Diagnostics, Fallback, LightFrameKind,
-    MAX_CASCADES, MAX_RESOLUTION, MIN_RESOLUTION, MapDiagnostics, MapProjection, MapSelection,
-    MapSettings, PARABOLOID_MARGIN_DEGREES, PARABOLOID_SCALE, SetupInput, ShadowMap, ShadowSetup,
-    ShadowTechnique, Technique, UnknownTechnique, compute_setup, compute_setup_with_samples,
+pub use map::{
+    CascadeSlices, CubeFaceMaps, MAX_CASCADES, MapProjection, MapSelection, MapSettings,
+    PARABOLOID_MARGIN_DEGREES, PARABOLOID_SCALE, ShadowMap, ShadowSetup,
 };
+pub use samples::{ViewSample, ViewSamples, undersampling};
+pub use setup::{Technique, UnknownTechnique, compute_setup, compute_setup_with_samples};
+pub use technique::{SetupInput, ShadowTechnique};
 pub use techniques::{
     ADAPTIVE_HYSTERESIS, CascadeFit, CascadeSelect, CascadeSplit, Cascades, Cube, DualParaboloid,
     Focused, Lispsm, PerspectiveMap, Psm, Sppsm, Tsm, Uniform, Xpsm,
@@ -149,3 +153,8 @@ pub use techniques::{
 /// GPU matrices lose all precision; inputs above it are rejected with
 /// [`SetupError::OutOfRange`].
 pub const MAX_COORDINATE: f64 = 1e9;
+
+/// Smallest supported shadow-map resolution, in texels.
+pub const MIN_RESOLUTION: u32 = 8;
+/// Largest supported shadow-map resolution, in texels.
+pub const MAX_RESOLUTION: u32 = 32768;

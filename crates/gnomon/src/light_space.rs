@@ -5,7 +5,7 @@ use glam::{DMat4, DVec2, DVec3, DVec4};
 
 use crate::bounds::Aabb;
 use crate::geometry::Plane;
-use crate::setup::{MapProjection, MapSettings, ShadowMap};
+use crate::map::{MapProjection, MapSettings, ShadowMap};
 
 /// Below this sin(gamma) the view direction counts as parallel to the light.
 pub(crate) const PARALLEL_SIN_GAMMA: f64 = 1e-3;

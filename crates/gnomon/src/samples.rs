@@ -29,7 +29,7 @@ use glam::{DVec3, DVec4};
 use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::light::Light;
-use crate::setup::{ShadowMap, ShadowSetup};
+use crate::map::{ShadowMap, ShadowSetup};
 
 /// A visible, lit receiver point as one pixel sees it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -647,7 +647,7 @@ mod tests {
     use crate::bounds::Aabb;
     use crate::camera::Lens;
     use crate::light::DirectionalLight;
-    use crate::setup::MapProjection;
+    use crate::map::MapProjection;
 
     fn ground_scene() -> SceneBounds {
         let ground = Aabb::new(

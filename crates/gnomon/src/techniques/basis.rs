@@ -15,12 +15,14 @@ use glam::DVec3;
 use crate::body::focus_body;
 use crate::bvh::Classified;
 use crate::camera::Camera;
+use crate::diagnostics::Fallback;
 use crate::focus::{ReuseCuts, VisibleScene, refine, refine_slices};
 use crate::frame::{Frame, frame_planes};
 use crate::geometry::Plane;
 use crate::light_space::{Extents, Projector};
+use crate::map::ShadowSetup;
 use crate::samples::ViewSamples;
-use crate::setup::{Fallback, SetupInput, ShadowSetup};
+use crate::technique::SetupInput;
 use crate::techniques::focused::Focused;
 use crate::techniques::view_warp::WarpSpace;
 
@@ -262,7 +264,7 @@ mod tests {
     use crate::bounds::{Aabb, SceneBounds};
     use crate::camera::Lens;
     use crate::light::{DirectionalLight, Light, SpotLight};
-    use crate::setup::MapSettings;
+    use crate::map::MapSettings;
 
     fn close_sets(a: &[DVec3], b: &[DVec3], eps: f64) -> bool {
         a.iter().all(|p| b.iter().any(|q| p.distance(*q) <= eps))

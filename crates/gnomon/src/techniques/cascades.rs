@@ -48,18 +48,19 @@
 
 use glam::{DMat4, DVec3, DVec4};
 
+use crate::MIN_RESOLUTION;
 use crate::camera::{Camera, Lens};
+use crate::diagnostics::{Diagnostics, Fallback, LightFrameKind, MapDiagnostics};
 use crate::error::SetupError;
 use crate::frame::Frame;
 use crate::geometry::ConvexPolyhedron;
 use crate::light::Light;
 use crate::light_space::LightFrame;
-use crate::samples::ViewSamples;
-use crate::setup::{
-    CascadeSlices, Diagnostics, Fallback, LightFrameKind, MAX_CASCADES, MIN_RESOLUTION,
-    MapDiagnostics, MapProjection, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup,
-    ShadowTechnique,
+use crate::map::{
+    CascadeSlices, MAX_CASCADES, MapProjection, MapSelection, MapSettings, ShadowMap, ShadowSetup,
 };
+use crate::samples::ViewSamples;
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::{FocusBasis, Part, slice_codes};
 use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};

@@ -16,16 +16,16 @@
 //! [`PointLight::face_of`]); [`MapSelection::CubeFaces`] lists the faces that have maps.
 
 use crate::body::focus_body;
+use crate::diagnostics::{Diagnostics, Fallback};
 use crate::error::SetupError;
 use crate::focus::{FaceFrustum, FaceImages, unit_cube_clip, walk_casters};
 use crate::frame::Frame;
 use crate::geometry::ConvexPolyhedron;
 use crate::light::{CubeFace, Light, PointLight, SpotLight, cube_face_tangent};
 use crate::light_space::{AxisFrustum, Extents, build_map};
+use crate::map::{CubeFaceMaps, MapSelection, ShadowSetup};
 use crate::samples::ViewSamples;
-use crate::setup::{
-    CubeFaceMaps, Diagnostics, Fallback, MapSelection, SetupInput, ShadowSetup, ShadowTechnique,
-};
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::{FocusBasis, Part};
 use crate::techniques::focused::usable_body_extents;
 use crate::techniques::{ANGULAR_PADDING, Focused, fixed_projector};
@@ -320,7 +320,8 @@ mod tests {
     use crate::bounds::{Aabb, SceneBounds};
     use crate::camera::{Camera, Lens};
     use crate::light::DirectionalLight;
-    use crate::setup::{MapSettings, compute_setup};
+    use crate::map::MapSettings;
+    use crate::setup::compute_setup;
 
     fn street() -> SceneBounds {
         let ground =
@@ -396,7 +397,8 @@ mod shared_frame_tests {
 
     use super::*;
     use crate::bvh::test_scenes;
-    use crate::setup::{MapSettings, compute_setup_with_samples};
+    use crate::map::MapSettings;
+    use crate::setup::compute_setup_with_samples;
     use crate::techniques::Lispsm;
 
     proptest! {

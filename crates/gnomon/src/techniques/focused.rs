@@ -7,15 +7,14 @@
 
 use glam::DVec3;
 
+use crate::diagnostics::{Diagnostics, Fallback, LightFrameKind};
 use crate::error::SetupError;
 use crate::focus::{caster_extents, unit_cube_clip};
 use crate::geometry::ConvexPolyhedron;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, Projector, build_map};
-use crate::setup::{
-    Diagnostics, Fallback, LightFrameKind, MapSelection, SetupInput, ShadowMap, ShadowSetup,
-    ShadowTechnique,
-};
+use crate::map::{MapSelection, ShadowMap, ShadowSetup};
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::uniform::{uniform_map, within_cone};
 use crate::techniques::{ANGULAR_PADDING, on_whole_frame};

@@ -52,7 +52,8 @@
 //! the uniform map; a spot light that cannot see the view gives the uniform map.
 
 use crate::error::SetupError;
-use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
+use crate::map::ShadowSetup;
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};

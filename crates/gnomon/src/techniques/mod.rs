@@ -61,7 +61,7 @@ pub(crate) fn tolerance(scene: &SceneBounds, camera: Option<&Camera>, light: &Li
 
 /// `f` on the basis of all of `input`'s frame (a technique's setup of one whole view).
 pub(crate) fn on_whole_frame<R>(
-    input: &crate::setup::SetupInput<'_>,
+    input: &crate::technique::SetupInput<'_>,
     f: impl FnOnce(&basis::FocusBasis) -> R,
 ) -> R {
     let frame = crate::frame::Frame::new(input);
@@ -74,10 +74,10 @@ pub(crate) const ANGULAR_PADDING: f64 = 1e-9;
 /// A setup (usually the focused map a warp falls back to) under another technique's name,
 /// with `fallback` named first among its fallbacks.
 pub(crate) fn with_fallback(
-    mut setup: crate::setup::ShadowSetup,
+    mut setup: crate::map::ShadowSetup,
     technique: &'static str,
-    fallback: crate::setup::Fallback,
-) -> crate::setup::ShadowSetup {
+    fallback: crate::diagnostics::Fallback,
+) -> crate::map::ShadowSetup {
     setup.technique = technique;
     setup.diagnostics.fallbacks.retain(|f| *f != fallback);
     setup.diagnostics.fallbacks.insert(0, fallback);

@@ -15,11 +15,11 @@
 
 use glam::{DMat4, DVec3, DVec4};
 
+use crate::diagnostics::Diagnostics;
 use crate::error::SetupError;
 use crate::light_space::LightFrame;
-use crate::setup::{
-    Diagnostics, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
-};
+use crate::map::{MapProjection, MapSelection, ShadowMap, ShadowSetup};
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::cube::point_light_only;
 
 /// Dual paraboloid maps for a point light: `maps[0]` the hemisphere below the light (around
@@ -68,7 +68,8 @@ mod tests {
     use crate::bounds::{Aabb, SceneBounds};
     use crate::camera::{Camera, Lens};
     use crate::light::{Light, PointLight};
-    use crate::setup::{MapSettings, compute_setup};
+    use crate::map::MapSettings;
+    use crate::setup::compute_setup;
 
     #[test]
     fn every_direction_lands_inside_its_hemisphere_s_disc() {
@@ -103,7 +104,7 @@ mod tests {
             let map = &setup.maps[setup.map_for(p).unwrap()];
             let ndc = map.project(p).expect("in its hemisphere");
             assert!(ndc.x.abs() <= s && ndc.y.abs() <= s, "{p}: {ndc}");
-            assert!(ndc.truncate().length() <= s * crate::setup::PARABOLOID_SCALE + 1e-12);
+            assert!(ndc.truncate().length() <= s * crate::map::PARABOLOID_SCALE + 1e-12);
             let depth = map.linear_depth(p);
             assert!((depth - (p - lamp.position()).length() / 30.0).abs() < 1e-12);
         }

@@ -47,14 +47,14 @@ use glam::{DMat4, DVec3, DVec4};
 
 use crate::bounds::{Aabb, SceneBounds};
 use crate::camera::{Camera, Lens};
+use crate::diagnostics::Fallback;
 use crate::error::SetupError;
 use crate::focus::{MapImages, ReceiverMap, VisibleScene, WalkedCasters, walk_casters};
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, corner_values, pad};
-use crate::setup::{
-    Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique,
-};
+use crate::map::{MapProjection, MapSelection, ShadowMap, ShadowSetup};
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::warp_diagnostics;

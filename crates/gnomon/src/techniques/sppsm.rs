@@ -61,14 +61,13 @@
 use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 
 use crate::bounds::SceneBounds;
+use crate::diagnostics::{CastersBySide, Fallback};
 use crate::error::SetupError;
 use crate::frame::Frame;
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
-use crate::setup::{
-    CastersBySide, Fallback, MapProjection, MapSelection, SetupInput, ShadowMap, ShadowSetup,
-    ShadowTechnique,
-};
+use crate::map::{MapProjection, MapSelection, ShadowMap, ShadowSetup};
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::{FocusBasis, Part};
 use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};

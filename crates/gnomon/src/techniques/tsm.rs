@@ -48,11 +48,13 @@
 
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
+use crate::diagnostics::Fallback;
 use crate::error::SetupError;
 use crate::geometry::convex_hull_2d;
 use crate::light::Light;
 use crate::light_space::LightFrame;
-use crate::setup::{Fallback, MapProjection, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
+use crate::map::{MapProjection, ShadowMap, ShadowSetup};
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
 use crate::techniques::warp_limit::LimitedWarp;

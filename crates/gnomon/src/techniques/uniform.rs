@@ -6,14 +6,13 @@
 //! and spends most of its texels on what the camera does not see.
 
 use crate::bounds::SceneBounds;
+use crate::diagnostics::{Diagnostics, Fallback};
 use crate::error::SetupError;
 use crate::geometry::ConvexPolyhedron;
 use crate::light::{CubeFace, Light, SpotLight};
 use crate::light_space::{Extents, LightFrame, Projector, build_map};
-use crate::setup::{
-    Diagnostics, Fallback, MapSelection, MapSettings, SetupInput, ShadowMap, ShadowSetup,
-    ShadowTechnique,
-};
+use crate::map::{MapSelection, MapSettings, ShadowMap, ShadowSetup};
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::{ANGULAR_PADDING, tolerance};
 
 use glam::DVec3;

@@ -31,6 +31,7 @@ use std::cell::OnceCell;
 
 use glam::{DMat4, DVec3, DVec4};
 
+use crate::diagnostics::{Diagnostics, Fallback, LightFrameKind};
 use crate::error::SetupError;
 use crate::focus::{
     Both, BoxSide, LightCorners, NearTip, ParallelBoxes, ReceiverMap, box_cut_vertices,
@@ -39,11 +40,9 @@ use crate::focus::{
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, PERSPECTIVE_CLIP_Z, Projector, pad};
+use crate::map::{MapProjection, MapSelection, ShadowMap, ShadowSetup};
 use crate::put_off::PutOff;
-use crate::setup::{
-    Diagnostics, Fallback, LightFrameKind, MapProjection, MapSelection, SetupInput, ShadowMap,
-    ShadowSetup,
-};
+use crate::technique::SetupInput;
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::uniform::uniform_map;
 use crate::techniques::{ANGULAR_PADDING, with_fallback};
@@ -950,7 +949,7 @@ fn warped_map(
     region: &Extents,
     linear: (f64, f64),
     linear_row: DVec4,
-    settings: crate::setup::MapSettings,
+    settings: crate::map::MapSettings,
     tolerance: f64,
 ) -> ShadowMap {
     let scale = (region.max - region.min).abs().max_element().max(1e-300);
@@ -1021,7 +1020,7 @@ mod tests {
             use crate::bvh::test_scenes;
             use crate::frame::Frame;
             use crate::light::DirectionalLight;
-            use crate::setup::MapSettings;
+            use crate::map::MapSettings;
             use crate::techniques::basis::Part;
             let scene = test_scenes::mixed(&boxes);
             let camera = test_scenes::camera(eye, target);

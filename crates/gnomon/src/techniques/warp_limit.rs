@@ -25,8 +25,10 @@
 //! error model along the view axis (the LiSPSM paper's ideal configuration, where no limit
 //! fires), not for the frame's pixels. Each warp technique has a `limit` switch.
 
+use crate::diagnostics::Fallback;
 use crate::error::SetupError;
-use crate::setup::{Fallback, SetupInput, ShadowMap, ShadowSetup, ShadowTechnique};
+use crate::map::{ShadowMap, ShadowSetup};
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::focused::receivers_map;
 use crate::techniques::with_fallback;

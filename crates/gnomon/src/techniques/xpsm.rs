@@ -26,7 +26,8 @@
 //! focused map (the chapter treats directional lights only); nothing visible gives the uniform map. Each is named in the diagnostics.
 
 use crate::error::SetupError;
-use crate::setup::{SetupInput, ShadowSetup, ShadowTechnique};
+use crate::map::ShadowSetup;
+use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
