@@ -279,7 +279,7 @@ mod tests {
             "max {max}, expected {expected_max}"
         );
         // Every vertex is inside the spot light's frustum.
-        let up = crate::techniques::fixed_projector(&light).frame().up;
+        let up = crate::light_space::fixed_projector(&light).frame().up;
         for p in &v {
             assert!(
                 spot.frustum_planes(up)

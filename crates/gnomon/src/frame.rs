@@ -16,13 +16,13 @@ use std::sync::OnceLock;
 
 use crate::bounds::SceneBounds;
 use crate::bvh::{Classified, all_planes};
+use crate::camera::Camera;
 use crate::focus::{ReuseCuts, VisibleScene, box_planes, refine};
 use crate::geometry::{ConvexPolyhedron, Plane};
 use crate::light::Light;
-use crate::light_space::Projector;
+use crate::light_space::{Projector, fixed_projector};
 use crate::samples::ViewSamples;
 use crate::technique::SetupInput;
-use crate::techniques::{fixed_projector, tolerance};
 
 /// The shared facts of one camera, light and scene; see the module documentation.
 pub(crate) struct Frame<'a> {
@@ -196,4 +196,32 @@ pub(crate) fn view_body(
     ConvexPolyhedron::from_hexahedron(&camera.frustum_corners())
         .clip_all(&box_planes(&scene.scene_box()), tolerance)
         .clip_all(light_planes.into_iter().flatten(), tolerance)
+}
+
+/// The world-space tolerance of one setup: a billionth of the distances involved (the scene
+/// box's diagonal plus how far the camera and light are from it), and for a spot or point
+/// light at most a thousandth of its near plane's distance (with the near plane at
+/// [`crate::SPOT_NEAR_FRACTION`] of the range, a billionth of the range): the clips keep
+/// points up to the tolerance outside the near plane, and the light's projection divides by
+/// their depth (a lamp of 0.1 m range in a 500 m scene has its near plane 1e-7 from it,
+/// under the 5e-7 the scene alone gives).
+pub(crate) fn tolerance(scene: &SceneBounds, camera: Option<&Camera>, light: &Light) -> f64 {
+    let scene_box = scene.scene_box();
+    let center = scene_box.center();
+    let mut scale = scene_box.diagonal();
+    if let Some(camera) = camera {
+        scale += (camera.eye() - center).length();
+    }
+    let near = match light {
+        Light::Directional(_) => f64::INFINITY,
+        Light::Spot(spot) => {
+            scale += (spot.position() - center).length() + spot.range();
+            spot.near()
+        }
+        Light::Point(point) => {
+            scale += (point.position() - center).length() + point.range();
+            point.near()
+        }
+    };
+    (1e-9 * scale).min(1e-3 * near)
 }

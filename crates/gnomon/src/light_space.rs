@@ -5,6 +5,7 @@ use glam::{DMat4, DVec2, DVec3, DVec4};
 
 use crate::bounds::Aabb;
 use crate::geometry::Plane;
+use crate::light::Light;
 use crate::map::{MapProjection, MapSettings, ShadowMap};
 
 /// Below this sin(gamma) the view direction counts as parallel to the light.
@@ -546,6 +547,21 @@ pub(crate) fn build_map(
         viewport_inset: settings.viewport_inset,
         projection,
         view_depth_range: None,
+    }
+}
+
+/// The projector a uniform map uses for `light`: the light frame fixed by its direction.
+pub(crate) fn fixed_projector(light: &Light) -> Projector {
+    match light {
+        Light::Directional(l) => Projector::Parallel(LightFrame::fixed(l.direction())),
+        Light::Spot(s) => Projector::Point {
+            frame: LightFrame::fixed(s.direction()),
+            position: s.position(),
+        },
+        Light::Point(p) => Projector::Point {
+            frame: LightFrame::fixed(DVec3::NEG_Y),
+            position: p.position(),
+        },
     }
 }
 

@@ -22,13 +22,14 @@ use crate::focus::{FaceFrustum, FaceImages, unit_cube_clip, walk_casters};
 use crate::frame::Frame;
 use crate::geometry::ConvexPolyhedron;
 use crate::light::{CubeFace, Light, PointLight, SpotLight, cube_face_tangent};
+use crate::light_space::fixed_projector;
 use crate::light_space::{AxisFrustum, Extents, build_map};
 use crate::map::{CubeFaceMaps, MapSelection, ShadowSetup};
 use crate::samples::ViewSamples;
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::{FocusBasis, Part};
 use crate::techniques::focused::usable_body_extents;
-use crate::techniques::{ANGULAR_PADDING, Focused, fixed_projector};
+use crate::techniques::{ANGULAR_PADDING, Focused};
 
 /// Cube shadow maps for a point light: six faces, each the focused map with unit cube
 /// clipping of the visible receivers in that face's frustum and the casters that can shadow

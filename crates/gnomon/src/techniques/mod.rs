@@ -24,40 +24,7 @@ pub use psm::Psm;
 pub use sppsm::{PerspectiveMap, Sppsm, ray_area_density, separating_plane};
 pub use tsm::Tsm;
 pub use uniform::Uniform;
-pub(crate) use uniform::fixed_projector;
 pub use xpsm::Xpsm;
-
-use crate::bounds::SceneBounds;
-use crate::camera::Camera;
-use crate::light::Light;
-
-/// The world-space tolerance of one setup: a billionth of the distances involved (the scene
-/// box's diagonal plus how far the camera and light are from it), and for a spot or point
-/// light at most a thousandth of its near plane's distance (with the near plane at
-/// [`crate::SPOT_NEAR_FRACTION`] of the range, a billionth of the range): the clips keep
-/// points up to the tolerance outside the near plane, and the light's projection divides by
-/// their depth (a lamp of 0.1 m range in a 500 m scene has its near plane 1e-7 from it,
-/// under the 5e-7 the scene alone gives).
-pub(crate) fn tolerance(scene: &SceneBounds, camera: Option<&Camera>, light: &Light) -> f64 {
-    let scene_box = scene.scene_box();
-    let center = scene_box.center();
-    let mut scale = scene_box.diagonal();
-    if let Some(camera) = camera {
-        scale += (camera.eye() - center).length();
-    }
-    let near = match light {
-        Light::Directional(_) => f64::INFINITY,
-        Light::Spot(spot) => {
-            scale += (spot.position() - center).length() + spot.range();
-            spot.near()
-        }
-        Light::Point(point) => {
-            scale += (point.position() - center).length() + point.range();
-            point.near()
-        }
-    };
-    (1e-9 * scale).min(1e-3 * near)
-}
 
 /// `f` on the basis of all of `input`'s frame (a technique's setup of one whole view).
 pub(crate) fn on_whole_frame<R>(

@@ -8,12 +8,13 @@
 use crate::bounds::SceneBounds;
 use crate::diagnostics::{Diagnostics, Fallback};
 use crate::error::SetupError;
+use crate::frame::tolerance;
 use crate::geometry::ConvexPolyhedron;
 use crate::light::{CubeFace, Light, SpotLight};
-use crate::light_space::{Extents, LightFrame, Projector, build_map};
+use crate::light_space::{Extents, build_map, fixed_projector};
 use crate::map::{MapSelection, MapSettings, ShadowMap, ShadowSetup};
 use crate::technique::{SetupInput, ShadowTechnique};
-use crate::techniques::{ANGULAR_PADDING, tolerance};
+use crate::techniques::ANGULAR_PADDING;
 
 use glam::DVec3;
 
@@ -46,21 +47,6 @@ impl ShadowTechnique for Uniform {
             selection: MapSelection::Single,
             diagnostics,
         })
-    }
-}
-
-/// The projector a uniform map uses for `light`: the light frame fixed by its direction.
-pub(crate) fn fixed_projector(light: &Light) -> Projector {
-    match light {
-        Light::Directional(l) => Projector::Parallel(LightFrame::fixed(l.direction())),
-        Light::Spot(s) => Projector::Point {
-            frame: LightFrame::fixed(s.direction()),
-            position: s.position(),
-        },
-        Light::Point(p) => Projector::Point {
-            frame: LightFrame::fixed(DVec3::NEG_Y),
-            position: p.position(),
-        },
     }
 }
 
