@@ -17,14 +17,14 @@
 //! So B = (scene box [and light frustum]) clipped by those planes: a handful of plane clips
 //! of a box, with no 3D convex hull and no infinite geometry.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 use crate::bounds::SceneBounds;
 use crate::camera::Camera;
 use crate::frame::Frame;
 use crate::geometry::{ConvexPolyhedron, Plane, convex_hull_2d};
 use crate::light::Light;
-use crate::light_space::Projector;
+use crate::light_space::{Extents, Projector};
 use crate::map::MapSettings;
 use crate::technique::SetupInput;
 
@@ -103,6 +103,22 @@ pub(crate) fn extension_planes(
         }
     }
     planes
+}
+
+/// B's extents under `projector`, or `None` when B is empty or does not hold the visible
+/// receivers (a flat or numerically broken body: it is then not used).
+pub(crate) fn usable_body_extents(
+    body: &[DVec3],
+    projector: &Projector,
+    receivers: &Extents,
+    tolerance: f64,
+) -> Option<Extents> {
+    if body.is_empty() {
+        return None;
+    }
+    let ext = projector.points_extents(body);
+    let slack = 1e-6 * (receivers.max.z - receivers.min.z) + tolerance;
+    (ext.min.z <= receivers.min.z + slack).then_some(ext)
 }
 
 #[cfg(test)]

@@ -5,17 +5,17 @@
 //! 2004, section 3.3). Unit cube clipping: the blog post on robust unit cube clipping for
 //! uniform, TSM, LiSPSM, PSM and XPSM maps (after Kozlov).
 
-use glam::DVec3;
-
+use crate::body::usable_body_extents;
 use crate::diagnostics::{Diagnostics, Fallback, LightFrameKind};
 use crate::error::SetupError;
 use crate::focus::{caster_extents, unit_cube_clip};
 use crate::geometry::ConvexPolyhedron;
-use crate::light::Light;
+use crate::light::{Light, PointLight};
 use crate::light_space::{Extents, LightFrame, Projector, build_map};
 use crate::map::{MapSelection, ShadowMap, ShadowSetup};
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
+use crate::techniques::faces::faces;
 use crate::techniques::uniform::{uniform_map, within_cone};
 use crate::techniques::{ANGULAR_PADDING, on_whole_frame};
 
@@ -205,18 +205,15 @@ fn choose_frame(
     }
 }
 
-/// B's extents under `projector`, or `None` when B is empty or does not hold the visible
-/// receivers (a flat or numerically broken body: it is then not used).
-pub(crate) fn usable_body_extents(
-    body: &[DVec3],
-    projector: &Projector,
-    receivers: &Extents,
-    tolerance: f64,
-) -> Option<Extents> {
-    if body.is_empty() {
-        return None;
-    }
-    let ext = projector.points_extents(body);
-    let slack = 1e-6 * (receivers.max.z - receivers.min.z) + tolerance;
-    (ext.min.z <= receivers.min.z + slack).then_some(ext)
+/// The focused map per cube face (`cube`, and `focused` for a point light): where the light
+/// stands inside the scene box, each face is fitted straight from the point light's frame,
+/// with no frame of its own.
+pub(crate) fn focused_per_face(
+    name: &'static str,
+    input: &SetupInput<'_>,
+    point: &PointLight,
+) -> Result<ShadowSetup, SetupError> {
+    faces(name, input, point, true, |input, basis| {
+        Ok(Focused.setup_on(input, basis))
+    })
 }

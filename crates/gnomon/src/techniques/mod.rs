@@ -3,6 +3,7 @@
 pub(crate) mod basis;
 mod cascades;
 mod cube;
+mod faces;
 mod focused;
 mod lispsm;
 mod paraboloid;
@@ -16,8 +17,9 @@ mod xpsm;
 
 pub use cascades::{ADAPTIVE_HYSTERESIS, CascadeFit, CascadeSelect, CascadeSplit, Cascades};
 pub use cube::Cube;
-pub(crate) use cube::{focused_per_face, per_face};
+pub(crate) use faces::per_face;
 pub use focused::Focused;
+pub(crate) use focused::focused_per_face;
 pub use lispsm::Lispsm;
 pub use paraboloid::DualParaboloid;
 pub use psm::Psm;

@@ -20,7 +20,7 @@ use crate::error::SetupError;
 use crate::light_space::LightFrame;
 use crate::map::{MapProjection, MapSelection, ShadowMap, ShadowSetup};
 use crate::technique::{SetupInput, ShadowTechnique};
-use crate::techniques::cube::point_light_only;
+use crate::techniques::faces::point_light_only;
 
 /// Dual paraboloid maps for a point light: `maps[0]` the hemisphere below the light (around
 /// -y, where a lamp's receivers mostly are), `maps[1]` the one above
