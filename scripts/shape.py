@@ -33,6 +33,8 @@ ITEM = re.compile(
 )
 USE = re.compile(r"^\s*(pub(?:\([^)]*\))?\s+)?use\s+([^;]+);", re.M)
 INLINE = re.compile(r"\b((?:crate|super|self)(?:\s*::\s*[A-Za-z_][A-Za-z0-9_]*)+)")
+# A test module's opening, `pub(crate)` and the like included.
+TEST_MOD = r"#\[cfg\(test\)\]\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+"
 FN = re.compile(r"\bfn\s+([A-Za-z_][A-Za-z0-9_]*)")
 
 
@@ -100,7 +102,7 @@ def closing(code, open_at):
 
 def without_tests(code):
     """The code with its `#[cfg(test)]` items blanked."""
-    for m in reversed(list(re.finditer(r"#\[cfg\(test\)\]\s*(?:pub\s+)?mod\s+\w+\s*\{", code))):
+    for m in reversed(list(re.finditer(TEST_MOD + r"\w+\s*\{", code))):
         end = closing(code, m.end() - 1)
         code = code[: m.start()] + re.sub(r"[^\n]", " ", code[m.start(): end + 1]) + code[end + 1:]
     return code
@@ -116,7 +118,7 @@ class Crate:
         for f in sorted(self.src.rglob("*.rs")):
             module = self.module_of(f)
             text = strip(f.read_text())
-            for name in re.findall(r"#\[cfg\(test\)\]\s*(?:pub\s+)?mod\s+(\w+)\s*;", text):
+            for name in re.findall(TEST_MOD + r"(\w+)\s*;", text):
                 test_modules.add(module + (name,))
             self.files[module] = f
             self.code[f] = without_tests(text)
@@ -312,7 +314,8 @@ def functions(crate):
 
 def self_test():
     """A crate of four files: a circle a -> b -> a through lib.rs's re-export, c outside it
-    (its test module imports a, which does not count), and a 101-line function in c."""
+    (its test modules, one `pub(crate)`, import a and b, which does not count), and a 101-line
+    function in c."""
     import tempfile
 
     body = "\n".join(f"    let x{i} = {i};" for i in range(99))
@@ -321,7 +324,8 @@ def self_test():
         "a.rs": "use crate::b::Bee;\n/// crate::c::nothing in a comment\npub struct Apple(Bee);\n",
         "b.rs": "pub struct Bee;\nfn f() -> crate::Apple { todo!() }\n",
         "c.rs": "fn long() {\n" + body + "\n}\n"
-        + "#[cfg(test)]\nmod tests {\n    use crate::a::Apple;\n    const S: &str = \"}\";\n}\n",
+        + "#[cfg(test)]\nmod tests {\n    use crate::a::Apple;\n    const S: &str = \"}\";\n}\n"
+        + "#[cfg(test)]\npub(crate) mod scenes {\n    use crate::b::Bee;\n}\n",
     }
     with tempfile.TemporaryDirectory() as tmp:
         src = Path(tmp) / "src"
