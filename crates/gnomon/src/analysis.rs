@@ -22,7 +22,8 @@
 
 use glam::DVec3;
 
-use crate::bounds::{Aabb, SceneBounds};
+use crate::bounds::SceneBounds;
+use crate::boxes::Aabb;
 use crate::camera::{Camera, Lens};
 use crate::error::{SetupError, check_scalar};
 use crate::light::{DirectionalLight, Light};

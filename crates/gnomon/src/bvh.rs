@@ -12,7 +12,7 @@
 
 use glam::{DVec3, DVec4};
 
-use crate::bounds::{Aabb, BoxArrays};
+use crate::boxes::{Aabb, BoxArrays};
 use crate::geometry::Plane;
 
 /// Boxes per leaf at most.
@@ -412,7 +412,8 @@ pub(crate) struct Classified {
 pub(crate) mod test_scenes {
     use glam::DVec3;
 
-    use crate::bounds::{Aabb, SceneBounds};
+    use crate::bounds::SceneBounds;
+    use crate::boxes::Aabb;
     use crate::camera::{Camera, Lens};
 
     /// Boxes (corner, size, kind: 0 casts, 1 receives, 2 both) above a ground that receives.

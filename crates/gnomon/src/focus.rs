@@ -14,7 +14,8 @@ use std::sync::OnceLock;
 
 use glam::DVec3;
 
-use crate::bounds::{Aabb, BoxArrays, SceneBounds};
+use crate::bounds::SceneBounds;
+use crate::boxes::{Aabb, BoxArrays};
 use crate::bvh::{BoxPlanes, BoxTree, Classified, all_planes, grown, straddled};
 use crate::geometry::{ConvexPolyhedron, Plane};
 

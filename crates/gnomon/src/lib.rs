@@ -108,6 +108,7 @@ pub mod analysis;
 pub mod area_light;
 mod body;
 mod bounds;
+mod boxes;
 mod bvh;
 mod camera;
 mod diagnostics;
@@ -128,7 +129,8 @@ pub mod techniques;
 pub mod volumes;
 
 pub use body::convex_body_b;
-pub use bounds::{Aabb, SceneBounds};
+pub use bounds::SceneBounds;
+pub use boxes::Aabb;
 pub use bvh::BoxIndex;
 pub use camera::{Camera, Lens};
 pub use diagnostics::{CastersBySide, Diagnostics, Fallback, LightFrameKind, MapDiagnostics};

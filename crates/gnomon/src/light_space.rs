@@ -3,7 +3,7 @@
 
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
-use crate::bounds::Aabb;
+use crate::boxes::Aabb;
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::map::{MapProjection, MapSettings, ShadowMap};

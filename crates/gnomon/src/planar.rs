@@ -16,7 +16,7 @@
 
 use glam::{DMat4, DVec3, DVec4};
 
-use crate::bounds::Aabb;
+use crate::boxes::Aabb;
 use crate::geometry::Plane;
 use crate::light::Light;
 

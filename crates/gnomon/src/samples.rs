@@ -644,7 +644,7 @@ mod tests {
     use glam::DMat4;
 
     use super::*;
-    use crate::bounds::Aabb;
+    use crate::boxes::Aabb;
     use crate::camera::Lens;
     use crate::light::DirectionalLight;
     use crate::map::MapProjection;

@@ -209,7 +209,7 @@ mod tests {
     use glam::DVec3;
 
     use super::*;
-    use crate::bounds::Aabb;
+    use crate::boxes::Aabb;
     use crate::camera::Lens;
     use crate::light::{DirectionalLight, PointLight, SpotLight};
 

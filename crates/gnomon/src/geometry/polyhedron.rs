@@ -3,7 +3,7 @@ use std::cell::RefCell;
 use glam::DVec3;
 
 use super::Plane;
-use crate::bounds::Aabb;
+use crate::boxes::Aabb;
 
 /// A convex polyhedron: its distinct vertices and its faces (polygons of vertex indices).
 ///

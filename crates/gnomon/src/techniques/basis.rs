@@ -261,7 +261,8 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
-    use crate::bounds::{Aabb, SceneBounds};
+    use crate::bounds::SceneBounds;
+    use crate::boxes::Aabb;
     use crate::camera::Lens;
     use crate::light::{DirectionalLight, Light, SpotLight};
     use crate::map::MapSettings;

@@ -45,7 +45,8 @@ mod tests {
     use glam::DVec3;
 
     use super::*;
-    use crate::bounds::{Aabb, SceneBounds};
+    use crate::bounds::SceneBounds;
+    use crate::boxes::Aabb;
     use crate::camera::{Camera, Lens};
     use crate::light::{CubeFace, DirectionalLight, Light, PointLight};
     use crate::map::{MapSelection, MapSettings};

@@ -319,7 +319,8 @@ mod shared_frame_tests {
             fov in 5.0f64..35.0,
             far in 20.0f64..80.0,
         ) {
-            use crate::bounds::{Aabb, SceneBounds};
+            use crate::bounds::SceneBounds;
+            use crate::boxes::Aabb;
             use crate::camera::{Camera, Lens};
             let casters: Vec<Aabb> = boxes
                 .iter()

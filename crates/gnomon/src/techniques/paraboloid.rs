@@ -65,7 +65,8 @@ impl ShadowTechnique for DualParaboloid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bounds::{Aabb, SceneBounds};
+    use crate::bounds::SceneBounds;
+    use crate::boxes::Aabb;
     use crate::camera::{Camera, Lens};
     use crate::light::{Light, PointLight};
     use crate::map::MapSettings;

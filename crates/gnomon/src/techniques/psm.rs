@@ -45,7 +45,8 @@
 
 use glam::{DMat4, DVec3, DVec4};
 
-use crate::bounds::{Aabb, SceneBounds};
+use crate::bounds::SceneBounds;
+use crate::boxes::Aabb;
 use crate::camera::{Camera, Lens};
 use crate::diagnostics::Fallback;
 use crate::error::SetupError;

@@ -583,7 +583,7 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
-    use crate::bounds::Aabb;
+    use crate::boxes::Aabb;
 
     #[test]
     fn refocusing_settles_at_a_tenth_of_the_focused_map_s_texel() {

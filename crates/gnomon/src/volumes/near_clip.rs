@@ -11,7 +11,7 @@
 
 use glam::DVec3;
 
-use crate::bounds::Aabb;
+use crate::boxes::Aabb;
 use crate::camera::Camera;
 use crate::light::Light;
 
