@@ -22,9 +22,7 @@ use crate::geometry::Plane;
 use crate::light_space::{Extents, Projector};
 use crate::map::ShadowSetup;
 use crate::samples::ViewSamples;
-use crate::technique::SetupInput;
-use crate::techniques::focused::Focused;
-use crate::techniques::view_warp::WarpSpace;
+use crate::techniques::warp_space::WarpSpace;
 
 /// Which part of a frame a basis covers.
 #[derive(Debug, Clone, Copy)]
@@ -158,15 +156,19 @@ impl<'f> FocusBasis<'f> {
         let _ = self.receivers.set((*projector, extents));
     }
 
-    /// The focused map of `input` (the input this basis was made for), made once.
-    pub fn focused(&self, input: &SetupInput<'_>) -> &ShadowSetup {
-        self.focused.get_or_init(|| Focused.setup_on(input, self))
+    /// The focused map of this basis's input, made by `make` on first use
+    /// ([`focused_map`](super::focused::focused_map)).
+    pub fn focused_or(&self, make: impl FnOnce() -> ShadowSetup) -> &ShadowSetup {
+        self.focused.get_or_init(make)
     }
 
-    /// The view warp's light space for `input`, made once (the fallback where the warp is
-    /// undefined; see [`WarpSpace::new`]).
-    pub fn warp_space(&self, input: &SetupInput<'_>) -> &Result<WarpSpace, Fallback> {
-        self.warp.get_or_init(|| WarpSpace::new(input, self))
+    /// The view warp's light space for this basis's input, made by `make` on first use
+    /// ([`warp_space`](super::view_warp::warp_space)).
+    pub fn warp_space_or(
+        &self,
+        make: impl FnOnce() -> Result<WarpSpace, Fallback>,
+    ) -> &Result<WarpSpace, Fallback> {
+        self.warp.get_or_init(make)
     }
 
     /// The samples of this part: the frame's, or a slice's share of them.
@@ -266,6 +268,8 @@ mod tests {
     use crate::camera::Lens;
     use crate::light::{DirectionalLight, Light, SpotLight};
     use crate::map::MapSettings;
+    use crate::technique::SetupInput;
+    use crate::techniques::focused::focused_map;
 
     fn close_sets(a: &[DVec3], b: &[DVec3], eps: f64) -> bool {
         a.iter().all(|p| b.iter().any(|q| p.distance(*q) <= eps))
@@ -432,7 +436,7 @@ mod tests {
             let input = SetupInput { camera: &camera, light: &light, scene: &scene, map: MapSettings::default(), samples: None };
             let frame = Frame::new(&input);
             let basis = FocusBasis::new(&frame, Part::Whole);
-            let _ = basis.focused(&input);
+            let _ = focused_map(&input, &basis);
             prop_assert!(basis.body.get().is_none(), "the focused map built B");
             prop_assume!(basis.visible.visible_receivers() > 0);
             let mut projectors = vec![frame.fixed];

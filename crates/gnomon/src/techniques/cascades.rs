@@ -62,6 +62,7 @@ use crate::map::{
 use crate::samples::ViewSamples;
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::{FocusBasis, Part, slice_codes};
+use crate::techniques::focused::focused_map;
 use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};
 
@@ -135,7 +136,7 @@ impl CascadeFit {
         let warp: &dyn LimitedWarp = match self {
             Self::Focused => {
                 input.map.validate()?;
-                return Ok(basis.focused(input).clone());
+                return Ok(focused_map(input, basis).clone());
             }
             Self::Lispsm(t) => t,
             Self::Tsm(t) => t,

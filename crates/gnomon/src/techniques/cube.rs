@@ -1,19 +1,19 @@
-//! Point lights: a map per cube face, each fitted like a spot light's map (`cube`: the
-//! focused map with unit cube clipping per face), and any single-map technique run per face.
+//! Point lights: a map per cube face, each fitted like a spot light's map (`cube`: the focused map
+//! with unit cube clipping per face), and any single-map technique run per face.
 //!
-//! The shadows lecture ("Shadows", volumes and maps) covers point
-//! lights with six 90-degree maps; the unit cube clipping blog post fits each frustum to what
-//! it must hold. Each face here is a spot light at the point light's position looking along
-//! the face's axis ([`PointLight::face_light`]): a square frustum a few texels wider than the
-//! face, whose sides lie along the cube's edges. The face's map is that spot's map from the
-//! chosen technique (focused for `cube`; LiSPSM or PSM warp after the face's own perspective,
-//! as they do for a spot light, an extension of ours; TSM and XPSM use the focused map there)
-//! on the view samples inside the face. A face that sees no visible receiver, or none that a
-//! caster can shadow, gets no map ([`crate::Diagnostics::cube_faces_skipped`]): its points
-//! read as lit.
+//! The shadows lecture ("Shadows", volumes and maps) covers point lights with six 90-degree maps;
+//! the unit cube clipping blog post fits each frustum to what it must hold. Each face here is a
+//! spot light at the point light's position looking along the face's axis
+//! ([`crate::PointLight::face_light`]): a square frustum a few texels wider than the face, whose
+//! sides lie along the cube's edges. The face's map is that spot's map from the chosen technique
+//! (focused for `cube`; LiSPSM or PSM warp after the face's own perspective, as they do for a spot
+//! light, an extension of ours; TSM and XPSM use the focused map there) on the view samples inside
+//! the face. A face that sees no visible receiver, or none that a caster can shadow, gets no map
+//! ([`crate::Diagnostics::cube_faces_skipped`]): its points read as lit.
 //!
 //! A point reads the map of the face its direction from the light falls in (its major axis,
-//! [`PointLight::face_of`]); [`MapSelection::CubeFaces`] lists the faces that have maps.
+//! [`crate::PointLight::face_of`]); [`crate::MapSelection::CubeFaces`] lists the faces that have
+//! maps.
 
 use crate::error::SetupError;
 use crate::map::ShadowSetup;

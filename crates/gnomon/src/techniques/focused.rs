@@ -217,3 +217,9 @@ pub(crate) fn focused_per_face(
         Ok(Focused.setup_on(input, basis))
     })
 }
+
+/// The focused map of `input` on `basis` (the input it was made for), made once: the map a
+/// warp is compared with and falls back to.
+pub(crate) fn focused_map<'b>(input: &SetupInput<'_>, basis: &'b FocusBasis) -> &'b ShadowSetup {
+    basis.focused_or(|| Focused.setup_on(input, basis))
+}

@@ -56,8 +56,9 @@ use crate::map::ShadowSetup;
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
-use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
+use crate::techniques::view_warp::view_warp_setup;
 use crate::techniques::warp_limit::LimitedWarp;
+use crate::techniques::warp_space::WarpChoice;
 
 /// Light space perspective shadow map (LiSPSM, Wimmer et al. 2004): a perspective warp in
 /// light space along the view direction, with the paper's optimal warp strength n, then

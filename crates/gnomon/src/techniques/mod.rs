@@ -13,6 +13,7 @@ mod tsm;
 mod uniform;
 mod view_warp;
 mod warp_limit;
+mod warp_space;
 mod xpsm;
 
 pub use cascades::{ADAPTIVE_HYSTERESIS, CascadeFit, CascadeSelect, CascadeSplit, Cascades};

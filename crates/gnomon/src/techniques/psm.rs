@@ -57,6 +57,7 @@ use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, corner_values
 use crate::map::{MapProjection, MapSelection, ShadowMap, ShadowSetup};
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
+use crate::techniques::focused::focused_map;
 use crate::techniques::on_whole_frame;
 use crate::techniques::view_warp::warp_diagnostics;
 use crate::techniques::warp_limit::LimitedWarp;
@@ -111,7 +112,11 @@ impl LimitedWarp for Psm {
         strength: f64,
     ) -> Result<ShadowSetup, SetupError> {
         let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
-            Ok(with_fallback(basis.focused(input).clone(), "psm", fallback))
+            Ok(with_fallback(
+                focused_map(input, basis).clone(),
+                "psm",
+                fallback,
+            ))
         };
         let camera = input.camera;
         let mut diagnostics = match warp_diagnostics(input, self.name(), basis) {

@@ -69,6 +69,7 @@ use crate::light::Light;
 use crate::map::{MapProjection, MapSelection, ShadowMap, ShadowSetup};
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::{FocusBasis, Part};
+use crate::techniques::focused::focused_map;
 use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::{Focused, Lispsm, Psm, Tsm, Xpsm};
 
@@ -447,7 +448,7 @@ impl ShadowTechnique for Sppsm {
         // them to a side of the plane.
         let frame = Frame::new(input);
         let whole = FocusBasis::new(&frame, Part::Whole);
-        let focused = whole.focused(input).clone();
+        let focused = focused_map(input, &whole).clone();
         let perspective = self
             .perspective
             .without_limit()

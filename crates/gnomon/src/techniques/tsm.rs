@@ -56,6 +56,7 @@ use crate::light_space::LightFrame;
 use crate::map::{MapProjection, ShadowMap, ShadowSetup};
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
+use crate::techniques::focused::focused_map;
 use crate::techniques::on_whole_frame;
 use crate::techniques::warp_limit::LimitedWarp;
 use crate::techniques::with_fallback;
@@ -117,7 +118,7 @@ impl LimitedWarp for Tsm {
         basis: &FocusBasis,
         strength: f64,
     ) -> Result<ShadowSetup, SetupError> {
-        let mut setup = basis.focused(input).clone();
+        let mut setup = focused_map(input, basis).clone();
         setup.technique = self.name();
         let fallback_setup = setup.clone();
         let fall_back =

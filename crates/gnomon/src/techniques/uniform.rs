@@ -93,7 +93,7 @@ pub(crate) fn uniform_map(
 /// `ext` (a spot light's projector's) cut to the light's square in x and y. The clips keep
 /// points up to the tolerance outside the frustum's sides, which project outside it by the
 /// tolerance over their depth: near the light (a lamp inside a box) up to a thousandth of the
-/// square (see [`crate::techniques::tolerance`]). `ext` itself where the cut leaves nothing.
+/// square (see [`crate::frame::tolerance`]). `ext` itself where the cut leaves nothing.
 pub(crate) fn within_cone(ext: Extents, spot: &SpotLight) -> Extents {
     let cut = ext.within_square(spot.half_angle().tan());
     if cut.is_empty() { ext } else { cut }

@@ -6,7 +6,7 @@
 //! make the map coarser than the focused map for most pixels (the robustness issue's XPSM in
 //! the demo's `light_behind` view: 95% of pixels below 172 pixels per texel against the
 //! focused map's 26). The limit compares both maps where the pixels are: over the frame's
-//! [`ViewSamples`] it takes the 95th percentile of pixels per texel along the worst
+//! [`crate::ViewSamples`] it takes the 95th percentile of pixels per texel along the worst
 //! direction (the renderer's undersampling metric) of each. While the warp's is larger, the
 //! strength is halved (LiSPSM's 1 / n and XPSM's len times the strength; PSM's virtual eye
 //! and TSM's projection point moved away by its inverse), at most [`HALVINGS`] times; then
@@ -30,6 +30,7 @@ use crate::error::SetupError;
 use crate::map::{ShadowMap, ShadowSetup};
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
+use crate::techniques::focused::focused_map;
 use crate::techniques::focused::receivers_map;
 use crate::techniques::with_fallback;
 
@@ -121,7 +122,7 @@ fn limit_warp(
         let worst = receivers_map(input, basis).map_or(f64::INFINITY, |map| measure(&map)[1]);
         [f64::INFINITY, GROSS / MAX_MARGIN * worst]
     } else {
-        measure(&basis.focused(input).maps[0])
+        measure(&focused_map(input, basis).maps[0])
     };
     let mut built = Some(setup);
     let strength = pick_strength(reference, |strength| {
@@ -142,7 +143,7 @@ fn limit_warp(
             Ok(setup)
         }
         _ => {
-            let focused = basis.focused(input).clone();
+            let focused = focused_map(input, basis).clone();
             let mut focused = with_fallback(focused, technique, Fallback::WarpCoarserThanFocused);
             focused.diagnostics.warp_strength = Some(0.0);
             Ok(focused)

@@ -30,8 +30,9 @@ use crate::map::ShadowSetup;
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
 use crate::techniques::on_whole_frame;
-use crate::techniques::view_warp::{WarpChoice, view_warp_setup};
+use crate::techniques::view_warp::view_warp_setup;
 use crate::techniques::warp_limit::LimitedWarp;
+use crate::techniques::warp_space::WarpChoice;
 
 /// Extended perspective shadow map (XPSM, after Gussev): a perspective warp centred at the eye
 /// along the view direction projected onto the map, with the back-projection clamp. See the
