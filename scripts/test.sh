@@ -51,7 +51,7 @@ cargo clippy -p gnomon-cli --all-targets --locked -- -D warnings
 # prints the circles of the others and the functions over 100 lines).
 echo "test.sh: the code's shape"
 python3 scripts/shape.py --self-test
-python3 scripts/shape.py --max-cycles 0 --crate bevy_gnomon --crate gnomon-c --crate gnomon-py \
+python3 scripts/shape.py --max-cycles 0 --crate gnomon --crate bevy_gnomon --crate gnomon-c --crate gnomon-py \
     --crate gnomon-tools --crate gnomon-viewer
 echo "test.sh: the core with its opt-in feature (parallel): clippy and tests"
 cargo clippy -p gnomon-core --features parallel --all-targets --locked -- -D warnings
