@@ -5,6 +5,7 @@
 use glam::{DMat4, DQuat, DVec3};
 use gnomon::{Camera, Lens, Light, SetupError};
 
+use crate::view::{NamedView, ViewLight};
 use crate::{SceneLayout, SceneObject, Shape};
 
 /// Half the ground's size: the scene spans [-200, 200] m in x and z.
@@ -62,12 +63,12 @@ pub enum DemoLight {
 
 impl DemoLight {
     /// The light as a named view's.
-    pub fn view_light(&self) -> crate::ViewLight {
+    pub fn view_light(&self) -> ViewLight {
         match *self {
-            DemoLight::Sun(d) => crate::ViewLight::Directional {
+            DemoLight::Sun(d) => ViewLight::Directional {
                 direction: DVec3::from_array(d),
             },
-            DemoLight::Lamp { position, range } => crate::ViewLight::Point {
+            DemoLight::Lamp { position, range } => ViewLight::Point {
                 position: DVec3::from_array(position),
                 range,
             },
@@ -286,6 +287,29 @@ pub fn demo() -> SceneLayout {
         name: "demo".into(),
         objects,
     }
+}
+
+impl From<&DemoView> for NamedView {
+    fn from(v: &DemoView) -> Self {
+        let lens = Lens::default();
+        Self {
+            name: v.name.into(),
+            description: v.description.into(),
+            eye: DVec3::from_array(v.eye),
+            target: DVec3::from_array(v.target),
+            up: DVec3::Y,
+            fov_y_degrees: lens.fov_y_degrees,
+            near: lens.near,
+            far: v.far,
+            light: v.light.view_light(),
+            more_lights: Vec::new(),
+        }
+    }
+}
+
+/// The demo's named views ([`crate::DEMO_VIEWS`]) as [`NamedView`]s.
+pub fn demo_views() -> Vec<NamedView> {
+    DEMO_VIEWS.iter().map(NamedView::from).collect()
 }
 
 #[cfg(test)]

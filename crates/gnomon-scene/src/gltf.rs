@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{DMat4, DVec2, DVec3};
 use gltf::mesh::Mode;
 
-use crate::load::{LoadError, MeshFormat, RawPart};
+use crate::format::{LoadError, MeshFormat, RawPart};
 use crate::mesh::{Cutout, Wrap};
 
 /// Every triangle of the default scene (else the first, else every root node) of a glTF
@@ -388,8 +388,8 @@ fn texel_alpha(image: &gltf::image::Data) -> Box<dyn Iterator<Item = u8> + '_> {
 mod tests {
     use crate::Mesh;
     use crate::Wrap;
+    use crate::format::{LoadError, MeshFormat};
     use crate::load::tests::{CUBE_OFF, volume};
-    use crate::load::{LoadError, MeshFormat};
     use glam::{DVec2, DVec3};
 
     /// A unit cube's buffer (the OFF tests' cube): 8 f32 positions, then 36 u32 indices

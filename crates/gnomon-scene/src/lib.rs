@@ -12,6 +12,7 @@
 
 mod city;
 mod demo;
+mod format;
 mod gltf;
 mod load;
 mod mesh;
@@ -23,11 +24,12 @@ use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
 
 pub use city::{CITY_SIDE, city, city_views};
-pub use demo::{DEMO_VIEWS, DemoLight, DemoView, GROUND_HALF_SIZE, demo};
-pub use load::{CREASE_DEGREES, LoadError, MAX_MESH_BYTES, MeshFormat, MeshPart};
+pub use demo::{DEMO_VIEWS, DemoLight, DemoView, GROUND_HALF_SIZE, demo, demo_views};
+pub use format::{LoadError, MAX_MESH_BYTES, MeshFormat};
+pub use load::{CREASE_DEGREES, MeshPart};
 pub use mesh::{Cutout, Mesh, Wrap, obj_text};
 pub use scene_file::{FileObject, MAX_SCENE_FILE_BYTES, SceneFile, SceneFileError};
-pub use view::{NamedView, ViewLight, demo_views, mesh_views};
+pub use view::{NamedView, ViewLight, mesh_views};
 
 /// The shape of an object, in its own space (centred on the origin unless said otherwise).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -14,7 +14,7 @@
 
 use glam::DVec3;
 
-use crate::load::Polygons;
+use crate::format::Polygons;
 
 /// The most grid points a heightfield may have (8193 x 8193).
 const MAX_POINTS: usize = 8193 * 8193;

@@ -5,8 +5,6 @@
 use glam::DVec3;
 use gnomon::{Camera, DirectionalLight, Lens, Light, PointLight, SetupError, SpotLight};
 
-use crate::DemoView;
-
 /// The light of a named view.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ViewLight {
@@ -109,29 +107,6 @@ impl NamedView {
     }
 }
 
-impl From<&DemoView> for NamedView {
-    fn from(v: &DemoView) -> Self {
-        let lens = Lens::default();
-        Self {
-            name: v.name.into(),
-            description: v.description.into(),
-            eye: DVec3::from_array(v.eye),
-            target: DVec3::from_array(v.target),
-            up: DVec3::Y,
-            fov_y_degrees: lens.fov_y_degrees,
-            near: lens.near,
-            far: v.far,
-            light: v.light.view_light(),
-            more_lights: Vec::new(),
-        }
-    }
-}
-
-/// The demo's named views ([`crate::DEMO_VIEWS`]) as [`NamedView`]s.
-pub fn demo_views() -> Vec<NamedView> {
-    crate::DEMO_VIEWS.iter().map(NamedView::from).collect()
-}
-
 /// Views of a mesh `height` tall standing on the origin (the mesh on its ground slab): an
 /// oblique view under a high sun, the same camera under a low sun, and the camera looking
 /// into a low sun. Near and far scale with the height.
@@ -181,7 +156,7 @@ mod tests {
 
     #[test]
     fn demo_views_keep_their_camera_and_sun() {
-        for (named, demo) in demo_views().iter().zip(crate::DEMO_VIEWS) {
+        for (named, demo) in crate::demo_views().iter().zip(crate::DEMO_VIEWS) {
             let (a, la) = named.camera_and_light(1.5).unwrap();
             let (b, lb) = demo.camera_and_light(1.5).unwrap();
             assert_eq!(a.view_from_world(), b.view_from_world());
