@@ -413,32 +413,6 @@ pub fn timed_setup(
     Ok((setup, start.elapsed().as_secs_f64() * 1e6))
 }
 
-/// A row's setup for each light (with that light's view samples) and their total time in
-/// microseconds.
-pub fn light_setups(
-    row: &crate::rows::Row,
-    camera: &gnomon::Camera,
-    lights: &[gnomon::Light],
-    bounds: &gnomon::SceneBounds,
-    samples: &[gnomon::ViewSamples],
-) -> Result<(Vec<gnomon::ShadowSetup>, f64), CliError> {
-    let mut setups = Vec::with_capacity(lights.len());
-    let mut total_us = 0.0;
-    for (light, samples) in lights.iter().zip(samples) {
-        let (setup, us) = timed_setup(
-            &row.technique,
-            camera,
-            light,
-            bounds,
-            row.resolution,
-            Some(samples),
-        )?;
-        setups.push(setup);
-        total_us += us;
-    }
-    Ok((setups, total_us))
-}
-
 /// A mesh file to use instead of a built-in scene.
 #[derive(Debug, Clone, Args)]
 pub struct MeshArgs {

@@ -11,9 +11,10 @@ use gnomon_render::{RenderSettings, ShadowedLight, Timings};
 use serde_json::json;
 
 use crate::CliError;
-use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs, light_setups};
+use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs};
 use crate::names::Drawn;
 use crate::render::{open_renderer, parse_size};
+use crate::rows::light_setups;
 
 /// `gnomon bench`.
 #[derive(Debug, Clone, Args)]

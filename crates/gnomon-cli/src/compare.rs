@@ -14,8 +14,9 @@ use gnomon_render::{
 use serde_json::{Value, json};
 
 use crate::args::render_command;
-use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs, light_setups};
+use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs};
 use crate::render::{open_renderer, parse_size, write_png, write_text};
+use crate::rows::light_setups;
 use crate::{CliError, heatmap};
 
 /// The largest frame side `compare` takes (its grids hold many frames).

@@ -11,10 +11,11 @@ use gnomon_scene::NamedView;
 use serde_json::{Value, json};
 
 use crate::CliError;
-use crate::args::{SceneArgs, TechniqueParams, ViewListArgs, light_setups};
+use crate::args::{SceneArgs, TechniqueParams, ViewListArgs};
 use crate::args::{render_command, render_command_of};
 use crate::gallery::{Cell, Kind, ViewCells};
 use crate::render::{SoftArgs, open_renderer};
+use crate::rows::light_setups;
 use crate::rows::{Row, RowScene};
 
 /// `gnomon demo`.

@@ -179,6 +179,21 @@ pub fn map_arg(name: &str) -> Result<Technique, String> {
     parse_map(name)
 }
 
+/// The scene as `drawn` draws it: projective shadows keep the ground as a receiver only (a
+/// casting ground would cover the whole light map, and casters are lit), everything else as
+/// it is.
+pub fn drawn_scene(
+    drawn: Drawn,
+    mut scene: gnomon_render::RenderScene,
+) -> gnomon_render::RenderScene {
+    if drawn.map_read() == gnomon_render::MapRead::Coverage {
+        for instance in scene.instances.iter_mut().filter(|i| i.name == "ground") {
+            instance.casts = false;
+        }
+    }
+    scene
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

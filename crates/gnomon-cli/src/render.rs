@@ -9,7 +9,7 @@ use gnomon_render::{
 };
 
 use crate::args::{LightArgs, SceneArgs, TechniqueParams, ViewArgs, timed_setup};
-use crate::names::Drawn;
+use crate::names::{Drawn, drawn_scene};
 use crate::{CliError, heatmap};
 
 /// Shadow-map filtering on the command line.
@@ -763,18 +763,6 @@ fn run_volumes(
         written_files(args)
     );
     Ok(())
-}
-
-/// The scene as `drawn` draws it: projective shadows keep the ground as a receiver only (a
-/// casting ground would cover the whole light map, and casters are lit), everything else as
-/// it is.
-pub fn drawn_scene(drawn: Drawn, mut scene: RenderScene) -> RenderScene {
-    if drawn.map_read() == gnomon_render::MapRead::Coverage {
-        for instance in scene.instances.iter_mut().filter(|i| i.name == "ground") {
-            instance.casts = false;
-        }
-    }
-    scene
 }
 
 /// The receiver of planar shadows: `plane` (A, B, C, D) inside the scene's box, else the top

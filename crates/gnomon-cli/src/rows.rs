@@ -7,7 +7,7 @@ use gnomon::{ShadowTechnique, Technique};
 use gnomon_render::MapRead;
 
 use crate::CliError;
-use crate::args::TechniqueParams;
+use crate::args::{TechniqueParams, timed_setup};
 use crate::names::{CASCADE_ROWS, PARABOLOID_CUBE_TEXELS, SPPSM_SAME_TEXELS};
 
 /// One row.
@@ -224,7 +224,7 @@ impl RowScene {
             .collect();
         let receiving_ground = if projective {
             Some(
-                crate::render::drawn_scene(
+                crate::names::drawn_scene(
                     crate::names::Drawn::Read(MapRead::Coverage),
                     scene.clone(),
                 )
@@ -266,6 +266,32 @@ impl RowScene {
     pub fn restore(&self, renderer: &mut gnomon_render::Renderer) -> Result<(), CliError> {
         self.prepare(renderer, false).map(|_| ())
     }
+}
+
+/// A row's setup for each light (with that light's view samples) and their total time in
+/// microseconds.
+pub fn light_setups(
+    row: &Row,
+    camera: &gnomon::Camera,
+    lights: &[gnomon::Light],
+    bounds: &gnomon::SceneBounds,
+    samples: &[gnomon::ViewSamples],
+) -> Result<(Vec<gnomon::ShadowSetup>, f64), CliError> {
+    let mut setups = Vec::with_capacity(lights.len());
+    let mut total_us = 0.0;
+    for (light, samples) in lights.iter().zip(samples) {
+        let (setup, us) = timed_setup(
+            &row.technique,
+            camera,
+            light,
+            bounds,
+            row.resolution,
+            Some(samples),
+        )?;
+        setups.push(setup);
+        total_us += us;
+    }
+    Ok((setups, total_us))
 }
 
 #[cfg(test)]
