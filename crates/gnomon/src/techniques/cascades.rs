@@ -488,16 +488,7 @@ impl Cascades {
             return Ok(setup);
         };
         let k = slices.count;
-        let settings = MapSettings {
-            resolution: if self.equal_texels {
-                ((input.map.resolution as f64 / (k as f64).sqrt()).floor() as u32)
-                    .max(MIN_RESOLUTION)
-            } else {
-                input.map.resolution
-            },
-            ..input.map
-        };
-        settings.validate()?;
+        let settings = self.slice_settings(input.map, k)?;
         let stable_sun = match input.light {
             Light::Directional(d) if self.stable => Some(d.direction()),
             _ => None,
@@ -513,27 +504,12 @@ impl Cascades {
             let [near, far] = slices.map_view_depths(i);
             (near, far)
         };
-        // A fitted map covers its slice and a millionth of the slice's length beyond each end
-        // (within the view), so that a point the selection routes to it at a border lands
-        // inside: a receiver that only touches a slice's near or far plane is not the slice's
-        // (touching counts as outside), yet its points on that plane are read there (a flat
-        // ground exactly at a border in the light_straight_down property case). The fitted
-        // slices' receivers are refined from the frame's in one walk (`slice_codes`).
+        // The fitted slices' receivers are refined from the frame's in one walk
+        // (`slice_codes`).
         let fitted_cameras = if stable_sun.is_some() {
             Vec::new()
         } else {
-            (0..k)
-                .map(|i| {
-                    let (near, far) = range(i);
-                    let margin = 1e-6 * (far - near);
-                    let slice_lens = Lens {
-                        near: (near - margin).max(lens.near),
-                        far: (far + margin).min(lens.far),
-                        ..lens
-                    };
-                    Camera::from_view_from_world(view_from_world, slice_lens)
-                })
-                .collect::<Result<Vec<_>, _>>()?
+            fitted_slice_cameras(input.camera, &slices)?
         };
         let codes = slice_codes(frame, &fitted_cameras);
         // The slices are independent given the frame: fitted slices in parallel with the
@@ -595,6 +571,45 @@ impl Cascades {
             diagnostics,
         })
     }
+
+    /// Each slice's map settings: `map`'s, with `equal_texels` the resolution divided by
+    /// sqrt(k) so that k maps hold as many texels as one.
+    fn slice_settings(&self, map: MapSettings, k: usize) -> Result<MapSettings, SetupError> {
+        let settings = MapSettings {
+            resolution: if self.equal_texels {
+                ((map.resolution as f64 / (k as f64).sqrt()).floor() as u32).max(MIN_RESOLUTION)
+            } else {
+                map.resolution
+            },
+            ..map
+        };
+        settings.validate()?;
+        Ok(settings)
+    }
+}
+
+/// The cameras of the fitted slices: a fitted map covers its slice and a millionth of the
+/// slice's length beyond each end (within the view), so that a point the selection routes to
+/// it at a border lands inside: a receiver that only touches a slice's near or far plane is
+/// not the slice's (touching counts as outside), yet its points on that plane are read there
+/// (a flat ground exactly at a border in the light_straight_down property case).
+fn fitted_slice_cameras(
+    camera: &Camera,
+    slices: &CascadeSlices,
+) -> Result<Vec<Camera>, SetupError> {
+    let (lens, view_from_world) = (camera.lens(), camera.view_from_world());
+    (0..slices.count)
+        .map(|i| {
+            let [near, far] = slices.map_view_depths(i);
+            let margin = 1e-6 * (far - near);
+            let slice_lens = Lens {
+                near: (near - margin).max(lens.near),
+                far: (far + margin).min(lens.far),
+                ..lens
+            };
+            Camera::from_view_from_world(view_from_world, slice_lens)
+        })
+        .collect()
 }
 
 /// Adds a slice's diagnostics: its fallbacks (each named once), the largest counts, the

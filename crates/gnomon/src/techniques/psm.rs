@@ -104,43 +104,96 @@ impl LimitedWarp for Psm {
         self.limit
     }
 
-    /// The setup with the virtual eye's distance from B's near side divided by `strength`.
+    /// The setup with the virtual eye's distance from B's near side divided by `strength`:
+    /// B's depth range along the view, the virtual camera, the map's projector in its
+    /// post-perspective space (PPS), the receivers and the casters under the map, the map.
     fn at_strength(
         &self,
         input: &SetupInput<'_>,
         basis: &FocusBasis,
         strength: f64,
     ) -> Result<ShadowSetup, SetupError> {
-        let fallback = |fallback: Fallback| -> Result<ShadowSetup, SetupError> {
-            Ok(with_fallback(
-                focused_map(input, basis).clone(),
-                "psm",
-                fallback,
-            ))
-        };
-        let camera = input.camera;
         let mut diagnostics = match warp_diagnostics(input, self.name(), basis) {
             Ok(diagnostics) => diagnostics,
             Err(uniform) => return Ok(*uniform),
         };
-        let (visible, body, tolerance) = (&basis.visible, basis.body(), basis.frame.tolerance);
-        let (eye, forward, near) = (camera.eye(), camera.forward(), camera.lens().near);
-        let depth = |p: DVec3| (p - eye).dot(forward);
-        let b0 = body.iter().map(|p| depth(*p)).fold(f64::INFINITY, f64::min);
-        let b1 = body
+        // B's depth range along the view.
+        let Some(view_depths) = body_view_depths(input.camera, basis) else {
+            let focused = focused_map(input, basis).clone();
+            return Ok(with_fallback(focused, "psm", Fallback::DegenerateFocusBody));
+        };
+        // The virtual camera and its PPS.
+        let pps = Pps::new(
+            basis,
+            self.virtual_camera(input.camera, view_depths, strength)?,
+        );
+        // Receivers in PPS and along the light, then the map's projector in PPS.
+        let (scene, visible) = (input.scene, &basis.visible);
+        let linear_row = input.light.linear_depth_row();
+        let receiver_box = receivers_under(visible, scene, pps.rows, |h| pps.of(DVec4::from(h)));
+        let receivers_z = receivers_under(visible, scene, [linear_row], |[l]| {
+            Some(DVec3::new(0.0, 0.0, l))
+        })
+        .max
+        .z;
+        let projector = pps.projector(input, visible, &receiver_box);
+        // The receivers under the map (its x and y; its z is the linear depth along the
+        // light, what the casters are culled against).
+        let plane_map = PlaneMap::new(&projector, pps.from_world);
+        let [map_x, map_y, map_w] = plane_map.rows();
+        let parallel = matches!(projector, Projector::Parallel(_));
+        let map_rows = [map_x, map_y, map_w, pps.rows[3], linear_row];
+        let receivers = receivers_under(visible, scene, map_rows, |[x, y, w, pps_w, l]| {
+            let front = pps_w > 0.0 && (parallel || w > 0.0);
+            front.then(|| DVec3::new(x / w, y / w, l))
+        })
+        .with_max_z(receivers_z);
+        // The casters that can shadow them, cut to B's depth slab.
+        let slab = pps.caster_slab(input.camera, basis, &projector, view_depths, map_w);
+        let walked = walk_map_casters(input, basis, &plane_map, &receivers, &slab);
+        walked.count_into(scene, &mut diagnostics);
+        // The map over the receivers and casters.
+        let body_z = basis
+            .body()
             .iter()
-            .map(|p| depth(*p))
-            .fold(f64::NEG_INFINITY, f64::max);
-        if body.len() < 4 || b1.is_nan() || b1 - b0 <= tolerance {
-            return fallback(Fallback::DegenerateFocusBody);
-        }
+            .map(|p| linear_row.dot(p.extend(1.0)))
+            .fold(f64::INFINITY, f64::min);
+        let (region, linear) =
+            fitted_region(&walked, &receivers, (receivers_z, body_z), &mut diagnostics);
+        let map = psm_map(
+            &projector,
+            &region,
+            linear,
+            pps.from_world,
+            linear_row,
+            input,
+            basis.frame.tolerance,
+        );
+        Ok(ShadowSetup {
+            technique: self.name(),
+            maps: vec![map],
+            selection: MapSelection::Single,
+            diagnostics,
+        })
+    }
+}
 
-        // The virtual camera: slid back so that B lies at least `near` in front of it.
+impl Psm {
+    /// The virtual camera: slid back so that B (its view depths `b0`, `b1`) lies at least the
+    /// camera's near distance in front of it, the slide from B's near side divided by
+    /// `strength`.
+    fn virtual_camera(
+        &self,
+        camera: &Camera,
+        (b0, b1): (f64, f64),
+        strength: f64,
+    ) -> Result<Camera, SetupError> {
+        let (eye, forward, near) = (camera.eye(), camera.forward(), camera.lens().near);
         let requested = self
             .slide_back
             .unwrap_or_else(|| (near * b1.max(near)).sqrt());
         let slide = (b0 + requested.max(near - b0)) / strength - b0;
-        let virtual_camera = Camera::look_at(
+        Camera::look_at(
             eye - forward * slide,
             eye - forward * slide + forward,
             camera.up(),
@@ -149,51 +202,74 @@ impl LimitedWarp for Psm {
                 far: b1 + slide,
                 ..camera.lens()
             },
-        )?;
-        let pps_from_world = virtual_camera.clip_from_world();
+        )
+    }
+}
+
+/// B's least and greatest depth along the view, or `None` where B is too flat for a
+/// virtual camera (fewer than four points, or no depth range beyond the tolerance).
+fn body_view_depths(camera: &Camera, basis: &FocusBasis) -> Option<(f64, f64)> {
+    let (body, tolerance) = (basis.body(), basis.frame.tolerance);
+    let (eye, forward) = (camera.eye(), camera.forward());
+    let depth = |p: DVec3| (p - eye).dot(forward);
+    let b0 = body.iter().map(|p| depth(*p)).fold(f64::INFINITY, f64::min);
+    let b1 = body
+        .iter()
+        .map(|p| depth(*p))
+        .fold(f64::NEG_INFINITY, f64::max);
+    (body.len() >= 4 && !b1.is_nan() && b1 - b0 > tolerance).then_some((b0, b1))
+}
+
+/// The post-perspective space of the virtual camera: its matrix, its rows as affine
+/// functions of world points, and B there.
+struct Pps {
+    from_world: DMat4,
+    rows: [DVec4; 4],
+    body: Vec<DVec3>,
+}
+
+impl Pps {
+    fn new(basis: &FocusBasis, virtual_camera: Camera) -> Self {
+        let from_world = virtual_camera.clip_from_world();
         let to_pps = |p: DVec3| -> DVec3 {
-            let h = pps_from_world * p.extend(1.0);
+            let h = from_world * p.extend(1.0);
             h.truncate() / h.w
         };
+        Self {
+            from_world,
+            rows: [0, 1, 2, 3].map(|i| from_world.row(i)),
+            body: basis.body().iter().map(|p| to_pps(*p)).collect(),
+        }
+    }
 
-        // Receivers in PPS; the linear depth range along the light in world space. The
-        // receivers are read through the scene's hierarchy (`receivers_under`); every visible
-        // receiver lies in P, in front of the virtual camera.
+    /// PPS of homogeneous PPS coordinates in front of the virtual camera.
+    fn of(&self, h: DVec4) -> Option<DVec3> {
+        (h.w > 0.0).then(|| h.truncate() / h.w)
+    }
+
+    /// The map's projector in PPS, from the light there (a directional light's vanishing
+    /// point, a spot light's position): its cone must hold every visible receiver
+    /// (`receiver_box` their PPS box) and all of B (every relevant caster lies in B).
+    fn projector(
+        &self,
+        input: &SetupInput<'_>,
+        visible: &VisibleScene,
+        receiver_box: &Extents,
+    ) -> Projector {
         let scene = input.scene;
-        let linear_row = input.light.linear_depth_row();
-        let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
-        // PPS of homogeneous PPS coordinates in front of the virtual camera.
-        let pps = |h: DVec4| (h.w > 0.0).then(|| h.truncate() / h.w);
-        // The rows of pps_from_world, as affine functions of world points.
-        let pps_rows = [0, 1, 2, 3].map(|i| pps_from_world.row(i));
-        let receiver_box = receivers_under(visible, scene, pps_rows, |h| pps(DVec4::from(h)));
-        let receivers_z = receivers_under(visible, scene, [linear_row], |[l]| {
-            Some(DVec3::new(0.0, 0.0, l))
-        })
-        .max
-        .z;
-        let body_z = body
-            .iter()
-            .map(|p| linear(*p))
-            .fold(f64::INFINITY, f64::min);
-
-        // The light in PPS (a directional light's vanishing point, a spot light's position)
-        // and the map's projector there.
-        let l_h = pps_from_world * input.light.homogeneous_source();
+        let l_h = self.from_world * input.light.homogeneous_source();
         let center = 0.5 * (receiver_box.min + receiver_box.max);
         let extent = (receiver_box.max - receiver_box.min).length().max(1e-300);
-        // The cone must hold every receiver and all of B (every relevant caster lies in B).
-        let body_points: Vec<DVec3> = body.iter().map(|p| to_pps(*p)).collect();
         // Whether every point of B and of the receivers lies in front of `l` along `axis`
         // (a convex cone around the axis, in PPS).
         let in_front = |l: DVec3, axis: DVec3| {
             let ahead = |q: DVec3| (q - l).dot(axis) > 1e-9 * (q - l).length();
-            let pps_ahead = |h: [f64; 4]| pps(DVec4::from(h)).is_some_and(&ahead);
-            body_points.iter().all(|q| ahead(*q))
+            let pps_ahead = |h: [f64; 4]| self.of(DVec4::from(h)).is_some_and(&ahead);
+            self.body.iter().all(|q| ahead(*q))
                 && visible.all(
                     scene,
-                    |p| pps_ahead(pps_rows.map(|r| r.dot(p.extend(1.0)))),
-                    |b| corner_values(&pps_rows, b).into_iter().all(pps_ahead),
+                    |p| pps_ahead(self.rows.map(|r| r.dot(p.extend(1.0)))),
+                    |b| corner_values(&self.rows, b).into_iter().all(pps_ahead),
                 )
         };
         // The axis used when the one toward the receivers leaves a point behind: every finite
@@ -204,54 +280,53 @@ impl LimitedWarp for Psm {
         let fallback_axis = match input.light {
             Light::Directional(_) => -DVec3::Z,
             Light::Spot(_) | Light::Point(_) => {
-                let plane = pps_from_world.inverse().transpose() * linear_row;
+                let plane = self.from_world.inverse().transpose() * input.light.linear_depth_row();
                 plane.truncate().normalize_or(-DVec3::Z)
             }
         };
-        let projector = pps_projector(l_h, center, extent, in_front, fallback_axis);
+        pps_projector(l_h, center, extent, in_front, fallback_axis)
+    }
 
-        // The receivers under the map (its x and y; its z is the linear depth along the
-        // light, what the casters are culled against).
-        let plane_map = PlaneMap::new(&projector, pps_from_world);
-        let on_map = |p: DVec3| plane_map.project(p).with_z(linear(p));
-        // The projector's rows (x, y, w) on world points, then PPS's w and the linear depth: a
-        // point has an image where it lies in front of the virtual camera and, for a
-        // perspective map, of l (w > 0: its depth from l times PPS's w).
-        let [map_x, map_y, map_w] = plane_map.rows();
-        let parallel = matches!(projector, Projector::Parallel(_));
-        let map_rows = [map_x, map_y, map_w, pps_rows[3], linear_row];
-        let receivers = receivers_under(visible, scene, map_rows, |[x, y, w, pps_w, l]| {
-            let front = pps_w > 0.0 && (parallel || w > 0.0);
-            front.then(|| DVec3::new(x / w, y / w, l))
-        })
-        .with_max_z(receivers_z);
-        // Casters cut to a spot light's frustum (its near plane first: the walk counts the
-        // casters it clips; the frustum keeps them in front of the light), to B's depth range
-        // (planes perpendicular to the view) and, for a perspective map in PPS, to the front
-        // of its centre: d = axis . (P - l W) >= d_min W / 2 is a plane of homogeneous PPS
-        // coordinates, a world plane through pps_from_world.
+    /// The planes casters are cut by: a spot light's frustum (its near plane first: the walk
+    /// counts the casters it clips; the frustum keeps them in front of the light), B's depth
+    /// range (planes perpendicular to the view) and, for a perspective map in PPS, the front
+    /// of its centre: d = axis . (P - l W) >= d_min W / 2 is a plane of homogeneous PPS
+    /// coordinates, a world plane through `from_world`. `map_w` is the map's w row on world
+    /// points.
+    fn caster_slab(
+        &self,
+        camera: &Camera,
+        basis: &FocusBasis,
+        projector: &Projector,
+        (b0, b1): (f64, f64),
+        map_w: DVec4,
+    ) -> Vec<Plane> {
+        let (eye, forward) = (camera.eye(), camera.forward());
         let mut slab = basis.caster_planes.clone();
         slab.extend([
             Plane::through_point(eye + forward * b0, forward),
             Plane::through_point(eye + forward * b1, -forward),
         ]);
-        if let Projector::Point { frame, position } = &projector {
+        if let Projector::Point { frame, position } = projector {
             // Every relevant point has d >= the smallest d over B and the receivers; cutting
             // at half of it keeps them all and keeps cut vertices off the singular plane d = 0.
             let d = |q: DVec3| (q - *position).dot(frame.forward);
             // d of a point's PPS image: the map's w row over PPS's w.
-            let receivers_d =
-                receivers_under(visible, scene, [map_w, pps_rows[3]], |[w, pps_w]| {
-                    (pps_w > 0.0).then(|| DVec3::splat(w / pps_w))
-                });
-            let d_min = body_points
+            let receivers_d = receivers_under(
+                &basis.visible,
+                basis.frame.input.scene,
+                [map_w, self.rows[3]],
+                |[w, pps_w]| (pps_w > 0.0).then(|| DVec3::splat(w / pps_w)),
+            );
+            let d_min = self
+                .body
                 .iter()
                 .map(|q| d(*q))
                 .fold(receivers_d.min.x, f64::min);
             let pps_plane = frame
                 .forward
                 .extend(-frame.forward.dot(*position) - 0.5 * d_min);
-            let world = pps_from_world.transpose() * pps_plane;
+            let world = self.from_world.transpose() * pps_plane;
             let normal = world.truncate();
             if normal.length() > 0.0 {
                 slab.push(Plane {
@@ -260,78 +335,84 @@ impl LimitedWarp for Psm {
                 });
             }
         }
-        // Casters through their hierarchy: in the map's x and y, with their linear depth.
-        let row = linear_row.truncate().abs();
-        let box_on_map = |b: &Aabb| {
-            // The corners' images bound the box's where the map's w is positive on all of it
-            // (in front of the virtual camera and of l); else the walk must open or cut it.
-            if corner_values(&[map_w], b).iter().any(|[w]| *w <= 0.0) {
-                return Extents::ALL;
-            }
-            let e = plane_map.box_extents(b);
-            let (c, r) = (linear(b.center()), row.dot(b.half_extents()));
-            Extents {
-                min: e.min.with_z(c - r),
-                max: e.max.with_z(c + r),
-            }
-        };
-        let tree = scene.caster_tree();
-        let images = MapImages {
-            node: |n: usize| box_on_map(&tree.node_box(n)),
-            caster: |i: usize| box_on_map(&scene.casters()[i]),
-            point: on_map,
-            holds_cut_parts: true,
-        };
-        let walked = walk_casters(
-            scene,
-            &images,
-            &receivers,
-            &slab,
-            basis.light_near_first(),
-            tolerance,
-        );
-        walked.count_into(scene, &mut diagnostics);
-        let WalkedCasters {
-            extents: casters,
-            relevant,
-            ..
-        } = walked;
-        let casters_z = casters.min.z;
-        let (region, linear) = if relevant == 0 {
-            diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
-            (
-                receivers,
-                (receivers_z.min(body_z.max(receivers_z - 1.0)), receivers_z),
-            )
-        } else {
-            let lo = receivers.min.max(casters.min).truncate();
-            let hi = receivers.max.min(casters.max).truncate();
-            let mid = 0.5 * (lo + hi);
-            let near_z = casters_z.max(body_z).min(receivers_z);
-            (
-                Extents {
-                    min: lo.min(mid).extend(0.0),
-                    max: hi.max(mid).extend(0.0),
-                },
-                (near_z, receivers_z),
-            )
-        };
-        let map = psm_map(
-            &projector,
-            &region,
-            linear,
-            pps_from_world,
-            linear_row,
-            input,
-            tolerance,
-        );
-        Ok(ShadowSetup {
-            technique: self.name(),
-            maps: vec![map],
-            selection: MapSelection::Single,
-            diagnostics,
-        })
+        slab
     }
+}
+
+/// The casters through their hierarchy, cut by `slab`, under the map (`plane_map`'s x and
+/// y, with their linear depth along the light) over `receivers`.
+fn walk_map_casters(
+    input: &SetupInput<'_>,
+    basis: &FocusBasis,
+    plane_map: &PlaneMap,
+    receivers: &Extents,
+    slab: &[Plane],
+) -> WalkedCasters {
+    let scene = input.scene;
+    let linear_row = input.light.linear_depth_row();
+    let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
+    let on_map = |p: DVec3| plane_map.project(p).with_z(linear(p));
+    let map_w = plane_map.rows()[2];
+    let row = linear_row.truncate().abs();
+    let box_on_map = |b: &Aabb| {
+        // The corners' images bound the box's where the map's w is positive on all of it
+        // (in front of the virtual camera and of l); else the walk must open or cut it.
+        if corner_values(&[map_w], b).iter().any(|[w]| *w <= 0.0) {
+            return Extents::ALL;
+        }
+        let e = plane_map.box_extents(b);
+        let (c, r) = (linear(b.center()), row.dot(b.half_extents()));
+        Extents {
+            min: e.min.with_z(c - r),
+            max: e.max.with_z(c + r),
+        }
+    };
+    let tree = scene.caster_tree();
+    let images = MapImages {
+        node: |n: usize| box_on_map(&tree.node_box(n)),
+        caster: |i: usize| box_on_map(&scene.casters()[i]),
+        point: on_map,
+        holds_cut_parts: true,
+    };
+    walk_casters(
+        scene,
+        &images,
+        receivers,
+        slab,
+        basis.light_near_first(),
+        basis.frame.tolerance,
+    )
+}
+
+/// The map's region in x and y (the receivers' extents where casters fall on them) and its
+/// linear depth range (from the nearest caster, or B, to the farthest receiver), from the
+/// receivers' and B's least linear depths (`receivers_z`, `body_z`); without a relevant
+/// caster, the receivers' with [`Fallback::NoCasterForReceivers`].
+fn fitted_region(
+    walked: &WalkedCasters,
+    receivers: &Extents,
+    (receivers_z, body_z): (f64, f64),
+    diagnostics: &mut crate::diagnostics::Diagnostics,
+) -> (Extents, (f64, f64)) {
+    let casters = &walked.extents;
+    if walked.relevant == 0 {
+        diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
+        return (
+            *receivers,
+            (receivers_z.min(body_z.max(receivers_z - 1.0)), receivers_z),
+        );
+    }
+    let lo = receivers.min.max(casters.min).truncate();
+    let hi = receivers.max.min(casters.max).truncate();
+    let mid = 0.5 * (lo + hi);
+    let near_z = casters.min.z.max(body_z).min(receivers_z);
+    (
+        Extents {
+            min: lo.min(mid).extend(0.0),
+            max: hi.max(mid).extend(0.0),
+        },
+        (near_z, receivers_z),
+    )
 }
 
 impl ShadowTechnique for Psm {

@@ -479,26 +479,46 @@ impl ShadowTechnique for Sppsm {
             }
             return single(setup, Some(Fallback::NoSeparatingPlane));
         }
-        // P does not change between iterations; only its side of the plane does.
-        let (body, body_tolerance) = (&frame.view_body, frame.tolerance);
-        let Some(mut plane) = separating_plane(&focused.maps[0], &perspective.maps[0], input.light)
+        let Some(plane) = separating_plane(&focused.maps[0], &perspective.maps[0], input.light)
         else {
             // No plane: eq. 7's plane has a vanishing normal (both maps affine on the light's
             // rays, as TSM with parallel sides), so one map is finer by the same factor
             // everywhere, or a map is singular. The finer map alone.
-            let density =
-                |setup: &ShadowSetup, p: DVec3| ray_area_density(&setup.maps[0], input.light, p);
-            let perspective_finer = body
-                .vertices(body_tolerance)
-                .first()
-                .is_some_and(|p| density(&perspective, *p) > density(&focused, *p) * (1.0 + 1e-9));
-            let finer = if perspective_finer {
-                perspective
-            } else {
-                focused
-            };
+            let finer = finer_alone(input.light, &frame, focused, perspective);
             return single(finer, Some(Fallback::NoSeparatingPlane));
         };
+        let (focused_kept, perspective_kept, plane) =
+            self.refocused(input, &frame, (&focused, &perspective), plane);
+        let mut diagnostics = focused.diagnostics.clone();
+        diagnostics.casters_by_side = Some(casters_by_side(input.scene, plane));
+        diagnostics.maps = vec![focused.map_diagnostics(0), perspective.map_diagnostics(0)];
+        for f in perspective.diagnostics.fallbacks {
+            if !diagnostics.fallbacks.contains(&f) {
+                diagnostics.fallbacks.push(f);
+            }
+        }
+        Ok(ShadowSetup {
+            technique: self.name(),
+            maps: vec![focused_kept, perspective_kept],
+            selection: MapSelection::Plane { plane_world: plane },
+            diagnostics,
+        })
+    }
+}
+
+impl Sppsm {
+    /// The paper's iterative refocusing from the maps on all of I (`focused`, `perspective`)
+    /// and their separating `plane`: each map refocused on its side, kept only where every
+    /// point reads a map at least as fine as both alone; the maps and plane kept last.
+    fn refocused(
+        &self,
+        input: &SetupInput<'_>,
+        frame: &Frame,
+        (focused, perspective): (&ShadowSetup, &ShadowSetup),
+        mut plane: DVec4,
+    ) -> (ShadowMap, ShadowMap, DVec4) {
+        // P does not change between iterations; only its side of the plane does.
+        let (body, body_tolerance) = (&frame.view_body, frame.tolerance);
         // The result so far: maps and the plane that picks between them. Both maps on all of
         // I with their exact plane (the theorem) is one, and the fallback.
         let mut kept = (focused.maps[0], perspective.maps[0], plane);
@@ -512,7 +532,7 @@ impl ShadowTechnique for Sppsm {
             if positive_points.is_empty() {
                 break;
             }
-            let negative = FocusBasis::new(&frame, Part::Side(side_plane(-plane)));
+            let negative = FocusBasis::new(frame, Part::Side(side_plane(-plane)));
             // P's part on the negative side is the side's own P.
             let negative_points = negative.visible.view_body.vertices(body_tolerance);
             if negative_points.is_empty() || negative.visible.visible_receivers() == 0 {
@@ -525,7 +545,7 @@ impl ShadowTechnique for Sppsm {
             // The focused map re-evaluated on its side (the paper's refocusing) is taken when
             // it is no coarser there than the focused map on all of I; else that map cropped
             // to P's part on the side.
-            let focused_map =
+            let focused_side =
                 if no_coarser(&f.maps[0], &focused.maps[0], input.light, &negative_points) {
                     f.maps[0]
                 } else {
@@ -533,7 +553,7 @@ impl ShadowTechnique for Sppsm {
                 };
             // The perspective map keeps its warp and is cropped to P's part on its side: a
             // warp re-evaluated on the side can come out coarser somewhere there.
-            let perspective_map =
+            let perspective_side =
                 crop(&perspective.maps[0], &positive_points).unwrap_or(perspective.maps[0]);
             // Refocusing can overshoot: a map focused on less of I gets finer, which moves the
             // plane toward the other map, whose side then grows... (the plane can oscillate
@@ -541,16 +561,16 @@ impl ShadowTechnique for Sppsm {
             // point of P reads a map at least as fine, in area, as both techniques alone.
             let alone = [&focused.maps[0], &perspective.maps[0]];
             if alone.iter().all(|reference| {
-                no_coarser(&focused_map, reference, input.light, &negative_points)
-                    && no_coarser(&perspective_map, reference, input.light, &positive_points)
+                no_coarser(&focused_side, reference, input.light, &negative_points)
+                    && no_coarser(&perspective_side, reference, input.light, &positive_points)
             }) {
-                kept = (focused_map, perspective_map, plane);
+                kept = (focused_side, perspective_side, plane);
             }
             // In the last iteration the plane stays: I's part on it is inside both maps.
             if iteration == self.iterations {
                 break;
             }
-            match separating_plane(&focused_map, &perspective_map, input.light) {
+            match separating_plane(&focused_side, &perspective_side, input.light) {
                 // Refocusing converges geometrically (the plane's offset moves about a sixth
                 // as far each time); once it moves by less than `settle`, the next maps would
                 // be the same to a small part of a texel.
@@ -561,21 +581,28 @@ impl ShadowTechnique for Sppsm {
                 None => break,
             }
         }
-        let (focused_map, perspective_map, plane) = kept;
-        let mut diagnostics = focused.diagnostics.clone();
-        diagnostics.casters_by_side = Some(casters_by_side(input.scene, plane));
-        diagnostics.maps = vec![focused.map_diagnostics(0), perspective.map_diagnostics(0)];
-        for f in perspective.diagnostics.fallbacks {
-            if !diagnostics.fallbacks.contains(&f) {
-                diagnostics.fallbacks.push(f);
-            }
-        }
-        Ok(ShadowSetup {
-            technique: self.name(),
-            maps: vec![focused_map, perspective_map],
-            selection: MapSelection::Plane { plane_world: plane },
-            diagnostics,
-        })
+        kept
+    }
+}
+
+/// The finer of the two maps on all of I, where they have no separating plane: one map is
+/// finer by the same factor everywhere, so one point of P decides.
+fn finer_alone(
+    light: &Light,
+    frame: &Frame,
+    focused: ShadowSetup,
+    perspective: ShadowSetup,
+) -> ShadowSetup {
+    let density = |setup: &ShadowSetup, p: DVec3| ray_area_density(&setup.maps[0], light, p);
+    let perspective_finer = frame
+        .view_body
+        .vertices(frame.tolerance)
+        .first()
+        .is_some_and(|p| density(&perspective, *p) > density(&focused, *p) * (1.0 + 1e-9));
+    if perspective_finer {
+        perspective
+    } else {
+        focused
     }
 }
 

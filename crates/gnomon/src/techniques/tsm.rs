@@ -167,25 +167,11 @@ impl LimitedWarp for Tsm {
         else {
             return fall_back(Fallback::DegenerateFocusBody);
         };
-        let extent = q_polygon.iter().fold(0.0f64, |m, p| m.max(p.length()));
-        let centre = far_center - near_center;
-        if centre.length() <= 1e-6 * extent.max(1e-300) {
-            return fall_back(Fallback::LightParallelToView);
-        }
-        let l = centre.normalize();
+        let (l, t_min, lambda) = match centre_line(&q_polygon, near_center, far_center) {
+            Ok(line) => line,
+            Err(fallback) => return fall_back(fallback),
+        };
         let side = l.perp();
-        let t_min = q_polygon
-            .iter()
-            .map(|p| p.dot(l))
-            .fold(f64::INFINITY, f64::min);
-        let t_max = q_polygon
-            .iter()
-            .map(|p| p.dot(l))
-            .fold(f64::NEG_INFINITY, f64::max);
-        let lambda = t_max - t_min;
-        if lambda.is_nan() || lambda <= 0.0 {
-            return fall_back(Fallback::DegenerateFocusBody);
-        }
         let eta = match self.focus {
             Some(focus) => {
                 let focus_point =
@@ -328,4 +314,33 @@ fn trapezoid_rows(
             [x, y, w_row * 0.5, w_row]
         }
     }
+}
+
+/// The trapezoid's centre line through the near and far ends of the view in the focused map
+/// (`near_center`, `far_center`): its direction l, and where Q's points begin along it and
+/// how far they reach (t_min, lambda); the fallback where the line or Q is degenerate.
+fn centre_line(
+    q_polygon: &[DVec2],
+    near_center: DVec2,
+    far_center: DVec2,
+) -> Result<(DVec2, f64, f64), Fallback> {
+    let extent = q_polygon.iter().fold(0.0f64, |m, p| m.max(p.length()));
+    let centre = far_center - near_center;
+    if centre.length() <= 1e-6 * extent.max(1e-300) {
+        return Err(Fallback::LightParallelToView);
+    }
+    let l = centre.normalize();
+    let t_min = q_polygon
+        .iter()
+        .map(|p| p.dot(l))
+        .fold(f64::INFINITY, f64::min);
+    let t_max = q_polygon
+        .iter()
+        .map(|p| p.dot(l))
+        .fold(f64::NEG_INFINITY, f64::max);
+    let lambda = t_max - t_min;
+    if lambda.is_nan() || lambda <= 0.0 {
+        return Err(Fallback::DegenerateFocusBody);
+    }
+    Ok((l, t_min, lambda))
 }

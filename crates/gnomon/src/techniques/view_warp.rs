@@ -38,7 +38,7 @@ use crate::focus::{
     classify_box,
 };
 use crate::light::Light;
-use crate::light_space::{Extents, LightFrame, PERSPECTIVE_CLIP_Z, Projector, pad};
+use crate::light_space::{Extents, PERSPECTIVE_CLIP_Z, Projector, pad};
 use crate::map::{MapProjection, MapSelection, ShadowMap, ShadowSetup};
 use crate::technique::SetupInput;
 use crate::techniques::basis::FocusBasis;
@@ -86,35 +86,7 @@ impl WarpSpace {
     /// to the light (for a spot light, the view ray through it), B empty or flat.
     pub fn new(input: &SetupInput<'_>, basis: &FocusBasis) -> Result<Self, Fallback> {
         let (eye, view) = (input.camera.eye(), input.camera.forward());
-        let (space, sin_gamma) = match input.light {
-            // Techniques see a point light's faces as spot lights, never the point itself.
-            Light::Point(_) => return Err(Fallback::LightParallelToView),
-            Light::Directional(light) => {
-                let frame = LightFrame::view_aligned(light.direction(), view)
-                    .ok_or(Fallback::LightParallelToView)?;
-                (
-                    LightSpace::Parallel(frame),
-                    view.cross(light.direction()).length(),
-                )
-            }
-            Light::Spot(spot) => {
-                // The image of the view direction in the spot's post-perspective space (see
-                // the module documentation).
-                let (f, q_e) = (spot.direction(), eye - spot.position());
-                let v = view * f.dot(q_e) - q_e * f.dot(view);
-                let frame = (q_e.length() > 0.0)
-                    .then(|| LightFrame::view_aligned(f, v / q_e.length()))
-                    .flatten()
-                    .ok_or(Fallback::LightParallelToView)?;
-                (
-                    LightSpace::Spot {
-                        frame,
-                        position: spot.position(),
-                    },
-                    v.length() / q_e.length(),
-                )
-            }
-        };
+        let (space, sin_gamma) = LightSpace::of_view(input.camera, input.light)?;
         let (visible, body, tolerance) = (&basis.visible, basis.body(), basis.frame.tolerance);
         let linear_row = input.light.linear_depth_row();
         let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
@@ -517,22 +489,7 @@ pub(crate) fn view_warp_setup(
     };
     diagnostics.light_frame = LightFrameKind::ViewAligned;
     let linear_row = input.light.linear_depth_row();
-    let body_light = ws.body_light;
-    let choice = choose(&WarpContext {
-        body_light,
-        depth_world: ws.depth_world,
-        sin_gamma: ws.sin_gamma,
-        eye_light: ws.eye_light,
-        near_depth: ws.near_depth,
-    });
-    let warp = Warp {
-        space: ws.space,
-        x_eye: ws.eye_light.x,
-        y_origin: choice.y_origin,
-        z_mid: 0.5 * (body_light.min.z + body_light.max.z),
-        inv_n: choice.inv_n,
-        k: choice.k,
-    };
+    let warp = ws.warp(choose);
 
     // Receivers: warped extents.
     let receivers = ws.receivers_under(input, basis, &warp);
@@ -649,6 +606,7 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
+    use crate::light_space::LightFrame;
 
     proptest! {
         #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]

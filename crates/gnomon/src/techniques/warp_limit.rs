@@ -3,9 +3,8 @@
 //!
 //! A perspective warp (PSM, LiSPSM, TSM, XPSM) moves texels from the far part of the view to
 //! the near part. Where the view's receivers are mostly far, or seen from the side, that can
-//! make the map coarser than the focused map for most pixels (the robustness issue's XPSM in
-//! the demo's `light_behind` view: 95% of pixels below 172 pixels per texel against the
-//! focused map's 26). The limit compares both maps where the pixels are: over the frame's
+//! make the map coarser than the focused map for most pixels (XPSM in the demo's
+//! `light_behind` view, for one). The limit compares both maps where the pixels are: over the frame's
 //! [`crate::ViewSamples`] it takes the 95th percentile of pixels per texel along the worst
 //! direction (the renderer's undersampling metric) of each. While the warp's is larger, the
 //! strength is halved (LiSPSM's 1 / n and XPSM's len times the strength; PSM's virtual eye
@@ -14,7 +13,7 @@
 //! figures worse: the figures move from the warp's toward the unwarped map's (close to the
 //! focused map's) as the strength falls, so once weakening stops helping, the weaker warps
 //! are not expected to beat the focused map by the margin, and building them costs a whole
-//! setup each (in the benches' city, a cascade that would try four strengths tries two).
+//! setup each.
 //! [`Fallback::WarpLimited`] and [`Fallback::WarpCoarserThanFocused`] name what happened, and
 //! [`crate::Diagnostics::warp_strength`] the strength kept.
 //!

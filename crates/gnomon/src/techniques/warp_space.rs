@@ -6,8 +6,11 @@ use std::cell::OnceCell;
 
 use glam::{DMat4, DVec3, DVec4};
 
+use crate::camera::Camera;
+use crate::diagnostics::Fallback;
 use crate::focus::ParallelBoxes;
 use crate::geometry::Plane;
+use crate::light::Light;
 use crate::light_space::{Extents, LightFrame};
 use crate::put_off::PutOff;
 
@@ -23,6 +26,41 @@ pub(crate) enum LightSpace {
 }
 
 impl LightSpace {
+    /// The light space of `light` for `camera`'s view, and sin(gamma) (the view's angle to
+    /// the light; for a spot light, to its rays there): the fallback where they are parallel.
+    pub(super) fn of_view(camera: &Camera, light: &Light) -> Result<(Self, f64), Fallback> {
+        let (eye, view) = (camera.eye(), camera.forward());
+        match light {
+            // Techniques see a point light's faces as spot lights, never the point itself.
+            Light::Point(_) => Err(Fallback::LightParallelToView),
+            Light::Directional(light) => {
+                let frame = LightFrame::view_aligned(light.direction(), view)
+                    .ok_or(Fallback::LightParallelToView)?;
+                Ok((
+                    LightSpace::Parallel(frame),
+                    view.cross(light.direction()).length(),
+                ))
+            }
+            Light::Spot(spot) => {
+                // The image of the view direction in the spot's post-perspective space (see
+                // the module documentation).
+                let (f, q_e) = (spot.direction(), eye - spot.position());
+                let v = view * f.dot(q_e) - q_e * f.dot(view);
+                let frame = (q_e.length() > 0.0)
+                    .then(|| LightFrame::view_aligned(f, v / q_e.length()))
+                    .flatten()
+                    .ok_or(Fallback::LightParallelToView)?;
+                Ok((
+                    LightSpace::Spot {
+                        frame,
+                        position: spot.position(),
+                    },
+                    v.length() / q_e.length(),
+                ))
+            }
+        }
+    }
+
     pub(super) fn frame(&self) -> &LightFrame {
         match self {
             LightSpace::Parallel(frame) | LightSpace::Spot { frame, .. } => frame,
@@ -259,6 +297,28 @@ pub(super) struct WarpedCasters {
     pub(super) relevant: usize,
     /// How many of the relevant casters a spot light's near plane clips.
     pub(super) near_clipped: usize,
+}
+
+impl WarpSpace {
+    /// The warp of this space that `choose` picks from what the space knows of B and the eye.
+    pub(super) fn warp(&self, choose: impl FnOnce(&WarpContext) -> WarpChoice) -> Warp {
+        let body_light = self.body_light;
+        let choice = choose(&WarpContext {
+            body_light,
+            depth_world: self.depth_world,
+            sin_gamma: self.sin_gamma,
+            eye_light: self.eye_light,
+            near_depth: self.near_depth,
+        });
+        Warp {
+            space: self.space,
+            x_eye: self.eye_light.x,
+            y_origin: choice.y_origin,
+            z_mid: 0.5 * (body_light.min.z + body_light.max.z),
+            inv_n: choice.inv_n,
+            k: choice.k,
+        }
+    }
 }
 
 impl TreeCasters {
