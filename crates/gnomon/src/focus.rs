@@ -100,6 +100,82 @@ pub(crate) fn refine(
 /// The most slices [`refine_slices`] takes in one walk (a cascade has at most eight).
 pub(crate) const MAX_SLICES: usize = 8;
 
+/// The near and far planes of cascade slices that share every other plane and differ only
+/// in those two planes' offsets, tested against a box all at once.
+struct SliceTests {
+    near_normal: DVec3,
+    far_normal: DVec3,
+    abs_normal: DVec3,
+    /// Each slice's near and far offsets.
+    offsets: Vec<(f64, f64)>,
+    tolerance: f64,
+}
+
+impl SliceTests {
+    /// The tests of `slices`, or `None` where they do not share their other planes (or the
+    /// near and far planes are not parallel), or are too many.
+    fn new(slices: &[Vec<Plane>], tolerance: f64) -> Option<Self> {
+        let first = slices.first()?;
+        if slices.len() > MAX_SLICES || first.len() < 2 {
+            return None;
+        }
+        let (near_normal, far_normal) = (first[0].normal, first[1].normal);
+        let abs_normal = near_normal.abs();
+        let shared = slices.iter().all(|planes| {
+            planes.len() == first.len()
+                && planes[0].normal == near_normal
+                && planes[1].normal == far_normal
+                && planes[2..] == first[2..]
+        });
+        if !shared || far_normal.abs() != abs_normal {
+            return None;
+        }
+        let offsets = slices.iter().map(|p| (p[0].offset, p[1].offset)).collect();
+        Some(Self {
+            near_normal,
+            far_normal,
+            abs_normal,
+            offsets,
+            tolerance,
+        })
+    }
+
+    /// A box's n . c against the near and far normals and its |n| . h.
+    #[inline]
+    fn dots(&self, (c, h): (DVec3, DVec3)) -> (f64, f64, f64) {
+        (
+            self.near_normal.dot(c),
+            self.far_normal.dot(c),
+            self.abs_normal.dot(h),
+        )
+    }
+
+    /// The test of `straddled` against slice k's near (bit 0) and far (bit 1) planes among
+    /// `active`, from the box's [`SliceTests::dots`].
+    #[inline]
+    fn test(
+        &self,
+        (near_dot, far_dot, reach): (f64, f64, f64),
+        k: usize,
+        active: u8,
+    ) -> Option<u8> {
+        let mut mask = 0u8;
+        let offsets = self.offsets[k];
+        for (bit, s) in [(1u8, near_dot + offsets.0), (2, far_dot + offsets.1)] {
+            if active & bit == 0 {
+                continue;
+            }
+            if s + reach <= self.tolerance {
+                return None;
+            }
+            if s - reach < -self.tolerance {
+                mask |= bit;
+            }
+        }
+        Some(mask)
+    }
+}
+
 /// [`refine`] of several slices of the frame's view at once. Each of `slices` is a slice's
 /// planes: the frame's, but for its own near and far planes (bits 0 and 1, the changed ones).
 /// A cascade's slices of one camera share the near planes' normal n and the far planes' -n,
@@ -115,41 +191,8 @@ pub(crate) fn refine_slices(
     slices: &[Vec<Plane>],
     tolerance: f64,
 ) -> Option<Vec<Classified>> {
-    let first = slices.first()?;
-    if slices.len() > MAX_SLICES || first.len() < 2 {
-        return None;
-    }
-    let (near_normal, far_normal) = (first[0].normal, first[1].normal);
-    let abs_normal = near_normal.abs();
-    let shared = slices.iter().all(|planes| {
-        planes.len() == first.len()
-            && planes[0].normal == near_normal
-            && planes[1].normal == far_normal
-            && planes[2..] == first[2..]
-    });
-    if !shared || far_normal.abs() != abs_normal {
-        return None;
-    }
-    let count = slices.len();
-    let offsets: Vec<(f64, f64)> = slices.iter().map(|p| (p[0].offset, p[1].offset)).collect();
-    // The test of `straddled` against slice k's near (bit 0) and far (bit 1) planes among
-    // `active`, from the box's n . c, -n . c and |n| . h.
-    let test = |(near_dot, far_dot, reach): (f64, f64, f64), k: usize, active: u8| {
-        let mut mask = 0u8;
-        for (bit, s) in [(1u8, near_dot + offsets[k].0), (2, far_dot + offsets[k].1)] {
-            if active & bit == 0 {
-                continue;
-            }
-            if s + reach <= tolerance {
-                return None;
-            }
-            if s - reach < -tolerance {
-                mask |= bit;
-            }
-        }
-        Some(mask)
-    };
-    let dots = |(c, h): (DVec3, DVec3)| (near_normal.dot(c), far_normal.dot(c), abs_normal.dot(h));
+    let tests = SliceTests::new(slices, tolerance)?;
+    let (first, count) = (&slices[0], slices.len());
     let (tree, arrays) = (scene.receiver_tree(), scene.receiver_arrays());
     let listed = frame.boxes.len() + frame.cut.len();
     let mut out: Vec<Classified> = (0..count)
@@ -166,10 +209,10 @@ pub(crate) fn refine_slices(
     stack.extend(frame.nodes.iter().map(|&n| (n, every, u16::MAX)));
     while let Some((node, live, planes)) = stack.pop() {
         let node = node as usize;
-        let node_dots = dots(tree.nodes.center_half(node));
+        let node_dots = tests.dots(tree.nodes.center_half(node));
         let (mut next_live, mut next_planes) = (0u8, 0u16);
         for_each_bit(live, |k| {
-            match test(node_dots, k, (planes >> (2 * k)) as u8 & 0b11) {
+            match tests.test(node_dots, k, (planes >> (2 * k)) as u8 & 0b11) {
                 None => {}
                 Some(0) => out[k].nodes.push(node as u32),
                 Some(mask) => {
@@ -183,9 +226,9 @@ pub(crate) fn refine_slices(
         }
         if tree.is_leaf(node) {
             for &i in tree.boxes_of(node) {
-                let box_dots = dots(arrays.center_half(i as usize));
+                let box_dots = tests.dots(arrays.center_half(i as usize));
                 for_each_bit(next_live, |k| {
-                    match test(box_dots, k, (next_planes >> (2 * k)) as u8 & 0b11) {
+                    match tests.test(box_dots, k, (next_planes >> (2 * k)) as u8 & 0b11) {
                         None => {}
                         Some(0) => out[k].boxes.push(i),
                         Some(mask) => out[k].cut.push((i, u32::from(mask))),
@@ -200,9 +243,9 @@ pub(crate) fn refine_slices(
     }
     // The frame's boxes, against each slice's near and far planes.
     for &i in &frame.boxes {
-        let box_dots = dots(arrays.center_half(i as usize));
+        let box_dots = tests.dots(arrays.center_half(i as usize));
         for (k, out) in out.iter_mut().enumerate() {
-            match test(box_dots, k, 0b11) {
+            match tests.test(box_dots, k, 0b11) {
                 None => {}
                 Some(0) => out.boxes.push(i),
                 Some(mask) => out.cut.push((i, u32::from(mask))),
@@ -217,9 +260,9 @@ pub(crate) fn refine_slices(
         let Some(side) = side_planes.straddled(c, h, mask & !0b11, tolerance) else {
             continue;
         };
-        let box_dots = dots((c, h));
+        let box_dots = tests.dots((c, h));
         for (k, out) in out.iter_mut().enumerate() {
-            match test(box_dots, k, 0b11).map(|m| side | u32::from(m)) {
+            match tests.test(box_dots, k, 0b11).map(|m| side | u32::from(m)) {
                 None => {}
                 Some(0) => out.boxes.push(i),
                 Some(mask) => out.cut.push((i, mask)),
@@ -1056,28 +1099,11 @@ impl VisibleScene {
         projector: &Projector,
     ) -> Extents {
         let tolerance = self.tolerance;
-        let (tree, arrays, receivers) = (
-            scene.receiver_tree(),
-            scene.receiver_arrays(),
-            scene.receivers(),
-        );
+        let (arrays, receivers) = (scene.receiver_arrays(), scene.receivers());
         let image = |points: &[DVec3]| projector.points_extents(points);
         let against_frustum =
             |c: DVec3, h: DVec3| straddled(c, h, &frustum.planes, all_planes(6), tolerance);
         let mut scratch = Vec::with_capacity(CUT_VERTICES);
-        // The part of `cuts[k]`'s receiver that several view planes cut, as a polyhedron,
-        // shared by every face.
-        let cut_body = |k: usize| {
-            self.cut_bodies
-                .get_or_init(|| vec![OnceLock::new(); self.cuts.len()])[k]
-                .get_or_init(|| {
-                    let (i, view_mask, _, _) = self.cuts[k];
-                    let cut = (0..view_planes.len())
-                        .filter(|j| view_mask & (1 << j) != 0)
-                        .map(|j| &view_planes[j]);
-                    ConvexPolyhedron::from_box(&receivers[i as usize]).clip_all(cut, tolerance)
-                })
-        };
         // Adds the part inside the frustum planes `frustum_mask` of the visible part (`view`) of
         // receiver `i`, given an image `bound` that holds its part's (and is its image where
         // `exact` and no plane of the frustum cuts it).
@@ -1101,7 +1127,9 @@ impl VisibleScene {
                     let cut = (0..6)
                         .filter(|j| frustum_mask & (1 << j) != 0)
                         .map(|j| &frustum.planes[j]);
-                    let part = cut_body(k).clip_all(cut, tolerance);
+                    let part = self
+                        .cut_body(k, receivers, view_planes)
+                        .clip_all(cut, tolerance);
                     scratch.extend_from_slice(part.points());
                     !part.is_empty()
                 }
@@ -1121,26 +1149,7 @@ impl VisibleScene {
                 *ext = ext.union(&image(&scratch));
             }
         };
-        let mut ext = Extents::EMPTY;
-        let whole_box = |ext: &mut Extents, i: usize| {
-            *ext = ext.union(&frustum.axis.box_extents(&receivers[i]));
-        };
-        for &i in &self.boxes {
-            whole_box(&mut ext, i as usize);
-        }
-        let mut stack: Vec<usize> = self.nodes.iter().map(|&n| n as usize).collect();
-        while let Some(node) = stack.pop() {
-            if ext.contains(&frustum.axis.box_extents(&tree.node_box(node))) {
-                continue;
-            }
-            if tree.is_leaf(node) {
-                for &i in tree.boxes_of(node) {
-                    whole_box(&mut ext, i as usize);
-                }
-            } else {
-                stack.extend(tree.children(node));
-            }
-        }
+        let mut ext = self.whole_extents_in_frustum(scene, frustum);
         // The parts the view cuts, once the whole boxes have grown the extents (so that more
         // of them add nothing). Where one lies in front of the light (inside its near plane)
         // its points' image bounds its part's; else the image of the whole box's part does.
@@ -1179,6 +1188,48 @@ impl VisibleScene {
             }
         }
         ext
+    }
+
+    /// The image of the receivers the view sees whole (inside subtrees and listed boxes)
+    /// under `frustum`'s axis-aligned projector: a subtree whose node's image adds nothing is
+    /// not opened.
+    fn whole_extents_in_frustum(&self, scene: &SceneBounds, frustum: &FaceFrustum) -> Extents {
+        let (tree, receivers) = (scene.receiver_tree(), scene.receivers());
+        let mut ext = Extents::EMPTY;
+        let whole_box = |ext: &mut Extents, i: usize| {
+            *ext = ext.union(&frustum.axis.box_extents(&receivers[i]));
+        };
+        for &i in &self.boxes {
+            whole_box(&mut ext, i as usize);
+        }
+        let mut stack: Vec<usize> = self.nodes.iter().map(|&n| n as usize).collect();
+        while let Some(node) = stack.pop() {
+            if ext.contains(&frustum.axis.box_extents(&tree.node_box(node))) {
+                continue;
+            }
+            if tree.is_leaf(node) {
+                for &i in tree.boxes_of(node) {
+                    whole_box(&mut ext, i as usize);
+                }
+            } else {
+                stack.extend(tree.children(node));
+            }
+        }
+        ext
+    }
+
+    /// The part of `cuts[k]`'s receiver that several of `view_planes` cut, as a polyhedron
+    /// made once and shared by every face.
+    fn cut_body(&self, k: usize, receivers: &[Aabb], view_planes: &[Plane]) -> &ConvexPolyhedron {
+        self.cut_bodies
+            .get_or_init(|| vec![OnceLock::new(); self.cuts.len()])[k]
+            .get_or_init(|| {
+                let (i, view_mask, _, _) = self.cuts[k];
+                let cut = (0..view_planes.len())
+                    .filter(|j| view_mask & (1 << j) != 0)
+                    .map(|j| &view_planes[j]);
+                ConvexPolyhedron::from_box(&receivers[i as usize]).clip_all(cut, self.tolerance)
+            })
     }
 }
 
@@ -1294,8 +1345,8 @@ pub(crate) trait CasterImages {
         false
     }
     /// Whether [`CasterImages::node`] and [`CasterImages::caster`] hold the image of every part
-    /// of a box, cut or not ([`Extents::ALL`] where the map has none for part of it): a box
-    /// beside the receivers is then culled before it is opened or cut, which keeps the walk
+    /// of a box, cut or not ([`Extents::ALL`] where the map has none for part of it): a
+    /// subtree beside the receivers is then culled before it is opened, which keeps the walk
     /// to the boxes near the view when the cutting planes run across the whole scene.
     fn holds_cut_parts(&self) -> bool {
         Self::AFFINE || Self::EXACT
@@ -1342,12 +1393,15 @@ where
     P: Fn(DVec3) -> DVec3,
 {
     const AFFINE: bool = false;
+    #[inline]
     fn node(&self, n: usize) -> Extents {
         (self.node)(n)
     }
+    #[inline]
     fn caster(&self, i: usize) -> Extents {
         (self.caster)(i)
     }
+    #[inline]
     fn point(&self, p: DVec3) -> DVec3 {
         (self.point)(p)
     }
@@ -1382,24 +1436,18 @@ pub(crate) fn walk_casters<I: CasterImages>(
     light_near_first: bool,
     tolerance: f64,
 ) -> WalkedCasters {
-    let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
     let (tree, arrays) = (scene.caster_tree(), scene.caster_arrays());
-    // What matters of a caster: its part over the receivers' columns, nearer than their far.
-    let over = Extents {
-        min: (receivers.min.truncate() - xy_slack).extend(f64::NEG_INFINITY),
-        max: (receivers.max.truncate() + xy_slack).extend(receivers.max.z),
-    };
-    // The extents gathered so far; their far depth is the receivers' (what lies farther does
-    // not matter), so that a node's far side never keeps it open.
-    let mut ext = Extents {
-        min: DVec3::INFINITY,
-        max: DVec3::NEG_INFINITY.with_z(over.max.z),
-    };
+    let (xy_slack, over, mut ext) = walk_bounds(receivers);
     let mut relevant = 0;
     let mut near_clipped = 0;
-    // The frustum's tip (see NearTip), made when a caster first crosses the near plane.
-    let mut near_tip: Option<NearTip> = None;
-    let mut scratch = Vec::with_capacity(CUT_VERTICES);
+    let mut cuts = BoxCuts {
+        scene,
+        cut_planes,
+        light_near_first,
+        tolerance,
+        scratch: Vec::with_capacity(CUT_VERTICES),
+        near_tip: None,
+    };
     // Nodes with the cutting planes they may cross, and whether to open the node without a
     // test (one taken from the put-off subtrees).
     let mut stack = Vec::with_capacity(64);
@@ -1413,39 +1461,25 @@ pub(crate) fn walk_casters<I: CasterImages>(
     let beside = |e: &Extents| !receivers.xy_overlaps(e, xy_slack) || e.min.z > receivers.max.z;
     loop {
         while let Some((node, active, open)) = stack.pop() {
-            let active = match active {
-                0 => 0,
-                active => match straddled(
-                    tree.nodes.center_of(node),
-                    tree.nodes.half_of(node),
-                    cut_planes,
-                    active,
-                    tolerance,
-                ) {
-                    None => continue,
-                    Some(mask) => mask,
-                },
+            let Some(active) = cuts.crossed(&tree.nodes, node, active) else {
+                continue;
             };
             // A node's image holds its boxes' (for a point light, where the node lies in
             // front of it: inside every plane of its frustum, or where the images are of the
             // parts inside it).
             if !open && (active == 0 || whole) {
-                let image = images.node(node);
-                if beside(&image) {
-                    continue;
-                }
-                // Nothing its boxes hold over the receivers can add: counted, not opened.
-                if active == 0 && ext.contains(&image.clamped_to(&over)) {
-                    relevant += tree.size(node);
-                    continue;
-                }
-                // Wholly over the receivers (so not held: the test above took it), no nearer
-                // than what is gathered: only its x and y may add, which the extents may
-                // hold once they have grown. Put off.
-                if active == 0 && over.contains(&image) && image.min.z >= ext.min.z {
-                    relevant += tree.size(node);
-                    put_off.push(node, image);
-                    continue;
+                match node_step(images.node(node), active == 0, beside, &ext, &over) {
+                    NodeStep::Open => {}
+                    NodeStep::Cull => continue,
+                    NodeStep::Count => {
+                        relevant += tree.size(node);
+                        continue;
+                    }
+                    NodeStep::PutOff(image) => {
+                        relevant += tree.size(node);
+                        put_off.push(node, image);
+                        continue;
+                    }
                 }
             }
             if !tree.is_leaf(node) {
@@ -1459,38 +1493,14 @@ pub(crate) fn walk_casters<I: CasterImages>(
             }
             for &i in tree.boxes_of(node) {
                 let i = i as usize;
-                let code = match active {
-                    0 => Some(0),
-                    active => straddled(
-                        arrays.center_of(i),
-                        arrays.half_of(i),
-                        cut_planes,
-                        active,
-                        tolerance,
-                    ),
-                };
+                let code = cuts.crossed(arrays, i, active);
                 let (box_ext, crosses_near) = match code {
                     None => continue,
                     Some(0) => (images.caster(i), false),
-                    Some(mask) if I::EXACT => (
-                        images.caster(i),
-                        light_near_first && mask & 1 != 0 && images.clips_near(i),
-                    ),
-                    Some(_) if whole && beside(&images.caster(i)) => continue,
-                    Some(mask) => {
-                        scratch.clear();
-                        let caster = &scene.casters()[i];
-                        if !box_cut_vertices(caster, cut_planes, mask, tolerance, &mut scratch) {
-                            continue;
-                        }
-                        let e = points_image(images, &scratch);
-                        let near_cut = light_near_first
-                            && mask & 1 != 0
-                            && near_tip
-                                .get_or_insert_with(|| NearTip::new(scene, cut_planes, tolerance))
-                                .clips(caster, mask, tolerance);
-                        (e, near_cut)
-                    }
+                    Some(mask) => match cuts.image(images, i, mask) {
+                        Some(cut) => cut,
+                        None => continue,
+                    },
                 };
                 if beside(&box_ext) {
                     continue;
@@ -1515,6 +1525,118 @@ pub(crate) fn walk_casters<I: CasterImages>(
         extents: ext,
         relevant,
         near_clipped,
+    }
+}
+
+/// A caster walk's bounds from the receivers' extents: the slack of its x and y tests, what
+/// matters of a caster (its part over the receivers' columns, nearer than their far) and the
+/// empty extents it gathers into, whose far depth is the receivers' (what lies farther does
+/// not matter), so that a node's far side never keeps it open.
+#[inline(always)]
+fn walk_bounds(receivers: &Extents) -> (f64, Extents, Extents) {
+    let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
+    let over = Extents {
+        min: (receivers.min.truncate() - xy_slack).extend(f64::NEG_INFINITY),
+        max: (receivers.max.truncate() + xy_slack).extend(receivers.max.z),
+    };
+    let gathered = Extents {
+        min: DVec3::INFINITY,
+        max: DVec3::NEG_INFINITY.with_z(over.max.z),
+    };
+    (xy_slack, over, gathered)
+}
+
+/// What a caster walk does with a node, from its image.
+enum NodeStep {
+    /// Beside or behind the receivers: none of its boxes matters.
+    Cull,
+    /// Nothing its boxes hold over the receivers can add: counted, not opened.
+    Count,
+    /// Only its x and y may add: counted, and opened at the end if they still do.
+    PutOff(Extents),
+    /// Opened now.
+    Open,
+}
+
+/// The step for a node whose `image` holds its boxes' (`uncut`: no cutting plane crosses
+/// it), against what is gathered so far (`ext`) and what matters of a caster (`over`).
+#[inline(always)]
+fn node_step(
+    image: Extents,
+    uncut: bool,
+    beside: impl Fn(&Extents) -> bool,
+    ext: &Extents,
+    over: &Extents,
+) -> NodeStep {
+    if beside(&image) {
+        NodeStep::Cull
+    } else if uncut && ext.contains(&image.clamped_to(over)) {
+        NodeStep::Count
+    } else if uncut && over.contains(&image) && image.min.z >= ext.min.z {
+        // Wholly over the receivers (so not held: the test above took it), no nearer than
+        // what is gathered: only its x and y may add, which the extents may hold once they
+        // have grown.
+        NodeStep::PutOff(image)
+    } else {
+        NodeStep::Open
+    }
+}
+
+/// What a caster walk needs to cut a leaf's box by the planes it crosses: the planes, the
+/// scratch buffer its cut vertices go to, and the light frustum's tip (see [`NearTip`]),
+/// made when a caster first crosses the near plane.
+struct BoxCuts<'a> {
+    scene: &'a SceneBounds,
+    cut_planes: &'a [Plane],
+    light_near_first: bool,
+    tolerance: f64,
+    scratch: Vec<DVec3>,
+    near_tip: Option<NearTip>,
+}
+
+impl BoxCuts<'_> {
+    /// The planes of `active` box `i` of `boxes` crosses (`Some(0)`: none, or none left to
+    /// test), or `None` where it lies outside one of them.
+    #[inline(always)]
+    fn crossed(&self, boxes: &BoxArrays, i: usize, active: u32) -> Option<u32> {
+        match active {
+            0 => Some(0),
+            active => straddled(
+                boxes.center_of(i),
+                boxes.half_of(i),
+                self.cut_planes,
+                active,
+                self.tolerance,
+            ),
+        }
+    }
+
+    /// The image of caster `i`'s part inside the planes of `mask` it crosses, and whether
+    /// the light's near plane clips it; `None` where no part is inside.
+    #[inline(always)]
+    fn image<I: CasterImages>(
+        &mut self,
+        images: &I,
+        i: usize,
+        mask: u32,
+    ) -> Option<(Extents, bool)> {
+        let near = self.light_near_first && mask & 1 != 0;
+        if I::EXACT {
+            return Some((images.caster(i), near && images.clips_near(i)));
+        }
+        self.scratch.clear();
+        let (caster, planes, tolerance) =
+            (&self.scene.casters()[i], self.cut_planes, self.tolerance);
+        if !box_cut_vertices(caster, planes, mask, tolerance, &mut self.scratch) {
+            return None;
+        }
+        let e = points_image(images, &self.scratch);
+        let near_cut = near
+            && self
+                .near_tip
+                .get_or_insert_with(|| NearTip::new(self.scene, planes, tolerance))
+                .clips(caster, mask, tolerance);
+        Some((e, near_cut))
     }
 }
 
@@ -1585,6 +1707,7 @@ impl NearTip {
 }
 
 /// The extents of points under a caster walk's map.
+#[inline]
 fn points_image<I: CasterImages>(images: &I, points: &[DVec3]) -> Extents {
     let mut e = Extents::EMPTY;
     for p in points {
