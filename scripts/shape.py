@@ -13,6 +13,7 @@ tests, benches and examples.
     python3 scripts/shape.py --crate gnomon  # one crate (its folder under crates/)
     python3 scripts/shape.py --longest 20    # the 20 longest functions too
     python3 scripts/shape.py --max-cycles 0 --crate gnomon   # exit 1 where there are more
+    python3 scripts/shape.py --max-long 1 --crate gnomon     # exit 1 over one long function
     python3 scripts/shape.py --self-test     # the parser on a small crate with known answers
 """
 
@@ -350,6 +351,8 @@ def main():
     parser.add_argument("--crate", action="append", help="a folder under crates/ (repeatable)")
     parser.add_argument("--longest", type=int, default=0, help="also list the N longest functions")
     parser.add_argument("--max-cycles", type=int, help="exit 1 where a crate has more circles")
+    parser.add_argument("--max-long", type=int,
+                        help=f"exit 1 where the crates have more functions over {LONG} lines")
     args = parser.parse_args()
     folders = sorted(p for p in (ROOT / "crates").iterdir() if (p / "src").is_dir())
     if args.crate:
@@ -373,6 +376,8 @@ def main():
     every_function.sort(key=lambda t: -t[0])
     long = [t for t in every_function if t[0] > LONG]
     print(f"functions over {LONG} lines outside tests: {len(long)}")
+    if args.max_long is not None and len(long) > args.max_long:
+        failed = True
     for n, f, line, name in every_function[: max(args.longest, len(long))]:
         print(f"  {n:5} {f.relative_to(ROOT)}:{line} {name}")
     return 1 if failed else 0
