@@ -1263,11 +1263,11 @@ pub(crate) fn box_planes(b: &Aabb) -> [Plane; 6] {
 /// left, when it lies beside the receivers as seen from the light, or wholly behind them.
 /// Counts go into `diagnostics`.
 ///
-/// The casters' hierarchy is walked from the root: a subtree whose node lies beside or behind
-/// the receivers is culled whole; one whose node lies inside every cutting plane and whose
+/// The casters' hierarchy is walked from the root. A subtree whose node lies beside or behind
+/// the receivers is culled whole. One whose node lies inside every cutting plane and whose
 /// image over the receivers adds nothing to the extents gathered so far is counted whole
-/// without being opened (it may hold boxes just beside the receivers: see
-/// [`crate::Diagnostics::relevant_casters`]); one that could add only in x and y is put off,
+/// without being opened; it may hold boxes just beside the receivers (see
+/// [`crate::Diagnostics::relevant_casters`]). One that could add only in x and y is put off,
 /// and opened at the end where the extents still do not hold it, the farthest-reaching first
 /// ([`PutOff`]). Children nearer the light are opened first, so that the nearest caster (the
 /// near plane) is found early.

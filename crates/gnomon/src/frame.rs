@@ -199,12 +199,12 @@ pub(crate) fn view_body(
 }
 
 /// The world-space tolerance of one setup: a billionth of the distances involved (the scene
-/// box's diagonal plus how far the camera and light are from it), and for a spot or point
-/// light at most a thousandth of its near plane's distance (with the near plane at
-/// [`crate::SPOT_NEAR_FRACTION`] of the range, a billionth of the range): the clips keep
-/// points up to the tolerance outside the near plane, and the light's projection divides by
-/// their depth (a lamp of 0.1 m range in a 500 m scene has its near plane 1e-7 from it,
-/// under the 5e-7 the scene alone gives).
+/// box's diagonal plus how far the camera and light are from it). For a spot or point light
+/// it is at most a thousandth of its near plane's distance, which is a billionth of the
+/// range with the near plane at [`crate::SPOT_NEAR_FRACTION`] of it. The clips keep points
+/// up to the tolerance outside the near plane, and the light's projection divides by their
+/// depth: a lamp of 0.1 m range in a 500 m scene has its near plane 1e-7 from it, under the
+/// 5e-7 the scene alone gives.
 pub(crate) fn tolerance(scene: &SceneBounds, camera: Option<&Camera>, light: &Light) -> f64 {
     let scene_box = scene.scene_box();
     let center = scene_box.center();

@@ -302,12 +302,12 @@ impl AxisFrustum {
     }
 
     /// The extents of the image of `aabb`'s part inside the frustum (empty where it misses
-    /// the frustum), exactly, with no cut: with [x0, x1], [y0, y1], [d0, d1] the box's frame
-    /// coordinates, its part's depth ranges from the least depth d at which each range meets
-    /// `[-tangent d, tangent d]` (the larger of d0, `near` and each range's distance from 0
-    /// over the tangent) to the least of d1 and `far`; x / d is greatest at the part's least
-    /// depth where x1 > 0 (there x is x1 or the frustum's side, `tangent d`) and at its
-    /// greatest depth otherwise, and likewise for the least x and for y.
+    /// the frustum), exactly, with no cut. Let [x0, x1], [y0, y1], [d0, d1] be the box's frame
+    /// coordinates. Its part's depth starts at the least depth d at which each range meets
+    /// `[-tangent d, tangent d]`: the larger of d0, `near` and each range's distance from 0
+    /// over the tangent. It ends at the lesser of d1 and `far`. Where x1 > 0, x / d is
+    /// greatest at the part's least depth (there x is x1 or the frustum's side, `tangent d`),
+    /// else at its greatest depth; likewise for the least x and for y.
     #[inline]
     pub fn box_extents(&self, aabb: &Aabb) -> Extents {
         // Plain comparisons rather than f64::max and min (no NaN reaches here): this runs for

@@ -93,14 +93,14 @@ pub const PARABOLOID_SCALE: f64 = 0.948_964_566_714_88;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowMap {
     /// World to the map's clip space. After the divide by `w`, x and y in [-1, 1] cover the
-    /// whole map (+y up, so texture v = 0.5 - 0.5 y); the focus region lands inside the inset
-    /// square `[-s, s]^2` (see [`MapSettings::inset_ndc`]); z is in [0, 1] for every relevant
-    /// point, so the rasteriser clips none: from the near (0) to the far plane (1) of the focus
-    /// region for a directional light's uniform, focused, LiSPSM and XPSM maps; from 0 at the
-    /// near plane toward 0.5 for maps seen from a point (spot lights, cube faces: their near
-    /// planes lie at a millionth of the range, and the usual z would crowd every point within
-    /// f32 roundings of 1, where a rasteriser clips some); the constant 0.5 for TSM and PSM.
-    /// Depth comparisons use [`ShadowMap::depth_from_world`].
+    /// whole map (+y up, so texture v = 0.5 - 0.5 y), and the focus region lands inside the
+    /// inset square `[-s, s]^2` (see [`MapSettings::inset_ndc`]). z is in [0, 1] for every
+    /// relevant point, so the rasteriser clips none. For a directional light's uniform,
+    /// focused, LiSPSM and XPSM maps it runs from the focus region's near plane (0) to its far
+    /// plane (1). Maps seen from a point (spot lights, cube faces) run from 0 at the near plane
+    /// toward 0.5: their near planes lie at a millionth of the range, and the usual z would
+    /// crowd every point within f32 roundings of 1, where a rasteriser clips some. TSM and PSM
+    /// have the constant 0.5. Depth comparisons use [`ShadowMap::depth_from_world`].
     pub clip_from_world: DMat4,
     /// A row taking a world point (x, y, z, 1) to a depth that is linear along the light, 0 at
     /// the focus region's near plane and 1 at its far plane. A depth bias of `b` world units is

@@ -21,9 +21,9 @@ use crate::techniques::{ANGULAR_PADDING, on_whole_frame};
 
 /// Focused shadow map (FSM): the light's projection (orthographic for a directional light,
 /// the spot light's perspective for a spot light) fitted to what the camera sees, by unit
-/// cube clipping: XY = the intersection of the relevant casters' and the visible receivers'
-/// extents, near = the casters' minimum depth (for a spot light raised to the convex body B's
-/// nearest point), far = the receivers' maximum depth; a one-texel border (the viewport
+/// cube clipping. XY is the intersection of the relevant casters' and the visible receivers'
+/// extents. Near is the casters' minimum depth (for a spot light, raised to the convex body
+/// B's nearest point), far the receivers' maximum depth. A one-texel border (the viewport
 /// inset) stays clear so that lookups outside the focus region read as lit.
 ///
 /// Light frame (directional light): the LiSPSM paper's light space (map +y = the view

@@ -21,23 +21,24 @@
 //!
 //! The free parameter (section 4): n_opt = z_n + sqrt(z_f z_n) equalises the perspective
 //! aliasing error dp/ds at the near and far planes in the ideal case (view perpendicular to
-//! the light); in general n = (z_n + sqrt(z_n z_f')) / sin(gamma) with the section 4.4
-//! refinement z_f' = z_n + (Y_max - Y_min) sin(gamma), where z_n is the view depth at which
-//! the visible scene begins: the near plane's distance in the paper's ideal case (B = the
-//! view frustum), the least view depth of P when the view reaches the scene only beyond its
-//! near plane (a distant view of the scene would otherwise be warped as if the viewer stood
-//! in it, and the map spent on one corner). As gamma -> 0 (view along the light)
-//! or 180 degrees (view into the light), n -> infinity and the map converges smoothly to the
-//! focused map. The user may set n.
+//! the light). In general n = (z_n + sqrt(z_n z_f')) / sin(gamma), with the section 4.4
+//! refinement z_f' = z_n + (Y_max - Y_min) sin(gamma). Here z_n is the view depth at which
+//! the visible scene begins. In the paper's ideal case (B = the view frustum) that is the
+//! near plane's distance. When the view reaches the scene only beyond its near plane, it is
+//! the least view depth of P: a distant view of the scene would otherwise be warped as if
+//! the viewer stood in it, and the map spent on one corner. As gamma -> 0 (view along the
+//! light) or 180 degrees (view into the light), n -> infinity and the map converges smoothly
+//! to the focused map. The user may set n.
 //!
 //! The blog post's caster problem (casters clipped when only receivers define P, precision
 //! lost when casters near P's singular plane d = 0 widen the depth range): P encloses B, and
 //! every caster point that can shadow a visible receiver lies in B (section 3.3), so casters
 //! are cut to B's Y range [Y_min, Y_max] before their warped extents are taken. There
 //! d >= n, which is positive: no caster reaches the singular plane, none that matters is
-//! clipped, and the ones behind p are irrelevant. The depth compared in the map is the linear depth along the light
-//! (`depth_from_world`), so P's warp never touches depth precision; the clip-space z is the
-//! warped z, unit-cube clipped so that no relevant caster is clipped by the rasteriser.
+//! clipped, and the ones behind p are irrelevant. The depth compared in the map is the
+//! linear depth along the light (`depth_from_world`), so P's warp never touches depth
+//! precision. The clip-space z is the warped z, unit-cube clipped so that the rasteriser
+//! clips no relevant caster.
 //!
 //! Spot lights (end of section 3.4): light space is built after the spot's own perspective
 //! transform, where its rays are parallel, and the construction above runs unchanged there

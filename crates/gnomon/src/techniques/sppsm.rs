@@ -14,13 +14,13 @@
 //!
 //! where det M is the determinant of the map's rows (x, y, w) on the rays of the light and w
 //! its homogeneous w. Every map here is constant along the light's rays (its rows x, y and w
-//! vanish on the light's eye point), so the rows can be written in coordinates of the rays:
-//! for a spot light the direction from the light, u = p - L (then det M is the paper's
-//! det(A_34)); for a directional light the light-plane coordinates (X, Y, 1) of a point
-//! (p = X right + Y up + Z d), where the paper's 3x3 minor vanishes for orthographic maps but
-//! the same comparison holds with det M of the 2D projective map (X, Y) -> texel (the
-//! Jacobian by the screen is that map's Jacobian times one shared by both maps). The plane
-//! then contains the light direction.
+//! vanish on the light's eye point), so the rows can be written in coordinates of the rays.
+//! For a spot light these are the direction from the light, u = p - L, and det M is the
+//! paper's det(A_34). For a directional light they are the light-plane coordinates (X, Y, 1)
+//! of a point (p = X right + Y up + Z d). There the paper's 3x3 minor vanishes for
+//! orthographic maps, but the same comparison holds with det M of the 2D projective map
+//! (X, Y) -> texel: the Jacobian by the screen is that map's Jacobian times one shared by
+//! both maps. The plane then contains the light direction.
 //!
 //! Iterative focusing (section 6): each map is refocused on the part of I (the scene seen by
 //! the camera and the light) on its side of the plane, and the plane recomputed; in the last
@@ -42,12 +42,12 @@
 //!   named views, the re-evaluated PSM was coarser than PSM on all of I in 5 of 7), while a
 //!   crop is finer along every direction everywhere it is read.
 //!
-//! Refocusing can overshoot (a map focused on less of I gets finer, the plane moves toward
-//! the other map, whose side grows...: the plane can oscillate with a growing swing), so an
+//! Refocusing can overshoot: a map focused on less of I gets finer, the plane moves toward
+//! the other map, whose side grows, and the plane can oscillate with a growing swing. So an
 //! iteration's maps and plane are kept only when, at every vertex of P on each side, the map
 //! read there is at least as fine in area as both techniques' own maps on all of I (exact
-//! over P: see `no_coarser`); else the last iteration that passed stays, down to both maps on
-//! all of I with their exact plane. So every point of P reads a map at least as fine, in
+//! over P: see `no_coarser`). Else the last iteration that passed stays, down to both maps
+//! on all of I with their exact plane. So every point of P reads a map at least as fine, in
 //! area, as the better of the two techniques alone.
 //!
 //! Selection: [`MapSelection::Plane`], positive side = the perspective map (`maps[1]`),

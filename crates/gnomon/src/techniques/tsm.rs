@@ -19,8 +19,8 @@
 //! the viewer's region of interest ends, well inside the view; the paper leaves it to the
 //! application. Given as a fraction, `focus` is used as the rule says. By default (`focus:
 //! None`) eta balances the perspective aliasing at both ends of the view as LiSPSM's n_opt
-//! does: along the centre line the map is the 1D perspective y(t) ~ 1 / (t + eta), so a
-//! texel spans (t + eta)^2 / eta of t; dp/ds = that over the view depth z is equal at z_n
+//! does. Along the centre line the map is the 1D perspective y(t) ~ 1 / (t + eta), so a
+//! texel spans (t + eta)^2 / eta of t. dp/ds, that over the view depth z, is equal at z_n
 //! (t = 0) and z_f (t = lambda) when eta = lambda sqrt(z_n) / (sqrt(z_f) - sqrt(z_n)), with
 //! z_n and z_f the view depths where P begins and ends. In the LiSPSM paper's ideal
 //! configuration (z_n = 1, z_f = 100, light perpendicular to the view) that is LiSPSM's warp:

@@ -13,8 +13,8 @@
 //! Back-projection singularity: with m the smallest p . (x, y) over the convex body B (every
 //! caster and receiver point that matters lies in B), len is clamped to
 //! (epsilon_W - 1) / m when m < 0, so that w >= epsilon_W over all of B. (The chapter takes m
-//! from the casters' and receivers' minima; B is their tight hull, and using it makes the
-//! blog post's fix - points with w < epsilon_W contribute xy but not z - unnecessary: no
+//! from the casters' and receivers' minima. B is their tight hull, and using it makes the
+//! blog post's fix unnecessary, where points with w < epsilon_W contribute xy but not z: no
 //! relevant point has w < epsilon_W, and casters are cut to B before their extents are taken.)
 //!
 //! Depth: the chapter biases z before the divide; here the compared depth is linear along
