@@ -5,18 +5,19 @@
 //! z_i = lambda z_n (z_f / z_n)^(i/K) + (1 - lambda) (z_n + (z_f - z_n) i / K)); Lloyd et
 //! al. 2006 (z-partitioning with a warp per slice gives the lowest maximum error). Each slice
 //! is a camera with the same eye, orientation and field of view and the slice's near and far
-//! planes, so a slice's map is its technique's map for that camera: unit cube clipping over
-//! the casters that can shadow the slice's visible receivers, casters outside the slice
-//! included (a caster between the light and the slice is in the light's column over it,
-//! which the technique's focusing keeps), and the warp limit on the slice's share of the
-//! frame's view samples.
+//! planes, so a slice's map is its technique's map for that camera. That is unit cube
+//! clipping over the casters that can shadow the slice's visible receivers, and the warp
+//! limit on the slice's share of the frame's view samples. Casters outside the slice count
+//! too: a caster between the light and the slice is in the light's column over it, which
+//! the technique's focusing keeps.
 //!
-//! The slices run from where the visible scene begins (the least view depth of P, the view
-//! frustum clipped by the scene box and a spot light's frustum, at least the near plane) to where it ends or the shadow
-//! distance, whichever is nearer: a slice spent on empty space before or after the scene would
-//! waste its texels. Explicit split distances, and stable cascades (whose slices must not
-//! change with the view), run from the near plane to the shadow distance. Where the shadow distance cuts the visible scene, shadows fade out over
-//! its last 10%, and nothing beyond it is shadowed.
+//! The slices run from where the visible scene begins to where it ends or the shadow
+//! distance, whichever is nearer: a slice spent on empty space before or after the scene
+//! would waste its texels. The scene begins at the least view depth of P (the view frustum
+//! clipped by the scene box and a spot light's frustum), at least the near plane. Explicit
+//! split distances, and stable cascades (whose slices must not change with the view), run
+//! from the near plane to the shadow distance. Where the shadow distance cuts the visible
+//! scene, shadows fade out over its last 10%, and nothing beyond it is shadowed.
 //!
 //! Shared work: the frame's facts ([`crate::frame`]: P, each receiver against the view, the
 //! casters in light space, the view samples) are computed once; each slice is a
@@ -31,12 +32,12 @@
 //!
 //! Stable cascades (directional lights): each slice is bounded by the sphere around its eight
 //! frustum corners, whose radius depends on the lens and the split depths only, not on where
-//! the camera is or looks; the map is a square of that size in texels, in the frame fixed by
+//! the camera is or looks. The map is a square of that size in texels, in the frame fixed by
 //! the light alone, with its centre snapped to whole texels and its depth range the scene
 //! box's along the light. The texel grid then stays put in the world while the camera
 //! translates or turns, which is what engines ship (Bevy, Godot, Unity, three.js, Filament's
-//! stable mode), at the cost of the texels outside the receivers (a sphere's square holds the
-//! slice with room to spare, and does not shrink to what is visible).
+//! stable mode). The cost is the texels outside the receivers: a sphere's square holds the
+//! slice with room to spare, and does not shrink to what is visible.
 //!
 //! Picking a map: by default a fitted cascade's point reads its view depth's slice's map, and
 //! a stable cascade's point the first map whose square holds it ([`CascadeSelect`]). A

@@ -15,10 +15,10 @@
 //!   receivers (the bounding cone);
 //! - the inverted point light (the light behind the viewer, or a spot light behind the
 //!   virtual camera, whose image lies beyond the image of the plane at infinity): the same
-//!   projection from l. The
-//!   inverse projection matrix Kozlov uses keeps PPS depth ordered along the rays; gnomon
-//!   compares the linear world depth of `depth_from_world` instead, so only the 2D central
-//!   projection from l matters, and every relevant point lies on one side of l.
+//!   projection from l. The inverse projection matrix Kozlov uses keeps PPS depth ordered
+//!   along the rays. gnomon compares the linear world depth of `depth_from_world` instead,
+//!   so only the 2D central projection from l matters, and every relevant point lies on one
+//!   side of l.
 //!
 //! Casters: every caster point that can shadow a visible receiver lies in B. The virtual
 //! camera slides back at least until B lies in front of it (Stamminger and Drettakis's
@@ -272,9 +272,9 @@ impl Pps {
                     |b| corner_values(&self.rows, b).into_iter().all(pps_ahead),
                 )
         };
-        // The axis used when the one toward the receivers leaves a point behind: every finite
+        // The axis used when the one toward the receivers leaves a point behind. Every finite
         // point in front of the virtual camera lies on the -z side of a directional light's
-        // vanishing point (z = f (d - n) / (d (f - n)) < f / (f - n)); for a spot light, the
+        // vanishing point (z = f (d - n) / (d (f - n)) < f / (f - n)). For a spot light, the
         // PPS image of its plane passes through l and has every relevant point (in front of
         // both the light and the virtual camera) on its inner side.
         let fallback_axis = match input.light {

@@ -32,9 +32,9 @@
 //!   casters cut by it; the plane contains the light's rays, so a caster's part on the other
 //!   side cannot shadow a receiver on this side). P, the receivers' classification against the
 //!   view and the casters in light space are computed once for the frame and shared by both
-//!   maps and every iteration. It is taken when it is no coarser in area than the focused map on all of
-//!   I anywhere on its side (it can pick another light frame), else that map is cropped
-//!   (below).
+//!   maps and every iteration. It is taken when it is no coarser in area than the focused
+//!   map on all of I anywhere on its side (it can pick another light frame), else that map
+//!   is cropped (below).
 //! - The perspective map keeps its warp and is cropped: the smallest rectangle of its square
 //!   around P's part on its side is stretched to the square (a 2D scale >= 1 and offset after
 //!   the divide). Deviation from the paper, which re-evaluates the warp on the side: a warp

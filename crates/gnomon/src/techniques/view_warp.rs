@@ -11,12 +11,12 @@
 //! as above, but *after* the perspective transform associated with the point light"): light
 //! space is the spot's post-perspective space ([`LightSpace::Spot`]), where its rays are
 //! parallel to Z, so the warp applies unchanged. Its y axis is the image of the view
-//! direction there: on the view ray e + t v, with A and V the homogeneous images of e and v,
-//! the image moves along A.w V.xyz - V.w A.xyz for every t (the derivative of the image,
-//! times its positive w^2), which in world terms is v (f . q_e) - q_e (f . v) with f the
-//! spot's axis and q_e = e - spot position; it is perpendicular to f. Its length over |q_e|
-//! plays sin(gamma): zero when the view ray passes through the light (the miner's lamp),
-//! which falls back to the focused map.
+//! direction there. Let A and V be the homogeneous images of e and v: on the view ray
+//! e + t v, the image moves along A.w V.xyz - V.w A.xyz for every t (the derivative of the
+//! image, times its positive w^2). In world terms that is v (f . q_e) - q_e (f . v), with f
+//! the spot's axis and q_e = e - spot position; it is perpendicular to f. Its length over
+//! |q_e| plays sin(gamma). It is zero when the view ray passes through the light (the
+//! miner's lamp), which falls back to the focused map.
 //!
 //! Casters are cut to B's extent along Y before their warped extents are taken: every
 //! caster point that can shadow a visible receiver lies in B, and the techniques choose
