@@ -12,12 +12,10 @@ use crate::geometry::Plane;
 ///
 /// A millionth: a lamp often hangs within a hand's breadth of a wall or inside a shade, and a
 /// caster nearer than the near plane would cast no shadow, so the light would shine through
-/// it (at a thousandth, a lamp 0.13 m from the wall of the box it stood in, with a range of
-/// 193 m, lit the street outside). The depth compared in the maps is linear along the light,
-/// so a near plane this close costs no depth precision; the maps' clip-space z runs from 0 at
-/// the near plane toward 1/2 only, so that a rasteriser's f32 roundings never carry a point
-/// far beyond the near plane past the far end of the clip volume (with the usual perspective
-/// z, 1 - near / d, they did: a cube face lost its casters).
+/// it. The depth compared in the maps is linear along the light, so a near plane this close
+/// costs no depth precision. The maps' clip-space z runs from 0 at the near plane toward 1/2
+/// only, so that a rasteriser's f32 roundings never carry a point far beyond the near plane
+/// past the far end of the clip volume, as the usual perspective z (1 - near / d) would.
 pub const SPOT_NEAR_FRACTION: f64 = 1e-6;
 
 /// A light at infinity: parallel rays travelling along one direction (the sun).

@@ -39,12 +39,12 @@
 //! constant 0.5 (z = 0.5 w), so the rasteriser never clips a caster by depth; the renderer
 //! writes and compares the linear depth.
 //!
-//! Degenerate cases: the view parallel to the light (within the sin(gamma) of 1e-3 below
-//! which LiSPSM and XPSM count it parallel: the centre line has no usable direction; the
-//! miner's lamp) and spot lights fall back to the focused map; when the 80% rule asks for a
-//! projection point at or beyond infinity (delta' >= lambda (1 - xi) / 2) the side lines are
-//! parallel and the map is the focused rectangle turned along the centre line. Each is named
-//! in the diagnostics.
+//! Degenerate cases: spot lights and the view parallel to the light fall back to the focused
+//! map. Parallel means within the sin(gamma) of 1e-3 below which LiSPSM and XPSM count it
+//! parallel, where the centre line has no usable direction (the miner's lamp). When the 80%
+//! rule asks for a projection point at or beyond infinity (delta' >= lambda (1 - xi) / 2),
+//! the side lines are parallel and the map is the focused rectangle turned along the centre
+//! line. Each is named in the diagnostics.
 
 use glam::{DMat4, DVec2, DVec3, DVec4};
 

@@ -84,11 +84,11 @@ pub(crate) trait LimitedWarp: ShadowTechnique {
 }
 
 /// The setup `build` gives at the largest strength in 1, 1/2, ... 1/2^HALVINGS whose map
-/// samples `basis`'s share of the frame's view no more coarsely than the focused map (a
-/// share of fewer than [`FEW_SAMPLES`]: no more than [`GROSS`] times as coarsely as the map
-/// focused on the receivers alone), else the focused map; with `enabled` false, when the
-/// full-strength setup is not a warp (a fallback), or when no sample sees the share, that
-/// setup. `build` and the focused map share the basis.
+/// samples `basis`'s share of the frame's view no more coarsely than the focused map, else
+/// the focused map. A share of fewer than [`FEW_SAMPLES`] only needs no more than [`GROSS`]
+/// times as coarse as the map focused on the receivers alone. With `enabled` false, when the
+/// full-strength setup is not a warp (a fallback), or when no sample sees the share, it is
+/// that setup. `build` and the focused map share the basis.
 fn limit_warp(
     input: &SetupInput<'_>,
     basis: &FocusBasis,

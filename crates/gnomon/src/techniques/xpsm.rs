@@ -22,8 +22,9 @@
 //! depth precision. Unit cube clipping as for the other warps (see `view_warp`).
 //!
 //! Degenerate cases: |V.xy| small (view along the light, the miner's lamp) falls back to the
-//! focused map, an orthographic map as the chapter prescribes; spot lights fall back to the
-//! focused map (the chapter treats directional lights only); nothing visible gives the uniform map. Each is named in the diagnostics.
+//! focused map, an orthographic map as the chapter prescribes. Spot lights fall back to the
+//! focused map (the chapter treats directional lights only). Nothing visible gives the
+//! uniform map. Each is named in the diagnostics.
 
 use crate::error::SetupError;
 use crate::map::ShadowSetup;
