@@ -78,11 +78,12 @@ pub fn check_radius(light: &Light, radius: f64) -> Result<(), SetupError> {
     Ok(())
 }
 
-/// `light` as an area light sampled by `samples` hard lights: for a spot light, a disc of
-/// `radius` world units centred on it and perpendicular to its direction; for a point light,
-/// the same disc perpendicular to `facing` (where the scene lies from it); for a directional
-/// light, directions within `radius` degrees of its own (the sun: 0.27). Each sample keeps the
-/// light's other properties (cone, range). Radius 0 gives the light `samples` times.
+/// `light` as an area light sampled by `samples` hard lights. For a spot light it is a disc of
+/// `radius` world units centred on it and perpendicular to its direction. For a point light
+/// it is the same disc perpendicular to `facing` (where the scene lies from it). For a
+/// directional light it is the directions within `radius` degrees of its own (the sun:
+/// 0.27). Each sample keeps the light's other properties (cone, range). Radius 0 gives the
+/// light `samples` times.
 pub fn area_light_samples(
     light: &Light,
     radius: f64,

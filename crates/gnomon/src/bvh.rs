@@ -161,9 +161,9 @@ impl BoxTree {
 
     /// Classifies the subtrees `roots` (each with the bits of the planes still to test: its
     /// boxes lie inside the others) against `planes`, as [`crate::focus::classify_box`] does
-    /// one box: subtrees wholly inside all planes go to `out.nodes`, boxes of a leaf that lie
-    /// wholly inside to `out.boxes`, boxes that cross some planes to `out.cut` with the mask of
-    /// those planes; what lies wholly outside one plane is dropped.
+    /// one box. Subtrees wholly inside all planes go to `out.nodes`, boxes of a leaf that lie
+    /// wholly inside to `out.boxes`, and boxes that cross some planes to `out.cut` with the
+    /// mask of those planes. What lies wholly outside one plane is dropped.
     pub fn classify(
         &self,
         boxes: &BoxArrays,

@@ -180,9 +180,9 @@ pub struct Diagnostics {
     /// from the light, or behind them all (the casters less the relevant ones).
     pub culled_casters: usize,
     /// Relevant casters whose boxes' surfaces reach in front of a spot light's near plane
-    /// inside its frustum, where the map clips them (their part within
-    /// [`crate::SPOT_NEAR_FRACTION`] of the range casts no shadow; a box that holds all of
-    /// that space, with the light inside it, loses nothing and is not counted); a point light
+    /// inside its frustum, where the map clips them: their part within
+    /// [`crate::SPOT_NEAR_FRACTION`] of the range casts no shadow. A box that holds all of
+    /// that space, with the light inside it, loses nothing and is not counted. A point light
     /// counts them once per cube face.
     pub casters_clipped_by_light_near: usize,
     /// Number of vertices of the convex body B (0 when not computed or empty).

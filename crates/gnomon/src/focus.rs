@@ -178,12 +178,12 @@ impl SliceTests {
 
 /// [`refine`] of several slices of the frame's view at once. Each of `slices` is a slice's
 /// planes: the frame's, but for its own near and far planes (bits 0 and 1, the changed ones).
-/// A cascade's slices of one camera share the near planes' normal n and the far planes' -n,
-/// so one walk of the frame's subtrees and boxes takes each one's n . c and |n| . h once and
+/// A cascade's slices of one camera share the near planes' normal n and the far planes' -n.
+/// So one walk of the frame's subtrees and boxes takes each one's n . c and |n| . h once and
 /// tests them against every slice's two offsets, where a walk per slice would test the
 /// frame's whole frontier again for each. Each slice gets what [`refine`] gives it, item for
-/// item and in the same order (a slice's walk visits a subset of this walk's nodes, closed
-/// under ancestors, in the same order). `None` where the slices do not share their planes so
+/// item and in the same order: a slice's walk visits a subset of this walk's nodes, closed
+/// under ancestors, in the same order. `None` where the slices do not share their planes so
 /// (other normals, other side planes) or are more than [`MAX_SLICES`]: refine each then.
 pub(crate) fn refine_slices(
     frame: &Classified,
@@ -643,12 +643,12 @@ impl Gather for Extents {
 }
 
 /// Extents under two maps, gathered in one walk. Each map's are what a walk under it alone
-/// gathers, to the bit: the walk opens a subtree or adds an item where either map's extents
+/// gathers, to the bit. The walk opens a subtree or adds an item where either map's extents
 /// do not hold its image, and each map takes an item only where its own do not hold the
-/// item's bound (an item the other map needed is one that a walk under this map would have
-/// passed by: its bound lies in what this map held). Children are ordered by the second
-/// map's depth, as a walk under it alone orders them; the first map's extents must not
-/// depend on the order (they do not where a box's bound is its image, as for a light frame).
+/// item's bound. An item the other map needed is one that a walk under this map would have
+/// passed by: its bound lies in what this map held. Children are ordered by the second
+/// map's depth, as a walk under it alone orders them. The first map's extents must not
+/// depend on the order; they do not where a box's bound is its image, as for a light frame.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Both {
     pub first: Extents,
@@ -1529,9 +1529,9 @@ pub(crate) fn walk_casters<I: CasterImages>(
 }
 
 /// A caster walk's bounds from the receivers' extents: the slack of its x and y tests, what
-/// matters of a caster (its part over the receivers' columns, nearer than their far) and the
-/// empty extents it gathers into, whose far depth is the receivers' (what lies farther does
-/// not matter), so that a node's far side never keeps it open.
+/// matters of a caster (its part over the receivers' columns, nearer than their far), and the
+/// empty extents it gathers into. Their far depth is the receivers', since what lies farther
+/// does not matter, so that a node's far side never keeps it open.
 #[inline(always)]
 fn walk_bounds(receivers: &Extents) -> (f64, Extents, Extents) {
     let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();

@@ -209,9 +209,9 @@ pub(crate) fn corner_values<const K: usize>(rows: &[DVec4; K], b: &Aabb) -> [[f6
 /// [`Projector::box_extents`] of a point projector whose frame's axes are world axes (a cube
 /// face's, [`crate::light::PointLight::face_light`]); `None` for any other frame. Each frame
 /// coordinate of a corner is then one world coordinate times its axis's nonzero component
-/// (the dot product's other terms are zeros), so the corners' (x, d) pairs are the four
-/// pairs of the box's x and d ranges, and likewise for y: the corners' images with two
-/// divisions per axis instead of sixteen, the same values.
+/// (the dot product's other terms are zeros). So the corners' (x, d) pairs are the four
+/// pairs of the box's x and d ranges, and likewise for y. That gives the corners' images
+/// with two divisions per axis instead of sixteen, with the same values.
 fn axis_box_extents(frame: &LightFrame, position: DVec3, aabb: &Aabb) -> Option<Extents> {
     let axes = world_axes(frame)?;
     let (x, y, d) = axis_ranges(&axes, position, aabb);
@@ -482,11 +482,11 @@ pub(crate) fn pad(lo: f64, hi: f64, absolute: f64) -> (f64, f64) {
 /// (see [`pad`]), mapped to the inset square, and depth [near, far] to [0, 1].
 /// The clip-space z of a map seen from a point (a spot light's, a cube face's) runs from 0 at
 /// its near plane toward this, never to 1. Their near planes lie at a millionth of the range
-/// ([`crate::SPOT_NEAR_FRACTION`]), so the usual perspective z, 1 - near / d up to a scale,
-/// puts every point farther than a few near distances within a few f32 roundings of 1, where
-/// a rasteriser (which works in f32) clips some of them as beyond the far plane: a whole cube
-/// face of random scene 159 lost its casters that way. Running to 1/2, the far side keeps its
-/// distance from the clip volume's boundary; the depth compared is linear along the light
+/// ([`crate::SPOT_NEAR_FRACTION`]). So the usual perspective z, 1 - near / d up to a scale,
+/// puts every point farther than a few near distances within a few f32 roundings of 1. There
+/// a rasteriser, which works in f32, clips some of them as beyond the far plane, and a cube
+/// face can lose its casters. Running to 1/2, the far side keeps its distance from the clip
+/// volume's boundary. The depth compared is linear along the light
 /// ([`crate::ShadowMap::depth_from_world`]), so nothing else reads this z.
 pub(crate) const PERSPECTIVE_CLIP_Z: f64 = 0.5;
 

@@ -66,8 +66,8 @@ pub enum MapProjection {
     /// `w` is the distance along the light's axis (spot lights) or a warp.
     Perspective,
     /// One hemisphere of a dual paraboloid map (Heidrich and Seidel 1998; Brabec, Annen and
-    /// Seidel 2002): `clip_from_world` is only the affine map to the hemisphere's frame in
-    /// units of the light's range (q, with q.z along the hemisphere's axis); a point lands at
+    /// Seidel 2002). `clip_from_world` is only the affine map to the hemisphere's frame in
+    /// units of the light's range (q, with q.z along the hemisphere's axis). A point lands at
     /// x, y = [`PARABOLOID_SCALE`] q.xy / (|q| + q.z) (scaled into the inset square), with
     /// depth |q| (the distance over the range). Straight edges map to curves, which the
     /// rasteriser draws straight between the vertices: the technique's known error.
@@ -261,8 +261,8 @@ pub struct CascadeSlices {
     /// Selection by coverage (stable cascades): a point reads the first map up to its view
     /// depth's slice's that holds it ([`CascadeSlices::covers`]); `false` picks by view depth
     /// alone. The nearer slices' maps are finer, and a stable map's square (around its
-    /// slice's bounding sphere) reaches past its slice's far plane, so picking by coverage
-    /// reads finer texels there than picking by depth; the squares are fixed in the world as
+    /// slice's bounding sphere) reaches past its slice's far plane. So picking by coverage
+    /// reads finer texels there than picking by depth. The squares are fixed in the world as
     /// the maps are, so what a point reads changes only where a square moves by a texel.
     pub by_coverage: bool,
 }

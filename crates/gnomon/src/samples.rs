@@ -133,8 +133,8 @@ impl ViewSamples {
         let grid = Grid::new(camera, (tan_x, tan_y), (cols, rows));
         let arrays = scene.receiver_arrays();
         // Front to back through the receivers' hierarchy (a heap on the nearest view depth
-        // z0 of each node's box): a hit at depth t hides every box whose nearest depth is
-        // beyond t, so a node whose cells all hold a nearer hit is not opened, and a cell is
+        // z0 of each node's box). A hit at depth t hides every box whose nearest depth is
+        // beyond t. So a node whose cells all hold a nearer hit is not opened, and a cell is
         // tested only against the boxes that can still be nearer than its hit.
         let tree = scene.receiver_tree();
         let mut nearest = vec![(f64::INFINITY, usize::MAX); rows * cols];
@@ -205,8 +205,7 @@ impl ViewSamples {
     /// (N.L > 0.1), or outside the view's depth range, are left out; normals are turned
     /// toward the camera. Where fewer than [`ViewSamples::MIN_LIT`] points pass, under a
     /// grazing light, every point the light reaches at all (N.L > 0) is a sample, so that the
-    /// frame still judges the maps (a TSM map twenty times coarser than the focused one was
-    /// kept under a 5 degree sun, where 3 of 384 pixels saw N.L > 0.1).
+    /// frame still judges the maps: with a handful of samples, a far coarser warp can pass.
     pub fn from_surface_points(
         camera: &Camera,
         light: &Light,

@@ -196,16 +196,15 @@ pub struct Cascades {
     pub equal_texels: bool,
     /// How a point picks its map.
     pub select: CascadeSelect,
-    /// The number of cascades chosen per view, up to `count`: 1, 2, ... cascades are set up
-    /// in turn while each number's maps undersample the frame's view samples less at the
-    /// median (each sample on the map it reads) than the number before; the last that did
-    /// is kept. With `equal_texels`, slicing the view pays only where it shrinks the maps'
-    /// footprints more than their texel counts; under a grazing sun, or a view along the
-    /// light, the slices' maps cover nearly the whole view's area with fewer texels each.
-    /// Why stop at the first number that does not help, rather than try them all: most
-    /// views keep one or two cascades, so this sets up 3 of the 10 slices of 1 to 4 on most
-    /// views, and on the scene suite's random sun views the first such number was the better
-    /// pick (the book's Results, "Cascades and flicker"). Not with explicit split distances.
+    /// The number of cascades chosen per view, up to `count`. 1, 2, ... cascades are set up in
+    /// turn while each number's maps undersample the frame's view samples less at the median
+    /// (each sample on the map it reads) than the number before; the last that did is kept.
+    /// With `equal_texels`, slicing the view pays only where it shrinks the maps' footprints
+    /// more than their texel counts. Under a grazing sun, or a view along the light, the
+    /// slices' maps cover nearly the whole view's area with fewer texels each. It stops at the
+    /// first number that does not help, rather than try them all, because most views keep one
+    /// or two cascades (the book's Results, "Cascades and flicker", measures the choice). Not
+    /// with explicit split distances.
     pub adaptive: bool,
     /// With `adaptive`, the number of cascades the previous frame kept, if any (values above
     /// `count` read as `count`): the search above keeps it unless the number it finds
@@ -589,11 +588,11 @@ impl Cascades {
     }
 }
 
-/// The cameras of the fitted slices: a fitted map covers its slice and a millionth of the
+/// The cameras of the fitted slices. A fitted map covers its slice and a millionth of the
 /// slice's length beyond each end (within the view), so that a point the selection routes to
-/// it at a border lands inside: a receiver that only touches a slice's near or far plane is
-/// not the slice's (touching counts as outside), yet its points on that plane are read there
-/// (a flat ground exactly at a border in the light_straight_down property case).
+/// it at a border lands inside. A receiver that only touches a slice's near or far plane is
+/// not the slice's (touching counts as outside), yet its points on that plane are read
+/// there: a flat ground exactly at a border, as in the light_straight_down property case.
 fn fitted_slice_cameras(
     camera: &Camera,
     slices: &CascadeSlices,

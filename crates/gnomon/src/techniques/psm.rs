@@ -462,9 +462,9 @@ fn pps_projector(
 }
 
 /// The extents of the visible receiver parts under a map given by `rows`, affine functions
-/// of world points (coefficients on (p, 1)), read through the scene's hierarchy: `image`
+/// of world points (coefficients on (p, 1)), read through the scene's hierarchy. `image`
 /// takes a point's row values to its image, or to `None` where the map has none (behind the
-/// virtual camera or the map's centre); a box with such a corner has no bounded image, and is
+/// virtual camera or the map's centre). A box with such a corner has no bounded image, and is
 /// opened. A box's corners cost no product of a matrix ([`corner_values`]).
 fn receivers_under<const K: usize>(
     visible: &VisibleScene,

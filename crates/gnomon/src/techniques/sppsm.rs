@@ -283,8 +283,8 @@ fn points_on_side(body: &ConvexPolyhedron, tolerance: f64, plane: DVec4) -> Vec<
 
 /// `map` cropped to the part of its square where `points` land: the same warp with the
 /// smallest rectangle around the points' images (within the inset square) stretched to the
-/// inset square, a 2D scale and offset after the divide, so every point of that rectangle is
-/// sampled at least as finely along both map axes as before. `None` when a point lies behind a
+/// inset square, a 2D scale and offset after the divide. Every point of that rectangle is
+/// then sampled at least as finely along both map axes as before. `None` when a point lies behind a
 /// perspective map's centre, or no point lands inside the inset square.
 fn crop(map: &ShadowMap, points: &[DVec3]) -> Option<ShadowMap> {
     let s = map.inset_ndc();
@@ -381,13 +381,13 @@ fn converged(plane: DVec4, next: DVec4, settle: f64) -> bool {
 
 /// The plane the next refocusing uses, after it moved from `plane` to `next`, and the move
 /// to remember (`last_step`: the offset's previous move along the same normal, if any). The
-/// offset converges geometrically, each move about the same ratio r (|r| < 1/2; in the
-/// benches' city -0.19: the plane swings across its limit) of the one before, so from two
-/// moves it settles at `next + step r / (1 - r)` (Aitken's extrapolation): the plane jumps
-/// there, which saves a refocusing of the focused map (of 4, in the benches' city), and the
-/// moves start again. Where the moves do not shrink so (the normal turns, |r| >= 1/2),
-/// `next`. Where the jump overshoots, the maps there are kept only as any iteration's are
-/// (when no point reads a coarser map than either technique alone).
+/// offset converges geometrically, each move about the same ratio r of the one before
+/// (|r| < 1/2; a negative r swings the plane across its limit). So from two moves it settles
+/// at `next + step r / (1 - r)` (Aitken's extrapolation). The plane jumps there, which saves
+/// a refocusing of the focused map, and the moves start again. Where the moves do not shrink
+/// so (the normal turns, |r| >= 1/2), it is `next`. Where the jump overshoots, the maps there
+/// are kept only as any iteration's are: when no point reads a coarser map than either
+/// technique alone.
 fn next_plane(plane: DVec4, next: DVec4, last_step: Option<f64>) -> (DVec4, Option<f64>) {
     let same_normal = (next.truncate() - plane.truncate()).length() <= 1e-9;
     let step = next.w - plane.w;

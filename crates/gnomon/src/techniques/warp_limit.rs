@@ -152,9 +152,9 @@ fn limit_warp(
 
 /// The strength the limit keeps, given the focused map's figures (`reference`: the
 /// undersampling's [`QUANTILE`] and worst sample) and a way to measure the warp's at a
-/// strength, called with 1, 1/2, ... 1/2^[`HALVINGS`] in turn: the first whose figures pass,
-/// or `None` (the focused map) when none does or a halving made both figures worse (see the
-/// module documentation); `measure` is not called again after that.
+/// strength, called with 1, 1/2, ... 1/2^[`HALVINGS`] in turn. It is the first whose figures
+/// pass, or `None` (the focused map) when none does or a halving made both figures worse
+/// (see the module documentation); `measure` is not called again after that.
 fn pick_strength<E>(
     reference: [f64; 2],
     mut measure: impl FnMut(f64) -> Result<[f64; 2], E>,

@@ -330,12 +330,12 @@ impl TreeCasters {
 
     /// The casters under `warp` whose warped boxes overlap `receivers` (the receivers'
     /// warped extents) in x and y: their extents, least linear depth and count. A subtree
-    /// whose node lies outside the columns or beside the receivers is culled whole; one whose
+    /// whose node lies outside the columns or beside the receivers is culled whole. One whose
     /// image (over the receivers) and depths add nothing to what is gathered so far is
-    /// counted whole without being opened, and one that would add only in x and y is put
-    /// off to the end, when the extents have grown, and opened then the farthest-reaching
-    /// first where they still do not hold it ([`PutOff`]). Children nearer the light are
-    /// opened first, so that the nearest depth is found early.
+    /// counted whole without being opened. One that would add only in x and y is put off to
+    /// the end, when the extents have grown, and opened then, the farthest-reaching first,
+    /// where they still do not hold it ([`PutOff`]). Children nearer the light are opened
+    /// first, so that the nearest depth is found early.
     pub(super) fn warped(
         &self,
         scene: &crate::bounds::SceneBounds,

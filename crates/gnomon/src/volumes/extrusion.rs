@@ -47,12 +47,12 @@ impl VolumeCounts {
 /// light) or (direction of travel, 0) (directional light). A closed mesh gives the light cap
 /// (light-facing triangles), the dark cap (back-facing triangles at infinity) and one
 /// extruded quad per possible silhouette edge (an edge between a light-facing and a
-/// back-facing triangle); a mesh kept for per-triangle volumes
+/// back-facing triangle). A mesh kept for per-triangle volumes
 /// ([`crate::volumes::OpenMeshPolicy::PerTriangle`]) gives every triangle not edge-on to
 /// the light a closed volume of its own, seen from the side the light sees. So does a closed
-/// mesh that encloses a point light (a lamp inside a closed caster): no triangle faces the
-/// light there, and the light cap, the silhouette and so the closed volume's construction
-/// are empty, while each triangle's own volume shadows what lies outside it. With
+/// mesh that encloses a point light (a lamp inside a closed caster). No triangle faces the
+/// light there, so the light cap, the silhouette and the closed volume's construction are
+/// empty, while each triangle's own volume shadows what lies outside it. With
 /// [`VolumeParts::SidesOnly`] the caps are left out.
 pub fn extrude_volume(
     mesh: &MeshTopology,
