@@ -227,8 +227,8 @@ fn reaches(c: DVec3, h: DVec3, planes: &[DVec4], active: u32) -> Option<u32> {
 
 impl BoxTree {
     /// Appends to `out` the boxes that reach the positive side of every plane (some point
-    /// with a x + b y + c z + d >= 0), up to 32 planes; a subtree wholly on the positive side
-    /// of all is taken whole, one wholly on the negative side of one is dropped.
+    /// with a x + b y + c z + d >= 0), up to 32 planes. A subtree wholly on the positive side
+    /// of all is taken whole; one wholly on the negative side of one is dropped.
     pub fn reaching(&self, boxes: &BoxArrays, planes: &[DVec4], out: &mut Vec<u32>) {
         if self.is_empty() {
             return;

@@ -171,8 +171,8 @@ pub struct Diagnostics {
     pub visible_receivers: usize,
     /// Caster boxes not culled in light space: every caster that can shadow a visible
     /// receiver is among them. A subtree of the casters' hierarchy whose image adds nothing
-    /// to the map's extents is counted whole without being opened (telling its boxes apart
-    /// would open every subtree along the receivers' edges), so the count may include boxes
+    /// to the map's extents is counted whole without being opened: telling its boxes apart
+    /// would open every subtree along the receivers' edges. So the count may include boxes
     /// of such a subtree that lie just beside the receivers, and depends on the hierarchy's
     /// shape.
     pub relevant_casters: usize,

@@ -1345,8 +1345,8 @@ pub(crate) trait CasterImages {
         false
     }
     /// Whether [`CasterImages::node`] and [`CasterImages::caster`] hold the image of every part
-    /// of a box, cut or not ([`Extents::ALL`] where the map has none for part of it): a
-    /// subtree beside the receivers is then culled before it is opened, which keeps the walk
+    /// of a box, cut or not ([`Extents::ALL`] where the map has none for part of it). A
+    /// subtree beside the receivers is then culled before it is opened. That keeps the walk
     /// to the boxes near the view when the cutting planes run across the whole scene.
     fn holds_cut_parts(&self) -> bool {
         Self::AFFINE || Self::EXACT

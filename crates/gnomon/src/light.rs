@@ -188,8 +188,8 @@ impl PointLight {
 
     /// The spot light that one cube face's map is fitted for: the light's position, the
     /// face's axis, and a square frustum a little wider than the face's 90 degrees, by
-    /// [`CUBE_FACE_BORDER_TEXELS`] texels of a `resolution`-texel map on each side (so that a
-    /// lookup filtered near a face's edge reads texels that hold the casters). The frustum's
+    /// [`CUBE_FACE_BORDER_TEXELS`] texels of a `resolution`-texel map on each side. A lookup
+    /// filtered near a face's edge then reads texels that hold the casters. The frustum's
     /// sides lie along the cube's edges: the spot's fixed frame has a world axis as its up.
     pub fn face_light(&self, face: CubeFace, resolution: u32) -> SpotLight {
         let t = cube_face_tangent(resolution);

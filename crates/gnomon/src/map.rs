@@ -241,8 +241,8 @@ impl CubeFaceMaps {
 pub const MAX_CASCADES: usize = 8;
 
 /// How cascaded maps split the view: map i covers view depth (distance along the camera's
-/// forward axis) from `view_depths[i]` to `view_depths[i + 1]`; in the last `blend` fraction of
-/// a slice the next map is blended in; from `fade_start` to the last depth (the shadow
+/// forward axis) from `view_depths[i]` to `view_depths[i + 1]`. In the last `blend` fraction
+/// of a slice the next map is blended in. From `fade_start` to the last depth (the shadow
 /// distance) shadows fade out, and beyond it nothing is shadowed. With `by_coverage` (stable
 /// cascades), a point reads the first map whose square holds it, which may be a nearer
 /// slice's (finer) map than its view depth's.

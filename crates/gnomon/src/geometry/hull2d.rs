@@ -2,8 +2,8 @@ use glam::DVec2;
 
 /// The convex hull of 2D points (Andrew's monotone chain), as indices into `points` in
 /// counter-clockwise order, without collinear points and without vertices that coincide to
-/// within a trillionth of the points' extent (such a pair would make an edge with no
-/// meaningful direction: points that project to the same spot differ by round-off). Fewer
+/// within a trillionth of the points' extent. Such a pair would make an edge with no
+/// meaningful direction: points that project to the same spot differ by round-off. Fewer
 /// than three indices come back when the points are collinear or coincide.
 pub fn convex_hull_2d(points: &[DVec2]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..points.len()).collect();

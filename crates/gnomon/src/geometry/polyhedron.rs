@@ -14,7 +14,7 @@ use crate::boxes::Aabb;
 ///
 /// Faces index one vertex list, so that a clip measures each vertex's distance once and
 /// makes each crossing edge's point once (the two faces that share the edge read the same
-/// point); storage is flat (faces as end offsets into one index buffer), so that a clip
+/// point). Storage is flat (faces as end offsets into one index buffer), so that a clip
 /// allocates nothing once its scratch buffers have grown.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ConvexPolyhedron {

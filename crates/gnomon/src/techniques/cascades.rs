@@ -207,11 +207,11 @@ pub struct Cascades {
     /// with explicit split distances.
     pub adaptive: bool,
     /// With `adaptive`, the number of cascades the previous frame kept, if any (values above
-    /// `count` read as `count`): the search above keeps it unless the number it finds
-    /// undersamples the view samples less at the median by more than
-    /// [`ADAPTIVE_HYSTERESIS`] (it sets that number up too when the search did not reach
-    /// it). Why: a camera that moves slowly would otherwise switch between two numbers whose
-    /// medians are close, and every switch moves every shadow edge (`gnomon flicker`). The
+    /// `count` read as `count`). The search above keeps it unless the number it finds
+    /// undersamples the view samples less at the median by more than [`ADAPTIVE_HYSTERESIS`]
+    /// (it sets that number up too when the search did not reach it). Otherwise a camera that
+    /// moves slowly would switch between two numbers whose medians are close, and every
+    /// switch moves every shadow edge (`gnomon flicker`). The
     /// core keeps no state between frames; a frame loop hands back `maps.len()` of the
     /// setup before.
     pub adaptive_previous: Option<usize>,

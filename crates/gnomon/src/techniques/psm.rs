@@ -287,12 +287,12 @@ impl Pps {
         pps_projector(l_h, center, extent, in_front, fallback_axis)
     }
 
-    /// The planes casters are cut by: a spot light's frustum (its near plane first: the walk
-    /// counts the casters it clips; the frustum keeps them in front of the light), B's depth
-    /// range (planes perpendicular to the view) and, for a perspective map in PPS, the front
-    /// of its centre: d = axis . (P - l W) >= d_min W / 2 is a plane of homogeneous PPS
-    /// coordinates, a world plane through `from_world`. `map_w` is the map's w row on world
-    /// points.
+    /// The planes casters are cut by. First a spot light's frustum: its near plane first, so
+    /// that the walk counts the casters it clips, and the frustum keeps them in front of the
+    /// light. Then B's depth range (planes perpendicular to the view) and, for a perspective
+    /// map in PPS, the front of its centre: d = axis . (P - l W) >= d_min W / 2 is a plane of
+    /// homogeneous PPS coordinates, a world plane through `from_world`. `map_w` is the map's
+    /// w row on world points.
     fn caster_slab(
         &self,
         camera: &Camera,

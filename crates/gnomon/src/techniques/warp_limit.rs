@@ -48,10 +48,10 @@ pub(crate) const HALVINGS: u32 = 3;
 /// than the focused map, and made without walking the casters). Left unjudged, a PSM cube
 /// face seen by a handful of samples was far coarser than the focused map there.
 pub(crate) const FEW_SAMPLES: usize = crate::samples::ViewSamples::MIN_LIT;
-/// How many times coarser a worst sample must be to fail a part that only a few samples see:
-/// a slightly coarser warp over a few samples still beat the focused map on the demo's far
-/// cascade slices, while the cube faces that failed in random scenes were coarser by far more
-/// (the measurements are in CHANGELOG.md).
+/// How many times coarser a worst sample must be to fail a part that only a few samples see.
+/// A slightly coarser warp over a few samples still beat the focused map on the demo's far
+/// cascade slices, while the cube faces that failed in random scenes were coarser by far
+/// more (the measurements are in CHANGELOG.md).
 pub(crate) const GROSS: f64 = 4.0;
 
 /// A perspective warp that the limit weakens (PSM, LiSPSM, TSM, XPSM): its parameters' check,

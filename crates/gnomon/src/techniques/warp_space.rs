@@ -279,9 +279,9 @@ pub(super) enum WarpCasters {
 }
 
 /// The casters of a directional light's warp, culled where no strength can make them
-/// relevant: a caster matters only where its light-space box meets `columns` (the receivers'
-/// columns, grown by a slack and cut to B's Y range, up to the receivers' far depth); its Y
-/// is cut to `y_range` (B's) before it is warped.
+/// relevant. A caster matters only where its light-space box meets `columns`: the receivers'
+/// columns, grown by a slack and cut to B's Y range, up to the receivers' far depth. Its Y is
+/// cut to `y_range` (B's) before it is warped.
 pub(super) struct TreeCasters {
     pub(super) frame: LightFrame,
     pub(super) columns: Extents,
