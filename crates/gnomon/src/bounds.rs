@@ -10,8 +10,8 @@ use crate::error::SetupError;
 /// boxes around the objects that receive them, and the scene box that encloses it all.
 ///
 /// The scene box bounds the convex body B (LiSPSM paper, section 3.3). If the given scene
-/// box does not enclose every caster and receiver box it is grown to do so (and
-/// [`SceneBounds::scene_box_grown`] says so); a box that is flat along some axis is thickened
+/// box does not enclose every caster and receiver box it is grown to do so, and
+/// [`SceneBounds::scene_box_grown`] says so. A box that is flat along some axis is thickened
 /// by a millionth of its diagonal so that B is never a flat body.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneBounds {

@@ -694,7 +694,7 @@ pub(crate) struct VisibleScene {
     /// cut it, where its vertices start and end in `points`).
     cuts: Vec<(u32, u32, u32, u32)>,
     /// The receivers that one plane cuts (most cut ones), with that plane (its index in
-    /// `planes`): their part inside it is never empty, and is cut only where it is read
+    /// `planes`). Their part inside it is never empty, and is cut only where it is read
     /// ([`cut_by_one`], cheap), so that a receiver whose whole box adds nothing to an extent
     /// is never cut.
     cut_once: Vec<(u32, u32)>,
@@ -941,7 +941,7 @@ impl VisibleScene {
     }
 
     /// Whether every point of the visible receiver parts passes `pred`, whose passing points
-    /// must form a convex set (a half-space, a cone): a box then passes when its corners do
+    /// must form a convex set (a half-space, a cone). A box then passes when its corners do
     /// (`corners_pass`, which must say whether `pred` holds at all eight), so a subtree whose
     /// node's corners pass is not opened.
     pub fn all(
@@ -1054,9 +1054,9 @@ impl FaceFrustum {
     }
 }
 
-/// A caster walk's images under a cube face's own projector: each box's is the image of its
+/// A caster walk's images under a cube face's own projector. Each box's is the image of its
 /// part inside the face's frustum ([`AxisFrustum::box_extents`]), so that the walk cuts no
-/// box; it walks with the near plane alone as its cutting plane, which keeps the boxes that
+/// box. It walks with the near plane alone as its cutting plane, which keeps the boxes that
 /// cross it apart for [`AxisFrustum::clips_tip`].
 pub(crate) struct FaceImages<'a> {
     pub scene: &'a SceneBounds,

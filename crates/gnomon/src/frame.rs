@@ -89,7 +89,7 @@ impl<'a> Frame<'a> {
 
     /// The frame of one cube face of a point light, refined from the point light's frame
     /// `view` (the same camera and scene; its receivers classified against the view's planes
-    /// alone): `input`'s light is the face's spot light, and P and the receivers are only cut
+    /// alone). `input`'s light is the face's spot light, and P and the receivers are only cut
     /// again by the face's frustum. The same frame as [`Frame::new`] of `input` would make.
     pub fn of_face(view: &'a Frame<'a>, input: &SetupInput<'a>) -> Self {
         let (tolerance, fixed, Some(light_planes), region) = light_facts(input) else {

@@ -314,9 +314,9 @@ impl Light {
     }
 
     /// The row of the linear depth along the light (world units): `row . (p, 1)` is the
-    /// distance along the direction of travel (from the plane through the origin for a
-    /// directional light, from the light's plane for a spot light; for a point light along
-    /// -y from its height).
+    /// distance along the direction of travel. It is measured from the plane through the
+    /// origin for a directional light and from the light's plane for a spot light; for a
+    /// point light it runs along -y from its height.
     pub(crate) fn linear_depth_row(&self) -> DVec4 {
         match self {
             Light::Directional(l) => l.direction().extend(0.0),

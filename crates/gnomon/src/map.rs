@@ -172,7 +172,7 @@ impl ShadowMap {
 pub enum MapSelection {
     /// There is one map.
     Single,
-    /// Two maps and a world plane (a, b, c, d) with (a, b, c) of unit length: a point p
+    /// Two maps and a world plane (a, b, c, d) with (a, b, c) of unit length. A point p
     /// reads `maps[1]` where a p.x + b p.y + c p.z + d > 0, else `maps[0]` (SPPSM: the
     /// perspective map on the positive side, the focused map on the other).
     Plane {

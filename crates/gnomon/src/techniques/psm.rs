@@ -386,8 +386,8 @@ fn walk_map_casters(
 
 /// The map's region in x and y (the receivers' extents where casters fall on them) and its
 /// linear depth range (from the nearest caster, or B, to the farthest receiver), from the
-/// receivers' and B's least linear depths (`receivers_z`, `body_z`); without a relevant
-/// caster, the receivers' with [`Fallback::NoCasterForReceivers`].
+/// receivers' and B's least linear depths (`receivers_z`, `body_z`). Without a relevant
+/// caster it is the receivers', with [`Fallback::NoCasterForReceivers`].
 fn fitted_region(
     walked: &WalkedCasters,
     receivers: &Extents,

@@ -405,11 +405,11 @@ fn next_plane(plane: DVec4, next: DVec4, last_step: Option<f64>) -> (DVec4, Opti
 }
 
 /// How little the plane's offset must move for the refocusing to stop: a tenth of a texel of
-/// `focused` (the focused map on all of I, whose texels are the coarsest the side maps can
-/// have) where it is orthographic, else (or when the map says nothing) a millionth of
-/// `scene_scale`. Why a texel: the plane moves about a sixth as far each time, and a move of
-/// a tenth of a texel changes the maps and the side a point reads by as little; a millionth
-/// of the scene took two more refocusings of both maps in the benches' city.
+/// `focused` where it is orthographic, else (or when the map says nothing) a millionth of
+/// `scene_scale`. `focused` is the focused map on all of I, whose texels are the coarsest
+/// the side maps can have. The plane moves about a sixth as far each time, and a move of a
+/// tenth of a texel changes the maps and the side a point reads by as little, so stopping
+/// there saves refocusings that change nothing visible.
 fn settle_distance(focused: &ShadowMap, scene_scale: f64) -> f64 {
     let floor = 1e-6 * scene_scale;
     if focused.projection != MapProjection::Orthographic {

@@ -197,9 +197,9 @@ impl Warp {
     }
 
     /// The warped extents of the light-space box [lo, hi], with its Y inside B's range so
-    /// that w > 0. u = (X - X_eye) / w is largest at
-    /// the smallest w when X - X_eye >= 0 and at the largest w otherwise (likewise z); s grows
-    /// with Y. So six divisions give the exact extents of the box's image.
+    /// that w > 0. u = (X - X_eye) / w is largest at the smallest w when X - X_eye >= 0, and
+    /// at the largest w otherwise (likewise z). s grows with Y. So six divisions give the
+    /// exact extents of the box's image.
     pub(super) fn box_extents(&self, lo: DVec3, hi: DVec3) -> Extents {
         // Two divisions, then products (this runs once per caster).
         let r0 = 1.0 / (1.0 + (lo.y - self.y_origin) * self.inv_n);
@@ -236,8 +236,8 @@ impl Warp {
 
 /// What a view-axis warp needs at every strength, computed once per basis: light space, B
 /// there, the visible receivers' vertices there, and the casters that can matter at any
-/// strength (cut to B's Y range, beside-the-receivers and behind-the-receivers culled: both
-/// tests are the same before and after the warp).
+/// strength. Those are cut to B's Y range, with the ones beside and behind the receivers
+/// culled: both tests are the same before and after the warp.
 pub(crate) struct WarpSpace {
     pub(super) space: LightSpace,
     pub(super) sin_gamma: f64,
