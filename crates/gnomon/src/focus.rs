@@ -12,7 +12,7 @@
 
 use std::sync::OnceLock;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use crate::bounds::SceneBounds;
 use crate::boxes::{Aabb, BoxArrays};
@@ -1393,15 +1393,12 @@ where
     P: Fn(DVec3) -> DVec3,
 {
     const AFFINE: bool = false;
-    #[inline]
     fn node(&self, n: usize) -> Extents {
         (self.node)(n)
     }
-    #[inline]
     fn caster(&self, i: usize) -> Extents {
         (self.caster)(i)
     }
-    #[inline]
     fn point(&self, p: DVec3) -> DVec3 {
         (self.point)(p)
     }
@@ -1707,7 +1704,6 @@ impl NearTip {
 }
 
 /// The extents of points under a caster walk's map.
-#[inline]
 fn points_image<I: CasterImages>(images: &I, points: &[DVec3]) -> Extents {
     let mut e = Extents::EMPTY;
     for p in points {
@@ -1733,17 +1729,21 @@ pub(crate) fn unit_cube_clip(
         near = near.max(b.min.z);
     }
     let far = receivers.max.z;
-    let mut lo = receivers.min.max(casters.min).truncate();
-    let mut hi = receivers.max.min(casters.max).truncate();
-    // Casters that only touch the receivers' rectangle (within the culling slack) leave an
-    // inverted interval: collapse it to its middle, padding gives it a size.
-    let mid = 0.5 * (lo + hi);
-    lo = lo.min(mid);
-    hi = hi.max(mid);
+    let (lo, hi) = clipped_rectangle(receivers, casters);
     Some(Extents {
         min: lo.extend(near.min(far)),
         max: hi.extend(far),
     })
+}
+
+/// Unit cube clipping's x and y: the receivers' and the casters' rectangles intersected.
+/// Casters that only touch the receivers' rectangle (within the culling slack) leave an
+/// inverted interval: it collapses to its middle, and padding gives it a size.
+pub(crate) fn clipped_rectangle(receivers: &Extents, casters: &Extents) -> (DVec2, DVec2) {
+    let lo = receivers.min.max(casters.min).truncate();
+    let hi = receivers.max.min(casters.max).truncate();
+    let mid = 0.5 * (lo + hi);
+    (lo.min(mid), hi.max(mid))
 }
 
 #[cfg(test)]

@@ -50,7 +50,9 @@ use crate::boxes::Aabb;
 use crate::camera::{Camera, Lens};
 use crate::diagnostics::Fallback;
 use crate::error::SetupError;
-use crate::focus::{MapImages, ReceiverMap, VisibleScene, WalkedCasters, walk_casters};
+use crate::focus::{
+    MapImages, ReceiverMap, VisibleScene, WalkedCasters, clipped_rectangle, walk_casters,
+};
 use crate::geometry::Plane;
 use crate::light::Light;
 use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, corner_values, pad};
@@ -402,14 +404,12 @@ fn fitted_region(
             (receivers_z.min(body_z.max(receivers_z - 1.0)), receivers_z),
         );
     }
-    let lo = receivers.min.max(casters.min).truncate();
-    let hi = receivers.max.min(casters.max).truncate();
-    let mid = 0.5 * (lo + hi);
+    let (lo, hi) = clipped_rectangle(receivers, casters);
     let near_z = casters.min.z.max(body_z).min(receivers_z);
     (
         Extents {
-            min: lo.min(mid).extend(0.0),
-            max: hi.max(mid).extend(0.0),
+            min: lo.extend(0.0),
+            max: hi.extend(0.0),
         },
         (near_z, receivers_z),
     )

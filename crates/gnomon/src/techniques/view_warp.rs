@@ -35,7 +35,7 @@ use crate::diagnostics::{Diagnostics, Fallback, LightFrameKind};
 use crate::error::SetupError;
 use crate::focus::{
     Both, BoxSide, LightCorners, NearTip, ParallelBoxes, ReceiverMap, box_cut_vertices,
-    classify_box,
+    classify_box, clipped_rectangle,
 };
 use crate::light::Light;
 use crate::light_space::{Extents, PERSPECTIVE_CLIP_Z, Projector, pad};
@@ -517,15 +517,13 @@ pub(crate) fn view_warp_setup(
         diagnostics.fallbacks.push(Fallback::NoCasterForReceivers);
         (receivers, receivers_linear)
     } else {
-        let lo = receivers.min.max(casters.min).truncate();
-        let hi = receivers.max.min(casters.max).truncate();
-        let mid = 0.5 * (lo + hi);
+        let (lo, hi) = clipped_rectangle(&receivers, &casters);
         let near = casters.min.z.max(body_warped.min.z).min(receivers.max.z);
         let near_linear = casters_z.max(ws.body_linear).min(receivers_z);
         (
             Extents {
-                min: lo.min(mid).extend(near),
-                max: hi.max(mid).extend(receivers.max.z),
+                min: lo.extend(near),
+                max: hi.extend(receivers.max.z),
             },
             (near_linear, receivers_z),
         )
