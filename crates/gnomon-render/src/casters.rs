@@ -8,7 +8,7 @@ use gnomon::Aabb;
 
 use crate::renderer::reaches_all;
 use crate::scene::{InstanceStream, transformed_bounds};
-use crate::{RenderError, Renderer};
+use crate::{InvalidInput, RenderError, Renderer};
 
 /// One caster: a range of the index buffer drawn with a base vertex and a placement.
 #[derive(Debug, Clone, PartialEq)]
@@ -60,15 +60,13 @@ impl CasterSet {
         draws: Vec<CasterDraw>,
     ) -> Result<Self, RenderError> {
         if buffers.vertex_stride < 12 || !buffers.vertex_stride.is_multiple_of(4) {
-            return Err(RenderError::Invalid(format!(
-                "a caster vertex stride of {} bytes cannot hold a position (three f32, 4-byte aligned)",
-                buffers.vertex_stride
-            )));
+            return Err(InvalidInput::CasterStride {
+                stride: buffers.vertex_stride,
+            }
+            .into());
         }
         if draws.iter().any(|d| !d.world_from_object.is_finite()) {
-            return Err(RenderError::Invalid(
-                "a caster transform must be finite".into(),
-            ));
+            return Err(InvalidInput::NonFiniteTransform { what: "a caster" }.into());
         }
         let world_bounds = draws
             .iter()
@@ -106,9 +104,9 @@ impl CasterSet {
 
     /// Writes the transforms for the camera of the renderer's prepared frame.
     pub fn write_transforms(&mut self, renderer: &Renderer) -> Result<(), RenderError> {
-        let camera = renderer.prepared_camera.ok_or_else(|| {
-            RenderError::Invalid("prepare the frame before writing caster transforms".into())
-        })?;
+        let camera = renderer
+            .prepared_camera
+            .ok_or(InvalidInput::FrameNotPrepared)?;
         let placements = self.draws.iter().map(|d| (d.world_from_object, [1.0; 4]));
         self.instances
             .write(&renderer.gpu.queue, camera.view_from_world(), placements);

@@ -5,8 +5,8 @@
 //! which discards where the alpha at the point's texture coordinates is below the cutoff;
 //! other scenes draw without it, as before.
 
-use crate::RenderError;
 use crate::resources::Resources;
+use crate::{InvalidInput, RenderError};
 use gnomon_scene::{Mesh, Wrap};
 
 /// Group 2: the alpha (binding 0), its sampler (1), the cutoff (2: x).
@@ -116,10 +116,13 @@ impl GpuCutouts {
             if cutout.width.max(cutout.height) > limit
                 || cutout.alpha.len() != (cutout.width as usize) * (cutout.height as usize)
             {
-                return Err(RenderError::Invalid(format!(
-                    "mesh {k}'s alpha mask is {}x{} texels: this device takes at most {limit} a side",
-                    cutout.width, cutout.height
-                )));
+                return Err(InvalidInput::AlphaMask {
+                    mesh: k,
+                    width: cutout.width,
+                    height: cutout.height,
+                    max: limit,
+                }
+                .into());
             }
             groups.push(Some(group(
                 &cutout.alpha,

@@ -1,4 +1,4 @@
-use crate::RenderError;
+use crate::{InvalidInput, RenderError};
 
 /// A GPU device and its queue: opened by gnomon ([`Gpu::new`], headless) or handed over by
 /// the program that owns them ([`Gpu::from_device`]).
@@ -83,15 +83,19 @@ impl Gpu {
     /// Refuses a `what` (image, target) of `width` x `height` that this device cannot make.
     pub(crate) fn check_size(
         &self,
-        what: &str,
+        what: &'static str,
         width: u32,
         height: u32,
     ) -> Result<(), RenderError> {
         let max = self.max_texture_size();
         if width == 0 || height == 0 || width > max || height > max {
-            return Err(RenderError::Invalid(format!(
-                "{what} size {width}x{height} is outside 1..={max} (this GPU's largest texture)"
-            )));
+            return Err(InvalidInput::ImageSize {
+                what,
+                width,
+                height,
+                max,
+            }
+            .into());
         }
         Ok(())
     }

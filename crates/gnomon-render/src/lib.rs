@@ -41,7 +41,7 @@ mod timing;
 mod volumes;
 
 pub use casters::{CasterBuffers, CasterDraw, CasterSet};
-pub use error::RenderError;
+pub use error::{InvalidInput, RenderError};
 pub use gpu::{Gpu, OPTIONAL_FEATURES};
 pub use headless::{Frame, LightView, PixelMetrics, SKY, Timings};
 pub use measure::{JUDGED_N_DOT_L, MaskErrors, Percentiles, PixelVerdict};

@@ -5,7 +5,7 @@
 use glam::DVec3;
 use gnomon::Camera;
 
-use crate::error::RenderError;
+use crate::error::{InvalidInput, RenderError};
 use crate::headless::color_target;
 use crate::pipelines::scene_buffers;
 
@@ -88,9 +88,7 @@ impl Renderer {
             for texel in bits.chunks_exact(4).take(chunk.len()) {
                 let b = u32::from_le_bytes([texel[0], texel[1], texel[2], texel[3]]);
                 if b & 2 == 0 {
-                    return Err(RenderError::Invalid(
-                        "a probe point was not drawn".to_string(),
-                    ));
+                    return Err(InvalidInput::ProbeNotDrawn.into());
                 }
                 lit.push(b & 1 != 0);
             }

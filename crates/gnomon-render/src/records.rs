@@ -6,7 +6,7 @@
 use glam::{DMat3, DMat4, DVec3, DVec4};
 use gnomon::{Camera, Light, MapProjection, MapSelection, ShadowMap, ShadowSetup};
 
-use crate::{DepthBias, Filter, RenderError};
+use crate::{DepthBias, Filter, InvalidInput, RenderError};
 
 /// The most lights with shadow maps in one frame (`GNOMON_MAX_LIGHTS` in the WGSL).
 pub const MAX_LIGHTS: usize = 4;
@@ -270,11 +270,12 @@ pub(crate) fn light_record(
             SELECT_CUBE
         }
         Some((setup, selection, n)) => {
-            return Err(RenderError::Invalid(format!(
-                "setup '{}' has {n} maps for a {} selection",
-                setup.technique,
-                selection.kind()
-            )));
+            return Err(InvalidInput::MapsForSelection {
+                technique: setup.technique.to_string(),
+                maps: n,
+                selection: selection.kind(),
+            }
+            .into());
         }
     };
     let map_count = setup.map_or(0, |s| s.maps.len() as u32);

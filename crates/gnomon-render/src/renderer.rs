@@ -20,7 +20,7 @@ use crate::resources::Resources;
 use crate::scene::{GpuScene, RenderScene};
 use crate::timing::{Part, Timer};
 use crate::volumes::{VolumeCasters, VolumePipelines, VolumeTargets};
-use crate::{Gpu, RenderError};
+use crate::{Gpu, InvalidInput, RenderError};
 
 /// How the main pass filters shadow-map lookups.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -466,7 +466,7 @@ impl Renderer {
     pub fn set_instance_casts(&mut self, index: usize, casts: bool) -> Result<(), RenderError> {
         let count = self.scene.instances.len();
         if index >= count {
-            return Err(RenderError::Invalid(format!("instance {index} of {count}")));
+            return Err(InvalidInput::NoInstance { index, count }.into());
         }
         self.scene.set_casts(index, casts);
         Ok(())
@@ -479,15 +479,17 @@ impl Renderer {
         world_from_object: DMat4,
     ) -> Result<(), RenderError> {
         if index >= self.scene.instances.len() {
-            return Err(RenderError::Invalid(format!(
-                "instance {index} of {}",
-                self.scene.instances.len()
-            )));
+            return Err(InvalidInput::NoInstance {
+                index,
+                count: self.scene.instances.len(),
+            }
+            .into());
         }
         if !world_from_object.is_finite() {
-            return Err(RenderError::Invalid(
-                "an instance transform must be finite".into(),
-            ));
+            return Err(InvalidInput::NonFiniteTransform {
+                what: "an instance",
+            }
+            .into());
         }
         self.scene.set_transform(index, world_from_object);
         Ok(())
@@ -555,39 +557,44 @@ impl Renderer {
         settings: &RenderSettings,
     ) -> Result<(), RenderError> {
         if camera.lens().far > crate::MAX_VIEW_DISTANCE {
-            return Err(RenderError::Invalid(format!(
-                "a far plane {} away is beyond what the renderer draws precisely ({})",
-                camera.lens().far,
-                crate::MAX_VIEW_DISTANCE
-            )));
+            return Err(InvalidInput::FarPlane {
+                far: camera.lens().far,
+                max: crate::MAX_VIEW_DISTANCE,
+            }
+            .into());
         }
         if lights.len() > MAX_LIGHTS {
-            return Err(RenderError::Invalid(format!(
-                "{} shadowed lights in one frame; at most {MAX_LIGHTS}",
-                lights.len()
-            )));
+            return Err(InvalidInput::TooManyLights {
+                count: lights.len(),
+                max: MAX_LIGHTS,
+            }
+            .into());
         }
         let map_count: usize = lights.iter().flat_map(|l| l.1).map(|s| s.maps.len()).sum();
         if map_count > MAX_MAPS {
-            return Err(RenderError::Invalid(format!(
-                "{map_count} shadow maps in one frame; at most {MAX_MAPS}"
-            )));
+            return Err(InvalidInput::TooManyMaps {
+                count: map_count,
+                max: MAX_MAPS,
+            }
+            .into());
         }
         let max = self.gpu.max_texture_size();
         let mut largest = 1;
         for setup in lights.iter().flat_map(|l| l.1) {
             for map in &setup.maps {
                 if map.resolution > max {
-                    return Err(RenderError::Invalid(format!(
-                        "shadow map {} exceeds the GPU's limit {max}",
-                        map.resolution
-                    )));
+                    return Err(InvalidInput::MapTooLarge {
+                        resolution: map.resolution,
+                        max,
+                    }
+                    .into());
                 }
                 if map.resolution <= 2 * map.viewport_inset {
-                    return Err(RenderError::Invalid(format!(
-                        "shadow map {} has no texels inside its inset {}",
-                        map.resolution, map.viewport_inset
-                    )));
+                    return Err(InvalidInput::MapInsideInset {
+                        resolution: map.resolution,
+                        inset: map.viewport_inset,
+                    }
+                    .into());
                 }
                 largest = largest.max(map.resolution);
             }
@@ -845,8 +852,7 @@ impl Renderer {
 /// A light's area for PCSS as the lookup reads it (`GnomonLight.range.z`): a directional
 /// light's tangent of its angular radius, a spot or point light's radius.
 fn area_size(light: &gnomon::Light, radius: f64) -> Result<f32, RenderError> {
-    gnomon::area_light::check_radius(light, radius)
-        .map_err(|e| RenderError::Invalid(e.to_string()))?;
+    gnomon::area_light::check_radius(light, radius).map_err(InvalidInput::Setup)?;
     Ok(match light {
         gnomon::Light::Directional(_) => radius.to_radians().tan(),
         _ => radius,

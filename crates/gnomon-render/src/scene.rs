@@ -4,10 +4,10 @@ use glam::{DMat4, DVec3};
 use gnomon::{Aabb, SceneBounds, SetupError};
 use gnomon_scene::{Mesh, MeshPart, SceneFile, SceneLayout, Shape};
 
-use crate::RenderError;
 use crate::cutouts::GpuCutouts;
 use crate::records::GpuInstance;
 use crate::resources::Resources;
+use crate::{InvalidInput, RenderError};
 
 /// One placed mesh.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,9 +91,7 @@ impl RenderScene {
     ) -> Result<Self, RenderError> {
         // The slab is ten times as wide as the mesh: keep it within the core's range.
         if !(height.is_finite() && height > 0.0 && height <= 1e7) {
-            return Err(RenderError::Invalid(format!(
-                "the mesh's height must be a positive number up to 1e7, got {height}"
-            )));
+            return Err(InvalidInput::MeshHeight(height).into());
         }
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         for part in &parts {
@@ -106,9 +104,11 @@ impl RenderScene {
         }
         let size = hi - lo;
         if !(size.y > 0.0 && size.is_finite()) {
-            return Err(RenderError::Invalid(format!(
-                "mesh '{name}' has no height to scale (its bounds are {lo} to {hi})"
-            )));
+            return Err(InvalidInput::FlatMesh {
+                name: name.to_string(),
+                bounds: format!("{lo} to {hi}"),
+            }
+            .into());
         }
         let scale = height / size.y;
         let centre = 0.5 * (lo + hi);
@@ -378,9 +378,8 @@ impl GpuScene {
         let mut meshes = Vec::new();
         for mesh in &scene.meshes {
             let first = indices.len() as u32;
-            let base_vertex = u32::try_from(vertices.len()).map_err(|_| {
-                RenderError::Invalid("the scene has more than 2^32 vertices".into())
-            })?;
+            let base_vertex =
+                u32::try_from(vertices.len()).map_err(|_| InvalidInput::TooManyVertices)?;
             let uv = |k: usize| mesh.uvs.get(k).map_or([0.0; 2], |t| t.as_vec2().to_array());
             vertices.extend(mesh.positions.iter().zip(&mesh.normals).enumerate().map(
                 |(k, (p, n))| Vertex {
@@ -397,12 +396,12 @@ impl GpuScene {
         let mut instances = Vec::new();
         for instance in &scene.instances {
             if instance.mesh >= scene.meshes.len() {
-                return Err(RenderError::Invalid(format!(
-                    "instance '{}' names mesh {} of {}",
-                    instance.name,
-                    instance.mesh,
-                    scene.meshes.len()
-                )));
+                return Err(InvalidInput::InstanceMesh {
+                    instance: instance.name.clone(),
+                    mesh: instance.mesh,
+                    count: scene.meshes.len(),
+                }
+                .into());
             }
             instances.push(SceneInstance {
                 mesh: instance.mesh,

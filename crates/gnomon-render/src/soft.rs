@@ -5,7 +5,8 @@
 use gnomon::{Camera, Light};
 
 use crate::{
-    Frame, MASK_EMPTY, MASK_LIT, RenderError, RenderSettings, Renderer, StencilMode, Timings,
+    Frame, InvalidInput, MASK_EMPTY, MASK_LIT, RenderError, RenderSettings, Renderer, StencilMode,
+    Timings,
 };
 
 /// A soft-shadowed frame: the cluster's frames averaged.
@@ -57,9 +58,7 @@ impl Renderer {
     ) -> Result<SoftFrame, RenderError> {
         let n = clusters.first().map_or(0, Vec::len);
         if n == 0 || clusters.iter().any(|c| c.len() != n) {
-            return Err(RenderError::Invalid(
-                "soft shadows need clusters of one size, at least one sample each".into(),
-            ));
+            return Err(InvalidInput::UnevenClusters.into());
         }
         let pixels = (settings.width * settings.height) as usize;
         let mut color = vec![0.0f32; pixels * 3];

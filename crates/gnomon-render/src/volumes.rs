@@ -28,7 +28,7 @@ use crate::headless::{FrameClock, MASK_CLEAR, SKY, color_target};
 use crate::pipelines::{COLOR_FORMAT, MASK_FORMAT, PipelineSpec, Pipelines, build, scene_buffers};
 use crate::scene::SceneInstance;
 use crate::timing::Part;
-use crate::{Frame, Gpu, RenderError, RenderScene, RenderSettings, Renderer};
+use crate::{Frame, Gpu, InvalidInput, RenderError, RenderScene, RenderSettings, Renderer};
 
 /// How the stencil counts volume faces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -646,9 +646,7 @@ impl Renderer {
         stenciled: Stenciled<'_>,
     ) -> Result<(crate::Timings, VolumeStats), RenderError> {
         if lights.is_empty() {
-            return Err(RenderError::Invalid(
-                "shadow volumes need at least one light".into(),
-            ));
+            return Err(InvalidInput::NoLights.into());
         }
         let (width, height) = self.image_size(settings)?;
         let scopes = crate::gpu::ErrorScopes::push(&self.gpu);
