@@ -58,6 +58,16 @@ python3 scripts/shape.py --max-long 1 --crate gnomon
 echo "test.sh: the core with its opt-in feature (parallel): clippy and tests"
 cargo clippy -p gnomon-core --features parallel --all-targets --locked -- -D warnings
 cargo test -p gnomon-core --features parallel --locked --lib
+# The renderer builds without the scene parsers (gnomon-scene's default features), and
+# gnomon-scene with none of them.
+echo "test.sh: the renderer without the parsers"
+cargo clippy -q -p gnomon-scene --no-default-features --locked -- -D warnings
+parsers=$(cargo tree -q -p gnomon-render -e normal --prefix none --locked |
+    grep -E '^(tobj|gltf|toml|stl_io|ply-rs-bw|off-rs|serde) ' | sort -u || true)
+if [ -n "$parsers" ]; then
+    echo "test.sh: gnomon-render pulls in parsers: $parsers" >&2
+    exit 1
+fi
 echo "test.sh: the core's examples"
 cargo run -q --locked -p gnomon-core --example cascades >/dev/null
 cargo run -q --locked -p gnomon-core --example own_samples >/dev/null

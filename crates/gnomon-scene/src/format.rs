@@ -44,6 +44,19 @@ impl MeshFormat {
         }
     }
 
+    /// The gnomon-scene feature that reads the format (the Terragen reader is built in and
+    /// never left out).
+    pub(crate) fn feature(self) -> &'static str {
+        match self {
+            Self::Off => "off",
+            Self::Obj => "obj",
+            Self::Ply => "ply",
+            Self::Gltf => "gltf",
+            Self::Stl => "stl",
+            Self::Ter => "ter",
+        }
+    }
+
     /// The format's usual extension.
     pub fn extension(self) -> &'static str {
         match self {
@@ -115,6 +128,13 @@ pub enum LoadError {
         /// The file.
         path: PathBuf,
     },
+    /// The file's format is one this build of gnomon-scene leaves out (its feature is off).
+    LeftOut {
+        /// The file.
+        path: PathBuf,
+        /// Its format.
+        format: MeshFormat,
+    },
     /// A glTF file requires an extension gnomon does not read.
     UnsupportedExtension {
         /// The file.
@@ -167,6 +187,13 @@ impl fmt::Display for LoadError {
                 path.display()
             ),
             Self::NoTriangles { path } => write!(f, "{}: no triangles", path.display()),
+            Self::LeftOut { path, format } => write!(
+                f,
+                "{}: this build reads no .{} files (gnomon-scene's feature '{}' is off)",
+                path.display(),
+                format.extension(),
+                format.feature()
+            ),
             Self::UnsupportedExtension { path, extension } => write!(
                 f,
                 "{}: requires the glTF extension {extension}, which gnomon does not read",
@@ -197,6 +224,7 @@ impl LoadError {
             | Self::IndexOutOfRange { path, .. }
             | Self::NonFinite { path, .. }
             | Self::NoTriangles { path }
+            | Self::LeftOut { path, .. }
             | Self::UnsupportedExtension { path, .. } => *path = file.to_path_buf(),
         }
         self
@@ -229,5 +257,23 @@ impl RawPart {
             uvs: Vec::new(),
             cutout: None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_format_left_out_names_its_feature() {
+        let e = LoadError::LeftOut {
+            path: PathBuf::new(),
+            format: MeshFormat::Gltf,
+        }
+        .at(Path::new("a.glb"));
+        assert_eq!(
+            e.to_string(),
+            "a.glb: this build reads no .gltf files (gnomon-scene's feature 'gltf' is off)"
+        );
     }
 }

@@ -395,7 +395,7 @@ mod tests {
     /// A unit cube's buffer (the OFF tests' cube): 8 f32 positions, then 36 u32 indices
     /// (counter-clockwise from outside).
     fn cube_buffer() -> Vec<u8> {
-        let (positions, faces) = crate::load::parse_off(CUBE_OFF.as_bytes()).unwrap();
+        let (positions, faces) = crate::readers::parse_off(CUBE_OFF.as_bytes()).unwrap();
         let mut out = Vec::new();
         for p in &positions {
             for x in p.to_array() {

@@ -13,10 +13,14 @@
 mod city;
 mod demo;
 mod format;
+#[cfg(feature = "gltf")]
 mod gltf;
 mod load;
 mod mesh;
+mod readers;
 mod scene_file;
+#[cfg(feature = "scene-file")]
+mod scene_toml;
 mod terragen;
 mod view;
 
