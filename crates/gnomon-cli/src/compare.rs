@@ -13,7 +13,6 @@ use gnomon_render::{
 };
 use serde_json::{Value, json};
 
-use crate::args::render_command;
 use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs};
 use crate::render::{open_renderer, parse_size, write_png, write_text};
 use crate::rows::light_setups;
@@ -165,6 +164,16 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
         crate::say!("wrote {}", args.out.join("index.md").display());
         return Ok(());
     };
+    compare_suite(args, &rows, folder, started)
+}
+
+/// `compare --suite`: a report per scene in a folder of its name, and a summary over them.
+fn compare_suite(
+    args: &CompareArgs,
+    rows: &Rows<'_>,
+    folder: &std::path::Path,
+    started: Instant,
+) -> Result<(), CliError> {
     if args.views.views.iter().any(|v| v.trim() != "all") {
         return Err(CliError::usage(
             "--suite compares every view of each scene; drop --views",
@@ -188,9 +197,9 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     for (stem, loaded) in &scenes {
         eprintln!("compare: scene {stem} ({} views)", loaded.views.len());
         let out = args.out.join(stem);
-        let rows = compare_scene(args, &rows, loaded, &out, started)?;
+        let summary = compare_scene(args, rows, loaded, &out, started)?;
         let mut json_rows = Vec::new();
-        for r in &rows {
+        for r in &summary {
             let _ = writeln!(
                 markdown,
                 "| [{stem}]({}/index.md) | {} | {} | {:.3}% | {:.3}% | {} | {:.1} | {:.1} |",
@@ -238,92 +247,210 @@ fn compare_scene(
     out: &std::path::Path,
     started: Instant,
 ) -> Result<Vec<SummaryRow>, CliError> {
-    let techniques = compared.techniques;
-    // Planar shadows fall on the scene's ground (a scene without one says so in its rows).
-    let receiver = compared
-        .planar
-        .then(|| crate::render::planar_receiver(&loaded.scene, None));
-    let planar_rows = usize::from(compared.planar);
     let views = args.views.select(&loaded.views)?;
-    let scene = &loaded.scene;
-    let row_scene = crate::rows::RowScene::new(scene, techniques.iter().any(|r| r.projective()))?;
-    let bounds = row_scene.bounds();
+    let mut run = SceneRun::new(args, compared, loaded, views.len())?;
     std::fs::create_dir_all(out)
         .map_err(|e| CliError::runtime(format!("cannot create {}: {e}", out.display())))?;
-    let mut renderer = open_renderer(scene, args.size, Some(args.shadow_map))?;
-    let (width, height) = args.size;
-    let settings = RenderSettings {
-        width,
-        height,
-        filter: args.soft.pcf.into(),
-        area_light_radius: args.soft.pcss_radius(),
-        metrics: true,
-        ..RenderSettings::default()
-    };
-    let pcss = args.soft.pcss();
-    // PCSS filters maps read by depth; rows that read IDs or coverage keep the default filter
-    // (and their commands say nothing of it).
-    let row_settings = |row: &crate::rows::Row| {
+    let mut markdown = run.header();
+    run.warm_up(views.first().copied())?;
+    let mut summary = run.empty_summary();
+    let mut report = Vec::new();
+    for view in &views {
+        let drawn = run.view(view, &mut summary)?;
+        let (width, height) = drawn.grid.size();
+        write_png(
+            &out.join(format!("{}.png", view.name)),
+            width,
+            height,
+            image::ColorType::Rgba8,
+            &drawn.grid.pixels,
+        )?;
+        markdown.push_str(&drawn.markdown(view));
+        report.push(drawn.json(view));
+    }
+    run.progress.finish_and_clear();
+    markdown.push_str(&summary_markdown(&summary));
+    let write = |name: &str, text: &str| write_text(&out.join(name), text);
+    write("index.md", &markdown)?;
+    write(
+        "report.json",
+        &serde_json::to_string_pretty(&json!({
+            "scene": loaded.name,
+            "size": [args.size.0, args.size.1],
+            "shadow_map": args.shadow_map,
+            "device": run.renderer.gpu().describe(),
+            "timing": run.renderer.timing_source().name(),
+            "views": report,
+        }))
+        .expect("JSON of plain values"),
+    )?;
+    eprintln!(
+        "compared {} techniques over {} views of {} ({:.1} s so far)",
+        compared.techniques.len(),
+        views.len(),
+        loaded.name,
+        started.elapsed().as_secs_f64()
+    );
+    Ok(summary)
+}
+
+/// An image of cells of one frame's size, `columns` wide, filled row by row.
+struct Grid {
+    cell: (u32, u32),
+    columns: u32,
+    rows: u32,
+    pixels: Vec<u8>,
+}
+
+impl Grid {
+    fn new(cell: (u32, u32), columns: u32, rows: u32) -> Self {
+        let pixels = vec![255u8; (cell.0 * columns * cell.1 * rows * 4) as usize];
+        Self {
+            cell,
+            columns,
+            rows,
+            pixels,
+        }
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (self.cell.0 * self.columns, self.cell.1 * self.rows)
+    }
+
+    /// Copies a frame's RGBA pixels into the cell at `column`, `row`.
+    fn paste(&mut self, image: &[u8], column: u32, row: u32) {
+        let (width, height) = self.cell;
+        let grid_width = self.size().0;
+        let line = (width * 4) as usize;
+        for y in 0..height {
+            let from = y as usize * line;
+            let to = (((row * height + y) * grid_width + column * width) * 4) as usize;
+            self.pixels[to..to + line].copy_from_slice(&image[from..from + line]);
+        }
+    }
+}
+
+/// What every view of one scene's comparison shares: the rows, the renderer and its settings.
+struct SceneRun<'a> {
+    args: &'a CompareArgs,
+    techniques: &'a [crate::rows::Row],
+    loaded: &'a crate::args::LoadedScene,
+    /// Planar shadows' receiver, where the planar row is asked for (a scene without a ground
+    /// says so in its rows).
+    receiver: Option<Result<gnomon::planar::PlanarReceiver, CliError>>,
+    row_scene: crate::rows::RowScene,
+    renderer: gnomon_render::Renderer,
+    settings: RenderSettings,
+    progress: indicatif::ProgressBar,
+}
+
+/// One view's comparison: its grid, its rows' JSON and the reference's figures.
+struct DrawnView {
+    grid: Grid,
+    rows: Vec<Value>,
+    exact_ms: f64,
+    volumes_command: String,
+    soft_command: Option<String>,
+}
+
+/// One map row drawn in a view: its grid cells and its figures.
+struct MapRow {
+    cells: [Vec<u8>; 3],
+    n_dot_l: Vec<f32>,
+    wrong_percent: f64,
+    p99: f64,
+    penumbra: Option<f64>,
+    setup_us: f64,
+    frame_ms: f64,
+    json: Value,
+}
+
+impl<'a> SceneRun<'a> {
+    fn new(
+        args: &'a CompareArgs,
+        compared: &'a Rows<'a>,
+        loaded: &'a crate::args::LoadedScene,
+        views: usize,
+    ) -> Result<Self, CliError> {
+        let techniques = compared.techniques;
+        let receiver = compared
+            .planar
+            .then(|| crate::render::planar_receiver(&loaded.scene, None));
+        let row_scene =
+            crate::rows::RowScene::new(&loaded.scene, techniques.iter().any(|r| r.projective()))?;
+        let renderer = open_renderer(&loaded.scene, args.size, Some(args.shadow_map))?;
+        let settings = RenderSettings {
+            width: args.size.0,
+            height: args.size.1,
+            filter: args.soft.pcf.into(),
+            area_light_radius: args.soft.pcss_radius(),
+            metrics: true,
+            ..RenderSettings::default()
+        };
+        let rows = techniques.len() + usize::from(compared.planar) + 1;
+        let progress = indicatif::ProgressBar::new((views * rows) as u64);
+        progress.set_style(
+            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
+                .expect("a valid template"),
+        );
+        Ok(Self {
+            args,
+            techniques,
+            loaded,
+            receiver,
+            row_scene,
+            renderer,
+            settings,
+            progress,
+        })
+    }
+
+    /// The grid's rows: one per technique, planar shadows where asked, the exact volumes.
+    fn grid_rows(&self) -> u32 {
+        (self.techniques.len() + usize::from(self.receiver.is_some())) as u32 + 1
+    }
+
+    /// A row's settings: PCSS filters maps read by depth; rows that read IDs or coverage keep
+    /// the default filter (and their commands say nothing of it).
+    fn row_settings(&self, row: &crate::rows::Row) -> RenderSettings {
         if row.read == gnomon_render::MapRead::Depth {
-            row.settings(&settings)
+            row.settings(&self.settings)
         } else {
             row.settings(&RenderSettings {
                 filter: Filter::default(),
                 area_light_radius: 0.0,
-                ..settings
+                ..self.settings
             })
         }
-    };
-    // A map's command: the filter and the area light (the samples are the reference's).
-    let map_soft = crate::render::SoftArgs {
-        area_samples: None,
-        area_light: args.soft.area_light.filter(|_| pcss),
-        ..args.soft.clone()
-    };
-    let soft_flags = |row: &crate::rows::Row| {
-        if row.read == gnomon_render::MapRead::Depth {
-            map_soft.non_default_flags()
-        } else {
-            String::new()
+    }
+
+    /// A map row's filter flags for its command: the filter and the area light (the samples
+    /// are the reference's).
+    fn soft_flags(&self, row: &crate::rows::Row) -> String {
+        if row.read != gnomon_render::MapRead::Depth {
+            return String::new();
         }
-    };
-    let progress =
-        indicatif::ProgressBar::new((views.len() * (techniques.len() + planar_rows + 1)) as u64);
-    progress.set_style(
-        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
-            .expect("a valid template"),
-    );
-    let mut markdown = format!(
-        "# gnomon compare: {} scene\n\n{}x{} pixels, {}x{} shadow maps, rendered on {}. Wrong \
-         pixels: share of the pixels with N.L > 0.1 whose one-tap shadow-map mask differs from \
-         the exact shadow volumes' (false shadow: shadowed by the map, lit in fact; missed \
-         shadow: the reverse). SPPSM comes twice: its two maps at the size above each, and \
-         (sppsm-same-texels) two maps of half the area, the texels of one map; dual paraboloid maps \
-         likewise (paraboloid-cube-texels: two maps with the texels of a cube's six faces). A row \
-         that cannot draw a view's light (cube and paraboloid: point lights only; SPPSM and \
-         cascades: no point light) says n/a. Undersampling: pixels per texel along the worst direction \
-         (1 = one texel per pixel), over the same pixels; area p99: pixels per texel in area \
-         (1 / |det J|, the measure SPPSM's plane compares). Frame: setup + shadow pass + main pass \
-         (pass times from {}).\n\n\
-         Each grid has one row per technique in the table's order, then the exact shadow \
-         volumes; columns: the frame, the mask errors (red: false shadow, blue: missed \
-         shadow), the sampling error map.{}\n",
-        loaded.name,
-        width,
-        height,
-        args.shadow_map,
-        args.shadow_map,
-        renderer.gpu().describe(),
-        renderer.timing_source().name(),
-        if let Some(radius) = args.soft.area_light {
-            format!(
+        let soft = &self.args.soft;
+        crate::render::SoftArgs {
+            area_samples: None,
+            area_light: soft.area_light.filter(|_| soft.pcss()),
+            ..soft.clone()
+        }
+        .non_default_flags()
+    }
+
+    /// The report's title and how to read its tables and grids.
+    fn header(&self) -> String {
+        let args = self.args;
+        let area = match args.soft.area_light {
+            Some(radius) => format!(
                 " Area lights of radius {radius} (degrees for a sun, world units for spot and \
                  point lights){}; penumbra error: \
                  the mean absolute difference of the first light's shadow factor from the soft \
                  shadows of the same area light ({} hard lights with exact volumes, the third \
                  column of the volumes' row) over the pixels with N.L > 0.1 where either lies \
                  between 0.02 and 0.98 (the union of both penumbrae).",
-                if pcss {
+                if args.soft.pcss() {
                     ", maps read by depth filtered with their PCSS"
                 } else {
                     ", maps filtered without them (hard shadows)"
@@ -331,222 +458,157 @@ fn compare_scene(
                 args.soft
                     .area_samples
                     .unwrap_or(crate::render::DEFAULT_AREA_SAMPLES)
-            )
-        } else {
-            String::new()
-        }
-    );
-    // One untimed frame first: the first draw compiles the pipelines. Its map is the first
-    // row's that takes the first view's light (a row that refuses it is left out of that
-    // view below, and must not fail the run here).
-    if let Some(view) = views.first() {
-        let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
-        if let Some(row) = techniques
-            .iter()
-            .find(|row| row.refuses(std::slice::from_ref(&light)).is_none())
-        {
-            let samples = vec![renderer.view_samples(&camera, &light)?];
-            let (setups, _) = light_setups(row, &camera, &[light], bounds, &samples)?;
-            renderer.render(&camera, &light, &setups[0], &settings)?;
-        }
-        renderer.render_volumes(&camera, &light, &settings, StencilMode::ZFail)?;
+            ),
+            None => String::new(),
+        };
+        format!(
+            "# gnomon compare: {} scene\n\n{}x{} pixels, {}x{} shadow maps, rendered on {}. Wrong \
+             pixels: share of the pixels with N.L > 0.1 whose one-tap shadow-map mask differs from \
+             the exact shadow volumes' (false shadow: shadowed by the map, lit in fact; missed \
+             shadow: the reverse). SPPSM comes twice: its two maps at the size above each, and \
+             (sppsm-same-texels) two maps of half the area, the texels of one map; dual paraboloid maps \
+             likewise (paraboloid-cube-texels: two maps with the texels of a cube's six faces). A row \
+             that cannot draw a view's light (cube and paraboloid: point lights only; SPPSM and \
+             cascades: no point light) says n/a. Undersampling: pixels per texel along the worst direction \
+             (1 = one texel per pixel), over the same pixels; area p99: pixels per texel in area \
+             (1 / |det J|, the measure SPPSM's plane compares). Frame: setup + shadow pass + main pass \
+             (pass times from {}).\n\n\
+             Each grid has one row per technique in the table's order, then the exact shadow \
+             volumes; columns: the frame, the mask errors (red: false shadow, blue: missed \
+             shadow), the sampling error map.{area}\n",
+            self.loaded.name,
+            args.size.0,
+            args.size.1,
+            args.shadow_map,
+            args.shadow_map,
+            self.renderer.gpu().describe(),
+            self.renderer.timing_source().name(),
+        )
     }
-    let mut report = Vec::new();
-    let mut summary: Vec<SummaryRow> = techniques
-        .iter()
-        .map(|t| t.label.clone())
-        .chain(compared.planar.then(|| crate::names::PLANAR.to_string()))
-        .map(|label| SummaryRow {
-            label,
-            wrong: Vec::new(),
-            p99: Vec::new(),
-            penumbra: Vec::new(),
-            setup_us: Vec::new(),
-            frame_ms: Vec::new(),
-        })
-        .collect();
-    for view in &views {
+
+    /// One untimed frame first: the first draw compiles the pipelines. Its map is the first
+    /// row's that takes the first view's light (a row that refuses it is left out of that
+    /// view, and must not fail the run here).
+    fn warm_up(&mut self, view: Option<&gnomon_scene::NamedView>) -> Result<(), CliError> {
+        let Some(view) = view else {
+            return Ok(());
+        };
+        let (width, height) = self.args.size;
+        let (camera, light) = view.camera_and_light(width as f64 / height as f64)?;
+        let lights = std::slice::from_ref(&light);
+        if let Some(row) = self.techniques.iter().find(|r| r.refuses(lights).is_none()) {
+            let samples = vec![self.renderer.view_samples(&camera, &light)?];
+            let bounds = self.row_scene.bounds();
+            let (setups, _) = light_setups(row, &camera, lights, bounds, &samples)?;
+            self.renderer
+                .render(&camera, &light, &setups[0], &self.settings)?;
+        }
+        self.renderer
+            .render_volumes(&camera, &light, &self.settings, StencilMode::ZFail)?;
+        Ok(())
+    }
+
+    fn empty_summary(&self) -> Vec<SummaryRow> {
+        self.techniques
+            .iter()
+            .map(|t| t.label.clone())
+            .chain(
+                self.receiver
+                    .is_some()
+                    .then(|| crate::names::PLANAR.to_string()),
+            )
+            .map(|label| SummaryRow {
+                label,
+                wrong: Vec::new(),
+                p99: Vec::new(),
+                penumbra: Vec::new(),
+                setup_us: Vec::new(),
+                frame_ms: Vec::new(),
+            })
+            .collect()
+    }
+
+    /// Every row in one view against its exact volumes (and the soft shadows of its area
+    /// lights, the penumbrae's reference), each row's figures added to `summary`.
+    fn view(
+        &mut self,
+        view: &gnomon_scene::NamedView,
+        summary: &mut [SummaryRow],
+    ) -> Result<DrawnView, CliError> {
+        let (width, height) = self.args.size;
         let camera = view.camera(width as f64 / height as f64)?;
         // Every light of the view (a scene file's view may have several).
         let lights = view.lights()?;
-        progress.set_message(format!("{}: volumes", view.name));
-        let exact =
-            renderer.render_volumes_lit_by(&camera, &lights, &settings, StencilMode::ZFail)?;
-        // With PCSS, the soft shadows of the view's area lights: the reference of the
-        // penumbrae.
-        let soft = match args.soft.area_clusters(&lights, &bounds.scene_box())? {
-            Some(clusters) => {
-                progress.set_message(format!("{}: soft volumes", view.name));
-                Some(renderer.render_soft_volumes(
-                    &camera,
-                    &clusters,
-                    &settings,
-                    StencilMode::ZFail,
-                )?)
-            }
-            None => None,
-        };
+        self.progress.set_message(format!("{}: volumes", view.name));
+        let exact = self.renderer.render_volumes_lit_by(
+            &camera,
+            &lights,
+            &self.settings,
+            StencilMode::ZFail,
+        )?;
+        let soft = self.soft_volumes(view, &camera, &lights)?;
         // What the pixels see from each light, once per view, shared by every technique.
         let samples = lights
             .iter()
-            .map(|light| renderer.view_samples(&camera, light))
+            .map(|light| self.renderer.view_samples(&camera, light))
             .collect::<Result<Vec<_>, _>>()?;
-        let exact_ms = exact.frame.timings.shadow_pass_ms + exact.frame.timings.main_pass_ms;
-        progress.inc(1);
-        // The grid: cells of the frame's size (the error map's legend lies over its bottom).
-        let grid_width = 3 * width;
-        let grid_height = height * ((techniques.len() + planar_rows) as u32 + 1);
-        let mut grid = vec![255u8; (grid_width * grid_height * 4) as usize];
-        let mut paste = |image: &[u8], column: u32, row: u32| {
-            let line = (width * 4) as usize;
-            for y in 0..height {
-                let from = y as usize * line;
-                let to = (((row * height + y) * grid_width + column * width) * 4) as usize;
-                grid[to..to + line].copy_from_slice(&image[from..from + line]);
-            }
-        };
+        self.progress.inc(1);
+        let mut grid = Grid::new(self.args.size, 3, self.grid_rows());
         let mut rows = Vec::new();
         // N.L of the view's pixels (for the rows without maps): a map row's metrics.
         let mut view_n_dot_l: Option<Vec<f32>> = None;
-        for (k, entry) in techniques.iter().enumerate() {
-            progress.set_message(format!("{}: {}", view.name, entry.label));
+        for (k, entry) in self.techniques.iter().enumerate() {
+            self.progress
+                .set_message(format!("{}: {}", view.name, entry.label));
             if let Some(why) = entry.refuses(&lights) {
                 // Its grid row stays empty; the summary leaves this view out for it.
                 rows.push(json!({ "technique": entry.label, "skipped": why }));
-                progress.inc(1);
+                self.progress.inc(1);
                 continue;
             }
-            let row_bounds = row_scene.prepare(&mut renderer, entry.projective())?;
-            let (setups, setup_us) = light_setups(entry, &camera, &lights, row_bounds, &samples)?;
-            let setup = &setups[0];
-            let shadowed = ShadowedLight::pairs(&lights, &setups);
-            let frame = renderer.render_lights(&camera, &shadowed, &row_settings(entry))?;
-            let metrics = frame.metrics.as_ref().expect("metrics asked for");
-            let (errors, error_image) = mask_errors(&frame, &metrics.n_dot_l, &exact.frame);
-            if view_n_dot_l.is_none() {
-                view_n_dot_l = Some(metrics.n_dot_l.clone());
-            }
-            let t = frame.timings;
-            let frame_ms = setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms;
-            let undersampling = heatmap::percentiles(metrics, &metrics.undersampling);
-            // PCSS filters maps read by depth; the other reads take one tap.
-            let penumbra = soft
-                .as_ref()
-                .filter(|_| entry.read == gnomon_render::MapRead::Depth)
-                .map(|soft| {
-                    gnomon_render::penumbra_error(
-                        &soft.factor,
-                        frame.shadow.as_deref().expect("a map frame has its factor"),
-                        &metrics.n_dot_l,
-                    )
-                });
-            paste(&frame.color, 0, k as u32);
-            paste(&error_image, 1, k as u32);
-            paste(&heatmap::draw(metrics, width, height), 2, k as u32);
-            summary[k].wrong.push(errors.wrong_percent());
-            summary[k]
-                .p99
-                .push(undersampling["p99"].as_f64().unwrap_or(f64::NAN));
-            summary[k].setup_us.push(setup_us);
-            summary[k].frame_ms.push(frame_ms);
-            if let Some(p) = penumbra {
-                summary[k].penumbra.push(p.mean);
-            }
-            // sppsm-same-texels is sppsm at its own map size.
-            let command = crate::args::render_command_of(
-                &loaded.options,
+            let drawn = self.map_row(
+                entry,
                 view,
-                (Some(&entry.technique), entry.technique_name()),
-                &entry.params,
-                entry.resolution,
-                (width, height),
-                &format!(
-                    "{} --out frame.png --mask mask.png --error-map error.png",
-                    soft_flags(entry)
-                ),
-            );
-            rows.push(json!({
-                "technique": entry.label,
-                "command": command,
-                "shadow_map": entry.resolution,
-                "maps": setup.maps.len(),
-                "fallback": setup.fallback().map(|f| f.name()),
-                "wrong_percent": errors.wrong_percent(),
-                "false_shadow_percent": errors.false_shadow_percent(),
-                "missed_shadow_percent": errors.missed_shadow_percent(),
-                "compared_pixels": errors.compared,
-                "undersampling": undersampling,
-                "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
-                "penumbra_error": penumbra.map(|p| p.mean),
-                "penumbra_pixels": penumbra.map(|p| p.pixels),
-                "setup_us": setup_us,
-                "frame_ms": frame_ms,
-            }));
-            progress.inc(1);
-        }
-        row_scene.restore(&mut renderer)?;
-        if let Some(receiver) = &receiver {
-            let k = techniques.len();
-            progress.set_message(format!("{}: planar", view.name));
-            match receiver {
-                Ok(receiver) => {
-                    let n_dot_l = match view_n_dot_l.take() {
-                        Some(n) => n,
-                        None => {
-                            // No map row drew this view: the focused map's frame gives N.L.
-                            let focused =
-                                crate::rows::row("focused", &args.params, args.shadow_map)?;
-                            let (setups, _) =
-                                light_setups(&focused, &camera, &lights, bounds, &samples)?;
-                            let shadowed = ShadowedLight::pairs(&lights, &setups);
-                            let frame = renderer.render_lights(&camera, &shadowed, &settings)?;
-                            frame.metrics.expect("metrics asked for").n_dot_l
-                        }
-                    };
-                    let frame = renderer
-                        .render_planar_lit_by(&camera, &lights, receiver, &settings)?
-                        .frame;
-                    let (errors, error_image) = mask_errors(&frame, &n_dot_l, &exact.frame);
-                    let t = frame.timings;
-                    let frame_ms = t.shadow_pass_ms + t.main_pass_ms;
-                    paste(&frame.color, 0, k as u32);
-                    paste(&error_image, 1, k as u32);
-                    summary[k].wrong.push(errors.wrong_percent());
-                    summary[k].p99.push(f64::NAN);
-                    summary[k].setup_us.push(0.0);
-                    summary[k].frame_ms.push(frame_ms);
-                    let command = crate::args::render_command_of(
-                        &loaded.options,
-                        view,
-                        (None, crate::names::PLANAR),
-                        &args.params,
-                        args.shadow_map,
-                        (width, height),
-                        " --out frame.png --mask mask.png",
-                    );
-                    rows.push(json!({
-                        "technique": crate::names::PLANAR,
-                        "command": command,
-                        "maps": 0,
-                        "wrong_percent": errors.wrong_percent(),
-                        "false_shadow_percent": errors.false_shadow_percent(),
-                        "missed_shadow_percent": errors.missed_shadow_percent(),
-                        "compared_pixels": errors.compared,
-                        "setup_us": 0.0,
-                        "frame_ms": frame_ms,
-                    }));
-                }
-                Err(e) => rows.push(json!({
-                    "technique": crate::names::PLANAR,
-                    "skipped": e.message,
-                })),
+                (&camera, &lights, &samples),
+                &exact,
+                soft.as_ref(),
+            )?;
+            for (column, cell) in drawn.cells.iter().enumerate() {
+                grid.paste(cell, column as u32, k as u32);
             }
-            progress.inc(1);
+            summary[k].add(
+                drawn.wrong_percent,
+                drawn.p99,
+                drawn.setup_us,
+                drawn.frame_ms,
+            );
+            summary[k].penumbra.extend(drawn.penumbra);
+            view_n_dot_l.get_or_insert(drawn.n_dot_l);
+            rows.push(drawn.json);
+            self.progress.inc(1);
         }
-        let row = (techniques.len() + planar_rows) as u32;
-        paste(&exact.frame.color, 0, row);
+        self.row_scene.restore(&mut self.renderer)?;
+        let receiver = self.receiver.as_ref().map(|r| match r {
+            Ok(receiver) => Ok(receiver.clone()),
+            Err(e) => Err(e.message.clone()),
+        });
+        if let Some(receiver) = receiver {
+            self.progress.set_message(format!("{}: planar", view.name));
+            rows.push(match receiver {
+                Ok(receiver) => {
+                    let lit = (&camera, lights.as_slice(), samples.as_slice());
+                    let k = self.techniques.len();
+                    let drawn = (&exact, &mut grid, &mut summary[k]);
+                    self.planar_row(view, &receiver, lit, view_n_dot_l, drawn)?
+                }
+                Err(why) => json!({ "technique": crate::names::PLANAR, "skipped": why }),
+            });
+            self.progress.inc(1);
+        }
+        let row = self.grid_rows() - 1;
+        grid.paste(&exact.frame.color, 0, row);
         if let Some(soft) = &soft {
-            paste(&soft.frame.color, 2, row);
+            grid.paste(&soft.frame.color, 2, row);
         }
         let exact_mask: Vec<u8> = exact
             .frame
@@ -554,60 +616,232 @@ fn compare_scene(
             .iter()
             .flat_map(|&m| [m, m, m, 255])
             .collect();
-        paste(&exact_mask, 1, row);
-        let grid_path = out.join(format!("{}.png", view.name));
-        write_png(
-            &grid_path,
-            grid_width,
-            grid_height,
-            image::ColorType::Rgba8,
-            &grid,
-        )?;
-        let _ = write!(
-            markdown,
-            "\n## {} ({})\n\nExact shadow volumes: frame {exact_ms:.1} ms.\n\n\
-             | technique | wrong pixels | false shadow | missed shadow | undersampling p50 | p95 | p99 | max | area p99 | penumbra error | setup (us) | frame (ms) | fallback |\n\
-             | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |\n",
-            view.name, view.description
+        grid.paste(&exact_mask, 1, row);
+        let t = exact.frame.timings;
+        Ok(DrawnView {
+            grid,
+            rows,
+            exact_ms: t.shadow_pass_ms + t.main_pass_ms,
+            volumes_command: self.command(
+                view,
+                None,
+                "volumes",
+                " --out frame.png --mask mask.png",
+            ),
+            soft_command: soft.as_ref().map(|_| self.soft_command(view)),
+        })
+    }
+
+    /// With an area light, the soft shadows of the view's area lights: the reference of the
+    /// penumbrae.
+    fn soft_volumes(
+        &mut self,
+        view: &gnomon_scene::NamedView,
+        camera: &gnomon::Camera,
+        lights: &[gnomon::Light],
+    ) -> Result<Option<gnomon_render::SoftFrame>, CliError> {
+        let scene_box = self.row_scene.bounds().scene_box();
+        let Some(clusters) = self.args.soft.area_clusters(lights, &scene_box)? else {
+            return Ok(None);
+        };
+        self.progress
+            .set_message(format!("{}: soft volumes", view.name));
+        Ok(Some(self.renderer.render_soft_volumes(
+            camera,
+            &clusters,
+            &self.settings,
+            StencilMode::ZFail,
+        )?))
+    }
+
+    /// One map technique in one view: its frame, mask errors and sampling error map.
+    fn map_row(
+        &mut self,
+        entry: &crate::rows::Row,
+        view: &gnomon_scene::NamedView,
+        (camera, lights, samples): (&gnomon::Camera, &[gnomon::Light], &[gnomon::ViewSamples]),
+        exact: &gnomon_render::VolumeFrame,
+        soft: Option<&gnomon_render::SoftFrame>,
+    ) -> Result<MapRow, CliError> {
+        let (width, height) = self.args.size;
+        let row_bounds = self
+            .row_scene
+            .prepare(&mut self.renderer, entry.projective())?;
+        let (setups, setup_us) = light_setups(entry, camera, lights, row_bounds, samples)?;
+        let setup = &setups[0];
+        let shadowed = ShadowedLight::pairs(lights, &setups);
+        let frame = self
+            .renderer
+            .render_lights(camera, &shadowed, &self.row_settings(entry))?;
+        let metrics = frame.metrics.as_ref().expect("metrics asked for");
+        let (errors, error_image) = mask_errors(&frame, &metrics.n_dot_l, &exact.frame);
+        let t = frame.timings;
+        let frame_ms = setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms;
+        let undersampling = heatmap::percentiles(metrics, &metrics.undersampling);
+        // PCSS filters maps read by depth; the other reads take one tap.
+        let penumbra = soft
+            .filter(|_| entry.read == gnomon_render::MapRead::Depth)
+            .map(|soft| {
+                gnomon_render::penumbra_error(
+                    &soft.factor,
+                    frame.shadow.as_deref().expect("a map frame has its factor"),
+                    &metrics.n_dot_l,
+                )
+            });
+        // sppsm-same-texels is sppsm at its own map size.
+        let command = self.command(
+            view,
+            Some(entry),
+            entry.technique_name(),
+            &format!(
+                "{} --out frame.png --mask mask.png --error-map error.png",
+                self.soft_flags(entry)
+            ),
         );
-        for r in &rows {
-            if let Some(why) = r["skipped"].as_str() {
-                let label = r["technique"].as_str().unwrap_or_default();
-                let _ = writeln!(markdown, "| {label} | n/a: {why} ||||||||||||");
-                continue;
+        let json = json!({
+            "technique": entry.label,
+            "command": command,
+            "shadow_map": entry.resolution,
+            "maps": setup.maps.len(),
+            "fallback": setup.fallback().map(|f| f.name()),
+            "wrong_percent": errors.wrong_percent(),
+            "false_shadow_percent": errors.false_shadow_percent(),
+            "missed_shadow_percent": errors.missed_shadow_percent(),
+            "compared_pixels": errors.compared,
+            "undersampling": undersampling,
+            "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
+            "penumbra_error": penumbra.map(|p| p.mean),
+            "penumbra_pixels": penumbra.map(|p| p.pixels),
+            "setup_us": setup_us,
+            "frame_ms": frame_ms,
+        });
+        Ok(MapRow {
+            cells: [
+                frame.color.clone(),
+                error_image,
+                heatmap::draw(metrics, width, height),
+            ],
+            n_dot_l: metrics.n_dot_l.clone(),
+            wrong_percent: errors.wrong_percent(),
+            p99: undersampling["p99"].as_f64().unwrap_or(f64::NAN),
+            penumbra: penumbra.map(|p| p.mean),
+            setup_us,
+            frame_ms,
+            json,
+        })
+    }
+
+    /// Planar shadows in one view, judged on the N.L of a map row's frame (or, where none
+    /// drew the view, the focused map's).
+    fn planar_row(
+        &mut self,
+        view: &gnomon_scene::NamedView,
+        receiver: &gnomon::planar::PlanarReceiver,
+        (camera, lights, samples): (&gnomon::Camera, &[gnomon::Light], &[gnomon::ViewSamples]),
+        n_dot_l: Option<Vec<f32>>,
+        (exact, grid, summary): (&gnomon_render::VolumeFrame, &mut Grid, &mut SummaryRow),
+    ) -> Result<Value, CliError> {
+        let n_dot_l = match n_dot_l {
+            Some(n) => n,
+            None => {
+                let focused = crate::rows::row("focused", &self.args.params, self.args.shadow_map)?;
+                let bounds = self.row_scene.bounds();
+                let (setups, _) = light_setups(&focused, camera, lights, bounds, samples)?;
+                let shadowed = ShadowedLight::pairs(lights, &setups);
+                let frame = self
+                    .renderer
+                    .render_lights(camera, &shadowed, &self.settings)?;
+                frame.metrics.expect("metrics asked for").n_dot_l
             }
-            let u = &r["undersampling"];
-            let f = |v: &Value| v.as_f64().map_or("-".to_string(), |x| format!("{x:.2}"));
-            let _ = writeln!(
-                markdown,
-                "| {} | {:.3}% | {:.3}% | {:.3}% | {} | {} | {} | {} | {} | {} | {:.1} | {:.1} | {} |",
-                r["technique"].as_str().unwrap_or_default(),
-                r["wrong_percent"].as_f64().unwrap_or_default(),
-                r["false_shadow_percent"].as_f64().unwrap_or_default(),
-                r["missed_shadow_percent"].as_f64().unwrap_or_default(),
-                f(&u["p50"]),
-                f(&u["p95"]),
-                f(&u["p99"]),
-                f(&u["max"]),
-                f(&r["area_undersampling"]["p99"]),
-                r["penumbra_error"]
-                    .as_f64()
-                    .map_or("-".to_string(), |x| format!("{x:.4}")),
-                r["setup_us"].as_f64().unwrap_or_default(),
-                r["frame_ms"].as_f64().unwrap_or_default(),
-                r["fallback"].as_str().unwrap_or("none"),
-            );
-        }
-        let volumes_command = render_command(
-            &loaded.options,
+        };
+        let frame = self
+            .renderer
+            .render_planar_lit_by(camera, lights, receiver, &self.settings)?
+            .frame;
+        let (errors, error_image) = mask_errors(&frame, &n_dot_l, &exact.frame);
+        let t = frame.timings;
+        let frame_ms = t.shadow_pass_ms + t.main_pass_ms;
+        let k = self.techniques.len() as u32;
+        grid.paste(&frame.color, 0, k);
+        grid.paste(&error_image, 1, k);
+        summary.add(errors.wrong_percent(), f64::NAN, 0.0, frame_ms);
+        Ok(json!({
+            "technique": crate::names::PLANAR,
+            "command": self.command(view, None, crate::names::PLANAR, " --out frame.png --mask mask.png"),
+            "maps": 0,
+            "wrong_percent": errors.wrong_percent(),
+            "false_shadow_percent": errors.false_shadow_percent(),
+            "missed_shadow_percent": errors.missed_shadow_percent(),
+            "compared_pixels": errors.compared,
+            "setup_us": 0.0,
+            "frame_ms": frame_ms,
+        }))
+    }
+
+    /// The `gnomon render` command that draws `name` in `view`: a map row's with its
+    /// technique, parameters and map size, else with the run's; `extra` its output options.
+    fn command(
+        &self,
+        view: &gnomon_scene::NamedView,
+        row: Option<&crate::rows::Row>,
+        name: &str,
+        extra: &str,
+    ) -> String {
+        let (technique, params, resolution) = match row {
+            Some(r) => (Some(&r.technique), &r.params, r.resolution),
+            None => (None, &self.args.params, self.args.shadow_map),
+        };
+        crate::args::render_command_of(
+            &self.loaded.options,
+            view,
+            (technique, name),
+            params,
+            resolution,
+            self.args.size,
+            extra,
+        )
+    }
+
+    /// The command that draws the soft shadows of the view's area light (the volumes of its
+    /// cluster of hard lights).
+    fn soft_command(&self, view: &gnomon_scene::NamedView) -> String {
+        let mut flags = self.args.soft.clone();
+        flags.pcf = crate::render::PcfArg::Hardware2x2;
+        self.command(
             view,
             None,
-            &args.params,
-            args.shadow_map,
-            (width, height),
-            " --out frame.png --mask mask.png",
+            "volumes",
+            &format!(
+                "{} --out soft.png --mask soft-factor.png",
+                flags.non_default_flags()
+            ),
+        )
+    }
+}
+
+impl SummaryRow {
+    fn add(&mut self, wrong_percent: f64, p99: f64, setup_us: f64, frame_ms: f64) {
+        self.wrong.push(wrong_percent);
+        self.p99.push(p99);
+        self.setup_us.push(setup_us);
+        self.frame_ms.push(frame_ms);
+    }
+}
+
+impl DrawnView {
+    /// The view's section of the report: its table, its grid and the commands of its rows.
+    fn markdown(&self, view: &gnomon_scene::NamedView) -> String {
+        let mut markdown = format!(
+            "\n## {} ({})\n\nExact shadow volumes: frame {:.1} ms.\n\n\
+             | technique | wrong pixels | false shadow | missed shadow | undersampling p50 | p95 | p99 | max | area p99 | penumbra error | setup (us) | frame (ms) | fallback |\n\
+             | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |\n",
+            view.name, view.description, self.exact_ms
         );
-        let mut labels: Vec<&str> = rows
+        for r in &self.rows {
+            markdown.push_str(&table_row(r));
+        }
+        let mut labels: Vec<&str> = self
+            .rows
             .iter()
             .map(|r| r["technique"].as_str().unwrap_or_default())
             .collect();
@@ -621,7 +855,7 @@ fn compare_scene(
             view.name,
             labels.join(", ")
         );
-        for r in &rows {
+        for r in &self.rows {
             let _ = writeln!(
                 markdown,
                 "- {}: `{}`",
@@ -629,31 +863,24 @@ fn compare_scene(
                 r["command"].as_str().unwrap_or_default()
             );
         }
-        let _ = writeln!(markdown, "- exact shadow volumes: `{volumes_command}`");
-        let soft_command = soft.as_ref().map(|_| {
-            let mut flags = args.soft.clone();
-            flags.pcf = crate::render::PcfArg::Hardware2x2;
-            render_command(
-                &loaded.options,
-                view,
-                None,
-                &args.params,
-                args.shadow_map,
-                (width, height),
-                &format!(
-                    "{} --out soft.png --mask soft-factor.png",
-                    flags.non_default_flags()
-                ),
-            )
-        });
-        if let Some(command) = &soft_command {
+        let _ = writeln!(
+            markdown,
+            "- exact shadow volumes: `{}`",
+            self.volumes_command
+        );
+        if let Some(command) = &self.soft_command {
             let _ = writeln!(
                 markdown,
                 "- soft shadows of the area light (the penumbrae's reference; the exact volumes' \
                  row, third column): `{command}`"
             );
         }
-        report.push(json!({
+        markdown
+    }
+
+    /// The view in `report.json`.
+    fn json(self, view: &gnomon_scene::NamedView) -> Value {
+        json!({
             "view": view.name,
             "description": view.description,
             "eye": view.eye.to_array(),
@@ -664,18 +891,46 @@ fn compare_scene(
             "near": view.near,
             "light": crate::report::view_light_json(&view.light),
             "more_lights": view.more_lights.iter().map(crate::report::view_light_json).collect::<Vec<_>>(),
-            "volumes_command": volumes_command,
-            "volumes_frame_ms": exact_ms,
-            "soft_command": soft_command,
-            "techniques": rows,
-        }));
+            "volumes_command": self.volumes_command,
+            "volumes_frame_ms": self.exact_ms,
+            "soft_command": self.soft_command,
+            "techniques": self.rows,
+        })
     }
-    progress.finish_and_clear();
-    let _ = write!(
-        markdown,
-        "\n## Over all views\n\n| technique | mean wrong pixels | worst view | mean undersampling p99 | mean penumbra error |\n| --- | ---: | ---: | ---: | ---: |\n"
-    );
-    for row in &summary {
+}
+
+/// One row of a view's table, from its JSON.
+fn table_row(r: &Value) -> String {
+    if let Some(why) = r["skipped"].as_str() {
+        let label = r["technique"].as_str().unwrap_or_default();
+        return format!("| {label} | n/a: {why} ||||||||||||\n");
+    }
+    let u = &r["undersampling"];
+    let f = |v: &Value| v.as_f64().map_or("-".to_string(), |x| format!("{x:.2}"));
+    format!(
+        "| {} | {:.3}% | {:.3}% | {:.3}% | {} | {} | {} | {} | {} | {} | {:.1} | {:.1} | {} |\n",
+        r["technique"].as_str().unwrap_or_default(),
+        r["wrong_percent"].as_f64().unwrap_or_default(),
+        r["false_shadow_percent"].as_f64().unwrap_or_default(),
+        r["missed_shadow_percent"].as_f64().unwrap_or_default(),
+        f(&u["p50"]),
+        f(&u["p95"]),
+        f(&u["p99"]),
+        f(&u["max"]),
+        f(&r["area_undersampling"]["p99"]),
+        r["penumbra_error"]
+            .as_f64()
+            .map_or("-".to_string(), |x| format!("{x:.4}")),
+        r["setup_us"].as_f64().unwrap_or_default(),
+        r["frame_ms"].as_f64().unwrap_or_default(),
+        r["fallback"].as_str().unwrap_or("none"),
+    )
+}
+
+/// The scene's table over all views.
+fn summary_markdown(summary: &[SummaryRow]) -> String {
+    let mut markdown = "\n## Over all views\n\n| technique | mean wrong pixels | worst view | mean undersampling p99 | mean penumbra error |\n| --- | ---: | ---: | ---: | ---: |\n".to_string();
+    for row in summary {
         let worst = row.wrong.iter().copied().fold(0.0, f64::max);
         let penumbra = if row.penumbra.is_empty() {
             "-".to_string()
@@ -690,26 +945,5 @@ fn compare_scene(
             two_places(mean(&row.p99))
         );
     }
-    let write = |name: &str, text: &str| write_text(&out.join(name), text);
-    write("index.md", &markdown)?;
-    write(
-        "report.json",
-        &serde_json::to_string_pretty(&json!({
-            "scene": loaded.name,
-            "size": [width, height],
-            "shadow_map": args.shadow_map,
-            "device": renderer.gpu().describe(),
-            "timing": renderer.timing_source().name(),
-            "views": report,
-        }))
-        .expect("JSON of plain values"),
-    )?;
-    eprintln!(
-        "compared {} techniques over {} views of {} ({:.1} s so far)",
-        techniques.len(),
-        views.len(),
-        loaded.name,
-        started.elapsed().as_secs_f64()
-    );
-    Ok(summary)
+    markdown
 }
