@@ -8,7 +8,7 @@ use std::time::Instant;
 use clap::Args;
 use gnomon::{Camera, Light, Technique};
 use gnomon_render::{RenderSettings, ShadowedLight, Timings};
-use serde_json::json;
+use serde_json::{Value, json};
 
 use crate::CliError;
 use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs};
@@ -118,87 +118,32 @@ fn time_views(
     let projective = entries
         .iter()
         .any(|e| matches!(e, Entry::Map(row) if row.projective()));
-    let row_scene = crate::rows::RowScene::new(&loaded.scene, projective)?;
-    // Planar shadows fall on the scene's ground.
-    let receiver = entries
-        .iter()
-        .any(|e| matches!(e, Entry::Planar))
-        .then(|| crate::render::planar_receiver(&loaded.scene, None))
-        .transpose()?;
-    // One frame: its time in ms (setup + shadow pass + main pass) and its timings. The view
-    // samples are a fact of the view, drawn once per view (an engine takes them from its
-    // last frame), and not timed.
-    let frame = |renderer: &mut gnomon_render::Renderer,
-                 entry: &Entry,
-                 camera: &Camera,
-                 lights: &[Light],
-                 samples: &[gnomon::ViewSamples]|
-     -> Result<(f64, Timings), CliError> {
-        match entry {
-            Entry::Map(row) if row.refuses(lights).is_some() => Ok((f64::NAN, Timings::default())),
-            Entry::Map(row) => {
-                let row_bounds = row_scene.prepare(renderer, row.projective())?;
-                let (setups, setup_us) = light_setups(row, camera, lights, row_bounds, samples)?;
-                let shadowed = ShadowedLight::pairs(lights, &setups);
-                let f = renderer.render_lights(camera, &shadowed, &row.settings(&settings))?;
-                let t = f.timings;
-                Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t))
-            }
-            Entry::Volumes(mode) => {
-                row_scene.restore(renderer)?;
-                let f = renderer
-                    .render_volumes_lit_by(camera, lights, &settings, *mode)?
-                    .frame;
-                let t = f.timings;
-                Ok((t.shadow_pass_ms + t.main_pass_ms, t))
-            }
-            Entry::Planar => {
-                row_scene.restore(renderer)?;
-                let receiver = receiver.as_ref().expect("made for a planar entry");
-                let f = renderer
-                    .render_planar_lit_by(camera, lights, receiver, &settings)?
-                    .frame;
-                let t = f.timings;
-                Ok((t.shadow_pass_ms + t.main_pass_ms, t))
-            }
-        }
+    let timer = Timer {
+        row_scene: crate::rows::RowScene::new(&loaded.scene, projective)?,
+        // Planar shadows fall on the scene's ground.
+        receiver: entries
+            .iter()
+            .any(|e| matches!(e, Entry::Planar))
+            .then(|| crate::render::planar_receiver(&loaded.scene, None))
+            .transpose()?,
+        settings,
     };
     for (v, (view, camera, lights)) in views.iter().enumerate() {
         let samples = lights
             .iter()
             .map(|light| renderer.view_samples(camera, light))
             .collect::<Result<Vec<_>, _>>()?;
+        let scene = (camera, lights.as_slice(), samples.as_slice());
         for entry in entries {
-            frame(&mut renderer, entry, camera, lights, &samples)?; // warm-up
+            timer.frame(&mut renderer, entry, scene)?; // warm-up
         }
         let mut times: Vec<Vec<(f64, Timings)>> = vec![Vec::new(); entries.len()];
         for _ in 0..args.frames {
             for (k, entry) in entries.iter().enumerate() {
-                times[k].push(frame(&mut renderer, entry, camera, lights, &samples)?);
+                times[k].push(timer.frame(&mut renderer, entry, scene)?);
             }
         }
-        let baseline_ms = mean_sd(&times[baseline].iter().map(|t| t.0).collect::<Vec<_>>()).0;
-        for (entry, samples) in entries.iter().zip(&times) {
-            if let Entry::Map(row) = entry
-                && let Some(why) = row.refuses(lights)
-            {
-                results.push(json!({ "view": view, "technique": entry.name(), "skipped": why }));
-                continue;
-            }
-            let total: Vec<f64> = samples.iter().map(|t| t.0).collect();
-            let shadow: Vec<f64> = samples.iter().map(|t| t.1.shadow_pass_ms).collect();
-            let main: Vec<f64> = samples.iter().map(|t| t.1.main_pass_ms).collect();
-            let (mean, sd) = mean_sd(&total);
-            results.push(json!({
-                "view": view,
-                "technique": entry.name(),
-                "frame_ms": mean,
-                "frame_ms_sd": sd,
-                "shadow_pass_ms": mean_sd(&shadow).0,
-                "main_pass_ms": mean_sd(&main).0,
-                "vs_baseline": mean / baseline_ms,
-            }));
-        }
+        results.extend(view_results(view, entries, &times, baseline, lights));
         eprintln!(
             "[{}/{}] {view} done ({:.1} s)",
             v + 1,
@@ -207,6 +152,87 @@ fn time_views(
         );
     }
     Ok((results, device))
+}
+
+/// What every timed frame of one scene shares.
+struct Timer {
+    row_scene: crate::rows::RowScene,
+    receiver: Option<gnomon::planar::PlanarReceiver>,
+    settings: RenderSettings,
+}
+
+impl Timer {
+    /// One frame: its time in ms (setup + shadow pass + main pass) and its timings. The view
+    /// samples are a fact of the view, drawn once per view (an engine takes them from its
+    /// last frame), and not timed.
+    fn frame(
+        &self,
+        renderer: &mut gnomon_render::Renderer,
+        entry: &Entry,
+        (camera, lights, samples): (&Camera, &[Light], &[gnomon::ViewSamples]),
+    ) -> Result<(f64, Timings), CliError> {
+        let settings = &self.settings;
+        let frame = match entry {
+            Entry::Map(row) if row.refuses(lights).is_some() => {
+                return Ok((f64::NAN, Timings::default()));
+            }
+            Entry::Map(row) => {
+                let row_bounds = self.row_scene.prepare(renderer, row.projective())?;
+                let (setups, setup_us) = light_setups(row, camera, lights, row_bounds, samples)?;
+                let shadowed = ShadowedLight::pairs(lights, &setups);
+                let f = renderer.render_lights(camera, &shadowed, &row.settings(settings))?;
+                let t = f.timings;
+                return Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t));
+            }
+            Entry::Volumes(mode) => {
+                self.row_scene.restore(renderer)?;
+                renderer.render_volumes_lit_by(camera, lights, settings, *mode)?
+            }
+            Entry::Planar => {
+                self.row_scene.restore(renderer)?;
+                let Some(receiver) = &self.receiver else {
+                    return Err(CliError::runtime("planar shadows without a receiver"));
+                };
+                renderer.render_planar_lit_by(camera, lights, receiver, settings)?
+            }
+        };
+        let t = frame.frame.timings;
+        Ok((t.shadow_pass_ms + t.main_pass_ms, t))
+    }
+}
+
+/// One view's results: each entry's mean frame and pass times and its ratio to the baseline.
+fn view_results(
+    view: &str,
+    entries: &[Entry],
+    times: &[Vec<(f64, Timings)>],
+    baseline: usize,
+    lights: &[Light],
+) -> Vec<Value> {
+    let baseline_ms = mean_sd(&times[baseline].iter().map(|t| t.0).collect::<Vec<_>>()).0;
+    let mut results = Vec::new();
+    for (entry, samples) in entries.iter().zip(times) {
+        if let Entry::Map(row) = entry
+            && let Some(why) = row.refuses(lights)
+        {
+            results.push(json!({ "view": view, "technique": entry.name(), "skipped": why }));
+            continue;
+        }
+        let total: Vec<f64> = samples.iter().map(|t| t.0).collect();
+        let shadow: Vec<f64> = samples.iter().map(|t| t.1.shadow_pass_ms).collect();
+        let main: Vec<f64> = samples.iter().map(|t| t.1.main_pass_ms).collect();
+        let (mean, sd) = mean_sd(&total);
+        results.push(json!({
+            "view": view,
+            "technique": entry.name(),
+            "frame_ms": mean,
+            "frame_ms_sd": sd,
+            "shadow_pass_ms": mean_sd(&shadow).0,
+            "main_pass_ms": mean_sd(&main).0,
+            "vs_baseline": mean / baseline_ms,
+        }));
+    }
+    results
 }
 
 /// Mean and standard deviation.
@@ -219,6 +245,48 @@ fn mean_sd(values: &[f64]) -> (f64, f64) {
 
 /// Runs `gnomon bench`.
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
+    let (entries, baseline) = entries(args)?;
+    if args.frames == 0 {
+        return Err(CliError::usage("--frames must be at least 1"));
+    }
+    let scenes = scenes(args)?;
+    let aspect = args.size.0 as f64 / args.size.1 as f64;
+    let started = Instant::now();
+    let mut results = Vec::new();
+    let mut device = (String::new(), "");
+    for (stem, loaded) in &scenes {
+        let views = views_of(args, stem, loaded, aspect)?;
+        let (times, on) = time_views(args, &entries, baseline, loaded, &views, started)?;
+        results.extend(times);
+        device = on;
+    }
+    let summary = summary(&entries, &results);
+    let baseline_name = entries[baseline].name();
+    if args.json {
+        crate::say!(
+            "{}",
+            serde_json::to_string_pretty(&json!({
+                "device": device.0,
+                "timing": device.1,
+                "baseline": baseline_name,
+                "summary": summary,
+                "size": [args.size.0, args.size.1],
+                "shadow_map": args.shadow_map,
+                "frames": args.frames,
+                "results": results,
+            }))
+            .expect("JSON of plain values")
+        );
+    } else {
+        print_table(&results, baseline_name);
+        print_summary(&summary, baseline_name);
+    }
+    Ok(())
+}
+
+/// What `--techniques` names, checked (each once, its parameters read), and the baseline's
+/// index among them.
+fn entries(args: &BenchArgs) -> Result<(Vec<Entry>, usize), CliError> {
     let entries = args
         .techniques
         .iter()
@@ -267,49 +335,51 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                     .join(", ")
             ))
         })?;
-    if args.frames == 0 {
-        return Err(CliError::usage("--frames must be at least 1"));
-    }
-    // The scenes: the one given, or every scene file of --suite (all loaded before any work).
-    let scenes: Vec<(String, crate::args::LoadedScene)> = match &args.suite.suite {
-        None => vec![(String::new(), args.scene.load()?)],
+    Ok((entries, baseline))
+}
+
+/// The scenes: the one given, or every scene file of --suite (all loaded before any work).
+fn scenes(args: &BenchArgs) -> Result<Vec<(String, crate::args::LoadedScene)>, CliError> {
+    match &args.suite.suite {
+        None => Ok(vec![(String::new(), args.scene.load()?)]),
         Some(folder) => {
             if args.views.views.iter().any(|v| v.trim() != "all") {
                 return Err(CliError::usage(
                     "--suite times every view of each scene; drop --views",
                 ));
             }
-            crate::args::suite_scenes(folder)?
+            crate::args::suite_scenes(folder)
         }
-    };
-    let aspect = args.size.0 as f64 / args.size.1 as f64;
-    let started = Instant::now();
-    let mut results = Vec::new();
-    let mut device = (String::new(), "");
-    for (stem, loaded) in &scenes {
-        let views: Vec<View> = args
-            .views
-            .select(&loaded.views)?
-            .into_iter()
-            .map(|v| {
-                let camera = v.camera(aspect)?;
-                // Every light of the view (a scene file's view may have several).
-                let lights = v.lights()?;
-                // In a suite, a view is named by its scene too.
-                let name = if stem.is_empty() {
-                    v.name.clone()
-                } else {
-                    format!("{stem}/{}", v.name)
-                };
-                Ok((name, camera, lights))
-            })
-            .collect::<Result<_, CliError>>()?;
-        let (times, on) = time_views(args, &entries, baseline, loaded, &views, started)?;
-        results.extend(times);
-        device = on;
     }
-    // Each technique's ratio to the baseline over the views: mean, smallest, largest.
-    let summary: Vec<_> = entries
+}
+
+/// The chosen views of a scene with their cameras and every light (a scene file's view may
+/// have several); in a suite, a view is named by its scene too.
+fn views_of(
+    args: &BenchArgs,
+    stem: &str,
+    loaded: &crate::args::LoadedScene,
+    aspect: f64,
+) -> Result<Vec<View>, CliError> {
+    args.views
+        .select(&loaded.views)?
+        .into_iter()
+        .map(|v| {
+            let camera = v.camera(aspect)?;
+            let lights = v.lights()?;
+            let name = if stem.is_empty() {
+                v.name.clone()
+            } else {
+                format!("{stem}/{}", v.name)
+            };
+            Ok((name, camera, lights))
+        })
+        .collect()
+}
+
+/// Each technique's ratio to the baseline over the views: mean, smallest, largest.
+fn summary(entries: &[Entry], results: &[Value]) -> Vec<Value> {
+    entries
         .iter()
         .map(|entry| {
             let ratios: Vec<f64> = results
@@ -326,25 +396,11 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 "max_vs_baseline": figure(ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max)),
             })
         })
-        .collect();
-    let baseline_name = entries[baseline].name();
-    if args.json {
-        crate::say!(
-            "{}",
-            serde_json::to_string_pretty(&json!({
-                "device": device.0,
-                "timing": device.1,
-                "baseline": baseline_name,
-                "summary": summary,
-                "size": [args.size.0, args.size.1],
-                "shadow_map": args.shadow_map,
-                "frames": args.frames,
-                "results": results,
-            }))
-            .expect("JSON of plain values")
-        );
-        return Ok(());
-    }
+        .collect()
+}
+
+/// A line per view and technique.
+fn print_table(results: &[Value], baseline_name: &str) {
     crate::say!(
         "{:<16} {:<20} {:>10} {:>8} {:>10} {:>10} {:>11}",
         "view",
@@ -355,7 +411,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "main ms",
         format!("vs {baseline_name}")
     );
-    for r in &results {
+    for r in results {
         if let Some(why) = r["skipped"].as_str() {
             crate::say!(
                 "{:<16} {:<20} not timed: {why}",
@@ -378,8 +434,12 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 .map_or("n/a".to_string(), |v| format!("{v:.2}x")),
         );
     }
+}
+
+/// Each technique's ratio to the baseline over the views.
+fn print_summary(summary: &[Value], baseline_name: &str) {
     crate::say!("\nframe time / {baseline_name}'s over the views: mean (smallest, largest)");
-    for s in &summary {
+    for s in summary {
         let technique = s["technique"].as_str().unwrap_or_default();
         match (
             s["mean_vs_baseline"].as_f64(),
@@ -394,5 +454,4 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             ),
         }
     }
-    Ok(())
 }
