@@ -130,6 +130,20 @@ impl ViewArgs {
         let up = self.up.or(named.map(|v| v.up)).unwrap_or(DVec3::Y);
         Ok(Camera::look_at(eye, target, up, lens)?)
     }
+
+    /// The camera of an image of `size` (its aspect unless `--aspect` says otherwise), with a
+    /// far plane the renderer draws precisely.
+    pub fn drawn_camera(&self, views: &[NamedView], size: (u32, u32)) -> Result<Camera, CliError> {
+        let camera = self.camera_with_aspect(views, size.0 as f64 / size.1 as f64)?;
+        if camera.lens().far > gnomon_render::MAX_VIEW_DISTANCE {
+            return Err(CliError::usage(format!(
+                "--far {} is beyond what the renderer draws precisely (at most {})",
+                camera.lens().far,
+                gnomon_render::MAX_VIEW_DISTANCE
+            )));
+        }
+        Ok(camera)
+    }
 }
 
 /// The light: directional, spot or point, at most one (without any, the named view's).

@@ -490,7 +490,75 @@ pub fn open_renderer(
 
 /// Runs `gnomon render`.
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
-    // Every output checked before any work.
+    check_render_outputs(args)?;
+    let loaded = args.scene.load()?;
+    let scene = drawn_scene(args.draw.technique, loaded.scene);
+    let bounds = scene.bounds()?;
+    let camera = args.view.drawn_camera(&loaded.views, args.size)?;
+    // Every light of the view (a scene file's view may have several), the first the main one.
+    let lights = args.light.lights(&args.view, &loaded.views)?;
+    args.draw.check_read()?;
+    args.draw.soft.check_area_light(&lights)?;
+    let technique = match args.draw.technique {
+        Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &lights, mode),
+        Drawn::Planar => return run_planar(args, &scene, &camera, &lights),
+        drawn => drawn.map_technique().expect("a map technique"),
+    };
+    let technique = checked_technique(args, technique, &camera, &lights, &bounds)?;
+    let mut renderer = open_renderer(&scene, args.size, Some(args.draw.shadow_map))?;
+    let lit = (&camera, lights.as_slice(), &bounds);
+    let (setups, setup_us) = setups_seen(&mut renderer, &technique, lit, args.draw.shadow_map)?;
+    if args.draw.tint && setups[0].maps.len() < 2 {
+        return Err(tint_needs_two_maps(&technique));
+    }
+    let settings = RenderSettings {
+        light_view: args.light_view.is_some(),
+        metrics: args.error_map.is_some() || args.json,
+        ..args.draw.settings(args.size)
+    };
+    let shadowed = gnomon_render::ShadowedLight::pairs(&lights, &setups);
+    let mut frame = renderer.render_lights(&camera, &shadowed, &settings)?;
+    if args.draw.soft.pcss() {
+        soft_mask(&mut frame);
+    }
+    if let (Some(path), Some(metrics)) = (&args.error_map, &frame.metrics) {
+        // The frame's size (the legend lies over its bottom strip).
+        let image = heatmap::draw(metrics, frame.width, frame.height);
+        write_png(
+            path,
+            frame.width,
+            frame.height,
+            image::ColorType::Rgba8,
+            &image,
+        )?;
+    }
+    let casters = scene.instances.iter().filter(|i| i.casts).count();
+    if args.json {
+        print_frame_json(
+            &renderer,
+            &technique,
+            (&setups[0], setup_us),
+            &frame,
+            casters,
+        );
+    }
+    write_frame(
+        &frame,
+        &args.out,
+        args.mask.as_deref(),
+        args.light_view.as_deref(),
+    )?;
+    print_closing_line(args, &renderer, (&setups[0], setup_us), &frame, casters);
+    for (light, setup) in lights.iter().zip(&setups) {
+        if let Some(warning) = near_clip_warning(light, &setup.diagnostics) {
+            eprintln!("warning: {warning}");
+        }
+    }
+    Ok(())
+}
+
+/// Every output checked before any work.
+fn check_render_outputs(args: &RenderArgs) -> Result<(), CliError> {
     let png: &[&str] = &["png"];
     let mut outputs = vec![("--out", args.out.as_path(), png)];
     for (option, path) in [
@@ -502,30 +570,18 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             outputs.push((option, path.as_path(), png));
         }
     }
-    crate::output::check_outputs(&outputs)?;
-    let loaded = args.scene.load()?;
-    let scene = drawn_scene(args.draw.technique, loaded.scene);
-    let bounds = scene.bounds()?;
-    // The lens's aspect follows the image unless given.
-    let camera = args
-        .view
-        .camera_with_aspect(&loaded.views, args.size.0 as f64 / args.size.1 as f64)?;
-    if camera.lens().far > gnomon_render::MAX_VIEW_DISTANCE {
-        return Err(CliError::usage(format!(
-            "--far {} is beyond what the renderer draws precisely (at most {})",
-            camera.lens().far,
-            gnomon_render::MAX_VIEW_DISTANCE
-        )));
-    }
-    // Every light of the view (a scene file's view may have several), the first the main one.
-    let lights = args.light.lights(&args.view, &loaded.views)?;
-    args.draw.check_read()?;
-    args.draw.soft.check_area_light(&lights)?;
-    let technique = match args.draw.technique {
-        Drawn::Volumes(mode) => return run_volumes(args, &scene, &camera, &lights, mode),
-        Drawn::Planar => return run_planar(args, &scene, &camera, &lights),
-        drawn => drawn.map_technique().expect("a map technique"),
-    };
+    crate::output::check_outputs(&outputs)
+}
+
+/// The technique with the options' parameters, refused before the GPU opens where they are
+/// bad: the setup once from the boxes alone (microseconds) for every light.
+fn checked_technique(
+    args: &RenderArgs,
+    technique: gnomon::Technique,
+    camera: &gnomon::Camera,
+    lights: &[gnomon::Light],
+    bounds: &gnomon::SceneBounds,
+) -> Result<gnomon::Technique, CliError> {
     let technique = args.draw.params.apply(technique);
     args.draw.params.check_used_by(&[technique])?;
     // Before any work where the technique says (SPPSM may still fall back to one map; a
@@ -539,102 +595,95 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     {
         return Err(tint_needs_two_maps(&technique));
     }
-    // Bad technique parameters are refused before the GPU opens: the setup once from the
-    // boxes alone (microseconds), then again with what the renderer's pixels see.
-    for light in &lights {
+    for light in lights {
         timed_setup(
             &technique,
-            &camera,
+            camera,
             light,
-            &bounds,
+            bounds,
             args.draw.shadow_map,
             None,
         )?;
     }
-    let mut renderer = open_renderer(&scene, args.size, Some(args.draw.shadow_map))?;
-    // Each light's setup with what the pixels see from it; the times add up.
+    Ok(technique)
+}
+
+/// Each light's setup with what the renderer's pixels see from it; the times add up.
+fn setups_seen(
+    renderer: &mut Renderer,
+    technique: &gnomon::Technique,
+    (camera, lights, bounds): (&gnomon::Camera, &[gnomon::Light], &gnomon::SceneBounds),
+    shadow_map: u32,
+) -> Result<(Vec<gnomon::ShadowSetup>, f64), CliError> {
     let mut setups = Vec::with_capacity(lights.len());
     let mut setup_us = 0.0;
-    for light in &lights {
-        let samples = renderer.view_samples(&camera, light)?;
-        let (setup, us) = timed_setup(
-            &technique,
-            &camera,
-            light,
-            &bounds,
-            args.draw.shadow_map,
-            Some(&samples),
-        )?;
+    for light in lights {
+        let samples = renderer.view_samples(camera, light)?;
+        let (setup, us) =
+            timed_setup(technique, camera, light, bounds, shadow_map, Some(&samples))?;
         setups.push(setup);
         setup_us += us;
     }
-    let setup = &setups[0];
-    if args.draw.tint && setup.maps.len() < 2 {
-        return Err(tint_needs_two_maps(&technique));
-    }
-    let settings = RenderSettings {
-        light_view: args.light_view.is_some(),
-        metrics: args.error_map.is_some() || args.json,
-        ..args.draw.settings(args.size)
+    Ok((setups, setup_us))
+}
+
+/// Soft shadows: the mask becomes the main light's shadow factor, as the volumes' is.
+fn soft_mask(frame: &mut gnomon_render::Frame) {
+    let Some(factor) = frame.shadow.as_deref() else {
+        return;
     };
-    let shadowed = gnomon_render::ShadowedLight::pairs(&lights, &setups);
-    let mut frame = renderer.render_lights(&camera, &shadowed, &settings)?;
-    if args.draw.soft.pcss() {
-        // Soft shadows: the mask is the main light's shadow factor, as the volumes' is.
-        let factor = frame.shadow.as_deref().expect("a map frame has its factor");
-        frame.mask = frame
-            .mask
-            .iter()
-            .zip(factor)
-            .map(|(&m, f)| {
-                if m == gnomon_render::MASK_EMPTY {
-                    0
-                } else {
-                    (f.clamp(0.0, 1.0) * 255.0).round() as u8
-                }
-            })
-            .collect();
-    }
-    if let (Some(path), Some(metrics)) = (&args.error_map, &frame.metrics) {
-        // The frame's size (the legend lies over its bottom strip).
-        let image = heatmap::draw(metrics, frame.width, frame.height);
-        write_png(
-            path,
-            frame.width,
-            frame.height,
-            image::ColorType::Rgba8,
-            &image,
-        )?;
-    }
-    if args.json {
-        let t = frame.timings;
-        let metrics = frame.metrics.as_ref().expect("metrics asked for");
-        let summary = serde_json::json!({
-            "technique": technique.name(),
-            "device": renderer.gpu().describe(),
-            "timing": renderer.timing_source().name(),
-            "fallback": setup.fallback().map(|f| f.name()),
-            "setup_us": setup_us,
-            "casters": scene.instances.iter().filter(|i| i.casts).count(),
-            "casters_drawn": frame.casters_drawn,
-            "shadow_pass_ms": t.shadow_pass_ms,
-            "main_pass_ms": t.main_pass_ms,
-            "undersampling": heatmap::percentiles(metrics, &metrics.undersampling),
-            "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
-        });
-        crate::say!(
-            "{}",
-            serde_json::to_string_pretty(&summary).expect("JSON of plain values")
-        );
-    }
-    write_frame(
-        &frame,
-        &args.out,
-        args.mask.as_deref(),
-        args.light_view.as_deref(),
-    )?;
+    frame.mask = frame
+        .mask
+        .iter()
+        .zip(factor)
+        .map(|(&m, f)| {
+            if m == gnomon_render::MASK_EMPTY {
+                0
+            } else {
+                (f.clamp(0.0, 1.0) * 255.0).round() as u8
+            }
+        })
+        .collect();
+}
+
+/// `render --json`: the frame's times, casters and sampling error.
+fn print_frame_json(
+    renderer: &Renderer,
+    technique: &gnomon::Technique,
+    (setup, setup_us): (&gnomon::ShadowSetup, f64),
+    frame: &gnomon_render::Frame,
+    casters: usize,
+) {
     let t = frame.timings;
-    let casters = scene.instances.iter().filter(|i| i.casts).count();
+    let metrics = frame.metrics.as_ref().expect("metrics asked for");
+    let summary = serde_json::json!({
+        "technique": technique.name(),
+        "device": renderer.gpu().describe(),
+        "timing": renderer.timing_source().name(),
+        "fallback": setup.fallback().map(|f| f.name()),
+        "setup_us": setup_us,
+        "casters": casters,
+        "casters_drawn": frame.casters_drawn,
+        "shadow_pass_ms": t.shadow_pass_ms,
+        "main_pass_ms": t.main_pass_ms,
+        "undersampling": heatmap::percentiles(metrics, &metrics.undersampling),
+        "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
+    });
+    crate::say!(
+        "{}",
+        serde_json::to_string_pretty(&summary).expect("JSON of plain values")
+    );
+}
+
+/// What was drawn, how fast, and the files written.
+fn print_closing_line(
+    args: &RenderArgs,
+    renderer: &Renderer,
+    (setup, setup_us): (&gnomon::ShadowSetup, f64),
+    frame: &gnomon_render::Frame,
+    casters: usize,
+) {
+    let t = frame.timings;
     let drawn: Vec<String> = frame.casters_drawn.iter().map(|n| n.to_string()).collect();
     eprintln!(
         "{} on {}: setup {:.1} us, casters drawn {} of {casters}, shadow pass {:.2} ms, main pass {:.2} ms ({}){}; wrote {}",
@@ -651,12 +700,6 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             .unwrap_or_default(),
         written_files(args)
     );
-    for (light, setup) in lights.iter().zip(&setups) {
-        if let Some(warning) = near_clip_warning(light, &setup.diagnostics) {
-            eprintln!("warning: {warning}");
-        }
-    }
-    Ok(())
 }
 
 /// Every file a `render` wrote, for its closing line: the frame and each optional image asked

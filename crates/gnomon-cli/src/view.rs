@@ -28,72 +28,16 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
     if args.frames == Some(0) {
         return Err(CliError::usage("--frames must be at least 1"));
     }
-    let script = match &args.script {
-        Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|e| {
-                CliError::usage(format!("cannot read --script {}: {e}", path.display()))
-            })?;
-            Script::parse(&text).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))?
-        }
-        None => Script::default(),
-    };
+    let script = read_script(args)?;
     let loaded = args.scene.load()?;
     // The bounds as drawn, and with the ground a receiver only for projective shadows, which
     // the panel can pick at any time.
     let scene = crate::rows::RowScene::new(&loaded.scene, true)?;
-    let bounds = scene.bounds();
-    let camera = args
-        .view
-        .camera_with_aspect(&loaded.views, args.size.0 as f64 / args.size.1 as f64)?;
-    if camera.lens().far > gnomon_render::MAX_VIEW_DISTANCE {
-        return Err(CliError::usage(format!(
-            "--far {} is beyond what the renderer draws precisely (at most {})",
-            camera.lens().far,
-            gnomon_render::MAX_VIEW_DISTANCE
-        )));
-    }
+    let camera = args.view.drawn_camera(&loaded.views, args.size)?;
     let light = args.light.main_light(&args.view, &loaded.views, "view")?;
     let view_light = start_light(&args.light, &args.view, &loaded.views)?;
-    if let Some(technique) = args.draw.technique.map_technique() {
-        let technique = args.draw.params.apply(technique);
-        args.draw.params.check_used_by(&[technique])?;
-        timed_setup(
-            &technique,
-            &camera,
-            &light,
-            bounds,
-            args.draw.shadow_map,
-            None,
-        )?;
-    } else if args.draw.technique == Drawn::Planar {
-        crate::render::planar_receiver(&loaded.scene, args.draw.receiver_plane)?;
-    } else {
-        args.draw.stencil_mode(gnomon_render::StencilMode::ZFail)?;
-    }
-    args.draw.check_read()?;
-    args.draw
-        .soft
-        .check_area_light(std::slice::from_ref(&light))?;
-    let named = args.view.named(&loaded.views)?.cloned();
-    let up = args
-        .view
-        .up
-        .or(named.as_ref().map(|v| v.up))
-        .unwrap_or(DVec3::Y);
-    let eye = args.view.eye.or(named.as_ref().map(|v| v.eye));
-    let target = args.view.target.or(named.as_ref().map(|v| v.target));
-    let (Some(eye), Some(target)) = (eye, target) else {
-        return Err(CliError::usage(
-            "give --eye and --target, or a named --view",
-        ));
-    };
-    let rigs = Rigs {
-        camera: CameraRig::new(eye, target, up),
-        sun: match view_light {
-            ViewLight::Directional { direction } => Some(SunRig::new(direction, up)),
-            _ => None,
-        },
-    };
+    check_drawable(args, &loaded, (&camera, &light), scene.bounds())?;
+    let rigs = start_rigs(args, &loaded.views, &view_light)?;
     let options = ViewerOptions {
         title: format!("gnomon view: {}", loaded.name),
         size: args.size,
@@ -145,6 +89,76 @@ pub fn run(args: &ViewCommandArgs) -> Result<(), CliError> {
     result.map_err(|e| match e {
         ViewerError::Window(m) => CliError::runtime(m),
         ViewerError::Model(m) => CliError::usage(m),
+    })
+}
+
+/// `--script`'s scripted inputs (none without it).
+fn read_script(args: &ViewCommandArgs) -> Result<Script, CliError> {
+    let Some(path) = &args.script else {
+        return Ok(Script::default());
+    };
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::usage(format!("cannot read --script {}: {e}", path.display())))?;
+    Script::parse(&text).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))
+}
+
+/// What the window will draw first, checked before it opens: the technique's parameters
+/// and setup, planar shadows' receiver, or the volumes' stencil mode.
+fn check_drawable(
+    args: &ViewCommandArgs,
+    loaded: &LoadedScene,
+    (camera, light): (&gnomon::Camera, &Light),
+    bounds: &gnomon::SceneBounds,
+) -> Result<(), CliError> {
+    if let Some(technique) = args.draw.technique.map_technique() {
+        let technique = args.draw.params.apply(technique);
+        args.draw.params.check_used_by(&[technique])?;
+        timed_setup(
+            &technique,
+            camera,
+            light,
+            bounds,
+            args.draw.shadow_map,
+            None,
+        )?;
+    } else if args.draw.technique == Drawn::Planar {
+        crate::render::planar_receiver(&loaded.scene, args.draw.receiver_plane)?;
+    } else {
+        args.draw.stencil_mode(gnomon_render::StencilMode::ZFail)?;
+    }
+    args.draw.check_read()?;
+    args.draw
+        .soft
+        .check_area_light(std::slice::from_ref(light))?;
+    Ok(())
+}
+
+/// The camera's rig (and the sun's, for a directional light) from the options or the named
+/// view.
+fn start_rigs(
+    args: &ViewCommandArgs,
+    views: &[NamedView],
+    view_light: &ViewLight,
+) -> Result<Rigs, CliError> {
+    let named = args.view.named(views)?.cloned();
+    let up = args
+        .view
+        .up
+        .or(named.as_ref().map(|v| v.up))
+        .unwrap_or(DVec3::Y);
+    let eye = args.view.eye.or(named.as_ref().map(|v| v.eye));
+    let target = args.view.target.or(named.as_ref().map(|v| v.target));
+    let (Some(eye), Some(target)) = (eye, target) else {
+        return Err(CliError::usage(
+            "give --eye and --target, or a named --view",
+        ));
+    };
+    Ok(Rigs {
+        camera: CameraRig::new(eye, target, up),
+        sun: match view_light {
+            ViewLight::Directional { direction } => Some(SunRig::new(*direction, up)),
+            _ => None,
+        },
     })
 }
 
@@ -332,81 +346,14 @@ impl ViewModel {
         info: &FrameInfo,
     ) -> Result<FrameReport, CliError> {
         let (width, height) = info.size;
-        let aspect = width as f64 / height as f64;
-        let camera = self.camera(rigs, aspect)?;
+        let camera = self.camera(rigs, width as f64 / height as f64)?;
         let view = self.named_view(rigs, &camera);
         let light: Light = view.light.light()?;
         let settings = draw.settings(info.size);
         let technique = match draw.technique {
             Drawn::Volumes(_) | Drawn::Planar => {
-                self.scene.restore(renderer)?;
-                let lights = std::slice::from_ref(&light);
-                let (timings, stats) = match draw.technique {
-                    Drawn::Volumes(named) => {
-                        let mode = draw.stencil_mode(named)?;
-                        let scene_box = self.scene.bounds().scene_box();
-                        if let Some(clusters) = draw.soft.area_clusters(lights, &scene_box)? {
-                            // Soft shadows: the cluster's frames averaged on the CPU.
-                            let soft = renderer
-                                .render_soft_volumes(&camera, &clusters, &settings, mode)?;
-                            write_view(renderer, target, &soft.frame.color, info.size);
-                            return Ok(FrameReport {
-                                setup_us: 0.0,
-                                notes: vec![format!(
-                                    "soft volumes: {} samples, {} volume triangles, {:.1} ms",
-                                    clusters[0].len(),
-                                    soft.triangles,
-                                    soft.frame.timings.shadow_pass_ms
-                                        + soft.frame.timings.main_pass_ms
-                                )],
-                            });
-                        }
-                        renderer.draw_volumes_lit_by(&camera, lights, &settings, mode)?
-                    }
-                    _ => {
-                        // Made again only when the receiver plane changes.
-                        if self
-                            .receiver
-                            .as_ref()
-                            .is_none_or(|(plane, _)| *plane != draw.receiver_plane)
-                        {
-                            let receiver = crate::render::planar_receiver(
-                                &self.loaded.scene,
-                                draw.receiver_plane,
-                            )?;
-                            self.receiver = Some((draw.receiver_plane, receiver));
-                        }
-                        let (_, receiver) = self.receiver.as_ref().expect("made above");
-                        renderer.draw_planar_lit_by(&camera, lights, receiver, &settings)?
-                    }
-                };
-                let color = renderer.frame_color().expect("drawn above");
-                encoder.copy_texture_to_texture(
-                    color.as_image_copy(),
-                    target.texture.as_image_copy(),
-                    color.size(),
-                );
-                return Ok(FrameReport {
-                    setup_us: 0.0,
-                    notes: vec![
-                        format!(
-                            "{}: {} {} triangles",
-                            draw.technique.name(),
-                            stats.triangles,
-                            if draw.technique == Drawn::Planar {
-                                "flattened"
-                            } else {
-                                "volume"
-                            }
-                        ),
-                        format!(
-                            "stencil {:.2} ms, shading {:.2} ms ({})",
-                            timings.shadow_pass_ms,
-                            timings.main_pass_ms,
-                            timings.source.name()
-                        ),
-                    ],
-                });
+                let lit = (&camera, &light, &settings);
+                return self.draw_exact(draw, renderer, encoder, target, lit, info);
             }
             drawn => draw
                 .params
@@ -438,10 +385,10 @@ impl ViewModel {
         if draw.tint && setup.maps.len() < 2 {
             return Err(crate::render::tint_needs_two_maps(&technique));
         }
+        let measured_from_boxes = samples.is_none();
         let setups = [setup];
         let lights = [light];
         let pairs = ShadowedLight::pairs(&lights, &setups);
-        let mut notes = Vec::new();
         // A headless frame (a readback: overlays every frame, the panel's measures once at
         // rest), before this frame's own passes, which prepare the records again.
         let measure = primary
@@ -450,55 +397,14 @@ impl ViewModel {
             && info.still
             && self.measured.as_ref().is_none_or(|m| m.key != key);
         if (primary && self.overlay != Overlay::Shaded) || measure {
-            let frame = renderer.render_lights(
-                &camera,
-                &pairs,
-                &gnomon_render::RenderSettings {
-                    light_view: measure,
-                    metrics: true,
-                    ..settings
-                },
-            )?;
-            let metrics = frame.metrics.as_ref().expect("asked for");
-            let p99 = crate::heatmap::percentiles(metrics, &metrics.undersampling)["p99"].as_f64();
-            let mut measured = Measured {
-                key: key.clone(),
-                timings: frame.timings,
-                undersampling_p99: p99,
-                wrong: None,
-            };
-            let image = match self.overlay {
-                Overlay::Shaded => None,
-                Overlay::ErrorMap => Some(crate::heatmap::draw(metrics, width, height)),
-                Overlay::Wrong => {
-                    // The exact shadows of the scene as it is (its ground casting).
-                    self.scene.restore(renderer)?;
-                    let exact = renderer.render_volumes_lit_by(
-                        &camera,
-                        std::slice::from_ref(&lights[0]),
-                        &settings,
-                        gnomon_render::StencilMode::ZFail,
-                    )?;
-                    let (image, shares) = wrong_image(&frame.color, &frame.mask, &exact.frame.mask);
-                    measured.wrong = Some(shares);
-                    Some(image)
-                }
-            };
-            if measure {
-                self.light_view = frame.light_view;
-            }
-            if measure || self.measured.is_none() {
-                self.measured = Some(measured);
-            } else if let (Some(m), Some(shares)) = (&mut self.measured, measured.wrong) {
-                m.wrong = Some(shares);
-            }
-            if let Some(image) = image {
+            let lit = (&camera, pairs.as_slice(), &settings);
+            if let Some(image) = self.measure_frame(renderer, lit, key, measure, info.size)? {
                 write_view(renderer, target, &image, info.size);
-                notes.push(format!(
+                let notes = vec![format!(
                     "{}: {} maps",
                     technique.name(),
                     setups[0].maps.len()
-                ));
+                )];
                 return Ok(FrameReport { setup_us, notes });
             }
         }
@@ -516,48 +422,204 @@ impl ViewModel {
                 clear: Some(SKY),
             },
         )?;
-        let setup = &setups[0];
-        let drawn: Vec<String> = renderer
-            .casters_drawn()
-            .iter()
-            .map(|n| n.to_string())
-            .collect();
-        notes.extend([
-            format!(
-                "{}: {} map{}, casters drawn {}",
-                technique.name(),
-                setup.maps.len(),
-                if setup.maps.len() == 1 { "" } else { "s" },
-                drawn.join(" + ")
-            ),
-            match samples {
-                Some(_) => "view samples: measured".to_string(),
-                None => "view samples: from the boxes (the view moves)".to_string(),
-            },
-        ]);
-        let d = &setup.diagnostics;
-        let fallbacks: Vec<&str> = d.fallbacks.iter().map(|f| f.name()).collect();
-        if !fallbacks.is_empty() {
-            notes.push(format!("fallbacks: {}", fallbacks.join(", ")));
-        }
-        notes.push(format!(
-            "gamma {:.1} deg, receivers {}, casters {} ({} culled), B {} vertices{}{}",
-            d.gamma_degrees,
-            d.visible_receivers,
-            d.relevant_casters,
-            d.culled_casters,
-            d.focus_body_vertices,
-            d.warp_strength
-                .map(|w| format!(", warp strength {w:.2}"))
-                .unwrap_or_default(),
-            if d.cube_faces_skipped > 0 {
-                format!(", {} cube faces skipped", d.cube_faces_skipped)
-            } else {
-                String::new()
-            }
-        ));
+        let notes = map_notes(renderer, &technique, &setups[0], measured_from_boxes);
         Ok(FrameReport { setup_us, notes })
     }
+
+    /// The exact techniques (the volumes, their soft shadows, planar shadows), drawn into
+    /// the view.
+    fn draw_exact(
+        &mut self,
+        draw: &DrawArgs,
+        renderer: &mut Renderer,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &ViewTarget<'_>,
+        (camera, light, settings): (&gnomon::Camera, &Light, &gnomon_render::RenderSettings),
+        info: &FrameInfo,
+    ) -> Result<FrameReport, CliError> {
+        self.scene.restore(renderer)?;
+        let lights = std::slice::from_ref(light);
+        let (timings, stats) = match draw.technique {
+            Drawn::Volumes(named) => {
+                let mode = draw.stencil_mode(named)?;
+                let scene_box = self.scene.bounds().scene_box();
+                if let Some(clusters) = draw.soft.area_clusters(lights, &scene_box)? {
+                    // Soft shadows: the cluster's frames averaged on the CPU.
+                    let soft = renderer.render_soft_volumes(camera, &clusters, settings, mode)?;
+                    write_view(renderer, target, &soft.frame.color, info.size);
+                    let t = soft.frame.timings;
+                    return Ok(FrameReport {
+                        setup_us: 0.0,
+                        notes: vec![format!(
+                            "soft volumes: {} samples, {} volume triangles, {:.1} ms",
+                            clusters[0].len(),
+                            soft.triangles,
+                            t.shadow_pass_ms + t.main_pass_ms
+                        )],
+                    });
+                }
+                renderer.draw_volumes_lit_by(camera, lights, settings, mode)?
+            }
+            _ => {
+                let receiver = self.planar_receiver(draw.receiver_plane)?;
+                renderer.draw_planar_lit_by(camera, lights, &receiver, settings)?
+            }
+        };
+        let Some(color) = renderer.frame_color() else {
+            return Err(CliError::runtime("the exact frame has no colour target"));
+        };
+        encoder.copy_texture_to_texture(
+            color.as_image_copy(),
+            target.texture.as_image_copy(),
+            color.size(),
+        );
+        let geometry = if draw.technique == Drawn::Planar {
+            "flattened"
+        } else {
+            "volume"
+        };
+        Ok(FrameReport {
+            setup_us: 0.0,
+            notes: vec![
+                format!(
+                    "{}: {} {geometry} triangles",
+                    draw.technique.name(),
+                    stats.triangles,
+                ),
+                format!(
+                    "stencil {:.2} ms, shading {:.2} ms ({})",
+                    timings.shadow_pass_ms,
+                    timings.main_pass_ms,
+                    timings.source.name()
+                ),
+            ],
+        })
+    }
+
+    /// Planar shadows' receiver, made again only when the receiver plane changes.
+    fn planar_receiver(
+        &mut self,
+        plane: Option<[f64; 4]>,
+    ) -> Result<gnomon::planar::PlanarReceiver, CliError> {
+        match &self.receiver {
+            Some((kept, receiver)) if *kept == plane => Ok(receiver.clone()),
+            _ => {
+                let receiver = crate::render::planar_receiver(&self.loaded.scene, plane)?;
+                self.receiver = Some((plane, receiver.clone()));
+                Ok(receiver)
+            }
+        }
+    }
+
+    /// A measured headless frame: the panel's figures once at rest (`measure`), and the
+    /// overlay's image where the view shows one.
+    fn measure_frame(
+        &mut self,
+        renderer: &mut Renderer,
+        (camera, pairs, settings): (
+            &gnomon::Camera,
+            &[ShadowedLight<'_>],
+            &gnomon_render::RenderSettings,
+        ),
+        key: String,
+        measure: bool,
+        (width, height): (u32, u32),
+    ) -> Result<Option<Vec<u8>>, CliError> {
+        let frame = renderer.render_lights(
+            camera,
+            pairs,
+            &gnomon_render::RenderSettings {
+                light_view: measure,
+                metrics: true,
+                ..*settings
+            },
+        )?;
+        let metrics = frame.metrics.as_ref().expect("asked for");
+        let p99 = crate::heatmap::percentiles(metrics, &metrics.undersampling)["p99"].as_f64();
+        let mut measured = Measured {
+            key,
+            timings: frame.timings,
+            undersampling_p99: p99,
+            wrong: None,
+        };
+        let image = match self.overlay {
+            Overlay::Shaded => None,
+            Overlay::ErrorMap => Some(crate::heatmap::draw(metrics, width, height)),
+            Overlay::Wrong => {
+                // The exact shadows of the scene as it is (its ground casting).
+                self.scene.restore(renderer)?;
+                let exact = renderer.render_volumes_lit_by(
+                    camera,
+                    std::slice::from_ref(pairs[0].light),
+                    settings,
+                    gnomon_render::StencilMode::ZFail,
+                )?;
+                let (image, shares) = wrong_image(&frame.color, &frame.mask, &exact.frame.mask);
+                measured.wrong = Some(shares);
+                Some(image)
+            }
+        };
+        if measure {
+            self.light_view = frame.light_view;
+        }
+        if measure || self.measured.is_none() {
+            self.measured = Some(measured);
+        } else if let (Some(m), Some(shares)) = (&mut self.measured, measured.wrong) {
+            m.wrong = Some(shares);
+        }
+        Ok(image)
+    }
+}
+
+/// The panel's notes on a map frame: its maps, casters drawn, samples, fallbacks and the
+/// setup's diagnostics.
+fn map_notes(
+    renderer: &Renderer,
+    technique: &gnomon::Technique,
+    setup: &gnomon::ShadowSetup,
+    samples_from_boxes: bool,
+) -> Vec<String> {
+    let drawn: Vec<String> = renderer
+        .casters_drawn()
+        .iter()
+        .map(|n| n.to_string())
+        .collect();
+    let mut notes = vec![
+        format!(
+            "{}: {} map{}, casters drawn {}",
+            technique.name(),
+            setup.maps.len(),
+            if setup.maps.len() == 1 { "" } else { "s" },
+            drawn.join(" + ")
+        ),
+        if samples_from_boxes {
+            "view samples: from the boxes (the view moves)".to_string()
+        } else {
+            "view samples: measured".to_string()
+        },
+    ];
+    let d = &setup.diagnostics;
+    let fallbacks: Vec<&str> = d.fallbacks.iter().map(|f| f.name()).collect();
+    if !fallbacks.is_empty() {
+        notes.push(format!("fallbacks: {}", fallbacks.join(", ")));
+    }
+    notes.push(format!(
+        "gamma {:.1} deg, receivers {}, casters {} ({} culled), B {} vertices{}{}",
+        d.gamma_degrees,
+        d.visible_receivers,
+        d.relevant_casters,
+        d.culled_casters,
+        d.focus_body_vertices,
+        d.warp_strength
+            .map(|w| format!(", warp strength {w:.2}"))
+            .unwrap_or_default(),
+        if d.cube_faces_skipped > 0 {
+            format!(", {} cube faces skipped", d.cube_faces_skipped)
+        } else {
+            String::new()
+        }
+    ));
+    notes
 }
 
 /// Writes an RGBA image of `size` into the view's texture (before the frame's passes run).
