@@ -9,16 +9,12 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
     let d = &setup.diagnostics;
     let mut s = String::new();
     let _ = writeln!(s, "technique: {}", setup.technique);
-    match setup.fallback() {
-        Some(f) => {
-            for f in &d.fallbacks {
-                let _ = writeln!(s, "fallback:  {}", f);
-            }
-            let _ = f;
+    if setup.fallback().is_some() {
+        for f in &d.fallbacks {
+            let _ = writeln!(s, "fallback:  {f}");
         }
-        None => {
-            let _ = writeln!(s, "fallback:  none");
-        }
+    } else {
+        let _ = writeln!(s, "fallback:  none");
     }
     let _ = writeln!(
         s,
@@ -39,6 +35,18 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
             "warp strength: {strength} of the technique's (the warp limit; 0: the focused map)"
         );
     }
+    s.push_str(&selection_text(setup));
+    for i in 0..setup.maps.len() {
+        s.push_str(&map_text(setup, i));
+    }
+    s
+}
+
+/// The lines on how a setup's maps are selected, and its casters by side (SPPSM).
+fn selection_text(setup: &ShadowSetup) -> String {
+    use std::fmt::Write;
+    let d = &setup.diagnostics;
+    let mut s = String::new();
     if let MapSelection::Cascades(c) = setup.selection {
         let depths: Vec<String> = c.depths().iter().map(|d| format!("{d:.3}")).collect();
         let _ = writeln!(
@@ -84,48 +92,54 @@ pub fn setup_text(setup: &ShadowSetup) -> String {
             c.focused_only, c.perspective_only, c.both
         );
     }
-    for (i, m) in setup.maps.iter().enumerate() {
+    s
+}
+
+/// Map `i` of a setup: its size, projection, view depths, fallbacks and matrices.
+fn map_text(setup: &ShadowSetup, i: usize) -> String {
+    use std::fmt::Write;
+    let m = &setup.maps[i];
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "map {i}: {}x{} {:?}, inset {} texel(s), depth range {:.3} world units",
+        m.resolution,
+        m.resolution,
+        m.projection,
+        m.viewport_inset,
+        m.depth_range_world()
+    );
+    if let Some([near, far]) = m.view_depth_range {
+        let _ = writeln!(s, "  serves view depths {near:.3} to {far:.3}");
+    }
+    if setup.maps.len() > 1 {
+        let own = setup.map_diagnostics(i);
+        let names: Vec<&str> = own.fallbacks.iter().map(|f| f.name()).collect();
         let _ = writeln!(
             s,
-            "map {i}: {}x{} {:?}, inset {} texel(s), depth range {:.3} world units",
-            m.resolution,
-            m.resolution,
-            m.projection,
-            m.viewport_inset,
-            m.depth_range_world()
-        );
-        if let Some([near, far]) = m.view_depth_range {
-            let _ = writeln!(s, "  serves view depths {near:.3} to {far:.3}");
-        }
-        if setup.maps.len() > 1 {
-            let own = setup.map_diagnostics(i);
-            let names: Vec<&str> = own.fallbacks.iter().map(|f| f.name()).collect();
-            let _ = writeln!(
-                s,
-                "  fallbacks: {}",
-                if names.is_empty() {
-                    "none".to_string()
-                } else {
-                    names.join(", ")
-                }
-            );
-        }
-        let _ = writeln!(s, "  clip_from_world (rows):");
-        for r in 0..4 {
-            let row = m.clip_from_world.row(r);
-            let _ = writeln!(
-                s,
-                "    [{:>12.6} {:>12.6} {:>12.6} {:>12.6}]",
-                row.x, row.y, row.z, row.w
-            );
-        }
-        let v = m.depth_from_world;
-        let _ = writeln!(
-            s,
-            "  depth_from_world: [{:.6} {:.6} {:.6} {:.6}]",
-            v.x, v.y, v.z, v.w
+            "  fallbacks: {}",
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
         );
     }
+    let _ = writeln!(s, "  clip_from_world (rows):");
+    for r in 0..4 {
+        let row = m.clip_from_world.row(r);
+        let _ = writeln!(
+            s,
+            "    [{:>12.6} {:>12.6} {:>12.6} {:>12.6}]",
+            row.x, row.y, row.z, row.w
+        );
+    }
+    let v = m.depth_from_world;
+    let _ = writeln!(
+        s,
+        "  depth_from_world: [{:.6} {:.6} {:.6} {:.6}]",
+        v.x, v.y, v.z, v.w
+    );
     s
 }
 
