@@ -124,18 +124,6 @@ fn plot(
         .iter()
         .filter_map(|r| r.curve.as_ref().ok().map(|c| (r.label.as_str(), c)))
         .collect();
-    // Which earlier curve each one coincides with.
-    let same_as = |k: usize| -> Option<&str> {
-        let c = curves[k].1;
-        curves[..k].iter().find_map(|(label, d)| {
-            let equal = c.dp_ds.len() == d.dp_ds.len()
-                && c.dp_ds
-                    .iter()
-                    .zip(&d.dp_ds)
-                    .all(|(a, b)| (a - b).abs() <= 1e-3 * a.abs().max(b.abs()));
-            equal.then_some(*label)
-        })
-    };
     let ideal = config.logarithmic_ideal();
     let (lo, hi) = curves.iter().fold((ideal, ideal), |(lo, hi), (_, c)| {
         (lo.min(c.min), hi.max(c.max))
@@ -169,7 +157,7 @@ fn plot(
     for (k, (label, c)) in curves.iter().enumerate() {
         let color = Palette99::pick(k).to_rgba();
         let points = c.z.iter().copied().zip(c.dp_ds.iter().copied());
-        match same_as(k) {
+        match same_as(&curves, k) {
             None => {
                 chart
                     .draw_series(LineSeries::new(points, color.stroke_width(2)))
@@ -197,7 +185,31 @@ fn plot(
         BLACK.to_rgba(),
         true,
     ));
-    // The legend, beside the plot.
+    draw_legend(&legend_area, &legend).map_err(error)?;
+    root.present().map_err(|e| error(e.to_string()))?;
+    Ok(())
+}
+
+/// The label of an earlier curve that curve `k` coincides with (to a thousandth everywhere).
+fn same_as<'a>(curves: &[(&'a str, &AliasingCurve)], k: usize) -> Option<&'a str> {
+    let c = curves[k].1;
+    curves[..k].iter().find_map(|(label, d)| {
+        let equal = c.dp_ds.len() == d.dp_ds.len()
+            && c.dp_ds
+                .iter()
+                .zip(&d.dp_ds)
+                .all(|(a, b)| (a - b).abs() <= 1e-3 * a.abs().max(b.abs()));
+        equal.then_some(*label)
+    })
+}
+
+/// The legend's entries (label, colour, dashed), one under another.
+fn draw_legend<DB: plotters::prelude::DrawingBackend>(
+    legend_area: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
+    legend: &[(String, plotters::prelude::RGBAColor, bool)],
+) -> Result<(), String> {
+    use plotters::prelude::*;
+    let error = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     for (k, (label, color, dashed)) in legend.iter().enumerate() {
         let y = 60 + 26 * k as i32;
         let line = if *dashed {
@@ -213,7 +225,7 @@ fn plot(
         for segment in segments {
             legend_area
                 .draw(&PathElement::new(segment, color.stroke_width(3)))
-                .map_err(|e| error(e.to_string()))?;
+                .map_err(error)?;
         }
         legend_area
             .draw(&Text::new(
@@ -221,8 +233,7 @@ fn plot(
                 (42, y - 8),
                 ("sans-serif", 16).into_font(),
             ))
-            .map_err(|e| error(e.to_string()))?;
+            .map_err(error)?;
     }
-    root.present().map_err(|e| error(e.to_string()))?;
     Ok(())
 }

@@ -317,6 +317,27 @@ impl Grid {
         (self.cell.0 * self.columns, self.cell.1 * self.rows)
     }
 
+    /// The reference's row: the exact volumes' frame and mask, and the soft shadows of the
+    /// area light where there are.
+    fn paste_reference(
+        &mut self,
+        row: u32,
+        exact: &gnomon_render::VolumeFrame,
+        soft: Option<&gnomon_render::SoftFrame>,
+    ) {
+        self.paste(&exact.frame.color, 0, row);
+        let mask: Vec<u8> = exact
+            .frame
+            .mask
+            .iter()
+            .flat_map(|&m| [m, m, m, 255])
+            .collect();
+        self.paste(&mask, 1, row);
+        if let Some(soft) = soft {
+            self.paste(&soft.frame.color, 2, row);
+        }
+    }
+
     /// Copies a frame's RGBA pixels into the cell at `column`, `row`.
     fn paste(&mut self, image: &[u8], column: u32, row: u32) {
         let (width, height) = self.cell;
@@ -605,18 +626,7 @@ impl<'a> SceneRun<'a> {
             });
             self.progress.inc(1);
         }
-        let row = self.grid_rows() - 1;
-        grid.paste(&exact.frame.color, 0, row);
-        if let Some(soft) = &soft {
-            grid.paste(&soft.frame.color, 2, row);
-        }
-        let exact_mask: Vec<u8> = exact
-            .frame
-            .mask
-            .iter()
-            .flat_map(|&m| [m, m, m, 255])
-            .collect();
-        grid.paste(&exact_mask, 1, row);
+        grid.paste_reference(self.grid_rows() - 1, &exact, soft.as_ref());
         let t = exact.frame.timings;
         Ok(DrawnView {
             grid,

@@ -819,6 +819,56 @@ impl ViewModel {
     }
 }
 
+/// Copies the columns of `from` from `x` on over `to`.
+fn copy_right_of(
+    encoder: &mut wgpu::CommandEncoder,
+    from: &wgpu::Texture,
+    to: &wgpu::Texture,
+    x: u32,
+) {
+    let size = to.size();
+    let at = |texture| wgpu::TexelCopyTextureInfo {
+        texture,
+        mip_level: 0,
+        origin: wgpu::Origin3d { x, y: 0, z: 0 },
+        aspect: wgpu::TextureAspect::All,
+    };
+    encoder.copy_texture_to_texture(
+        at(from),
+        at(to),
+        wgpu::Extent3d {
+            width: size.width - x,
+            height: size.height,
+            depth_or_array_layers: 1,
+        },
+    );
+}
+
+/// Two white columns of `texture` from `x` on.
+fn draw_divider(gpu: &gnomon_render::Gpu, texture: &wgpu::Texture, x: u32) {
+    let height = texture.size().height;
+    let white = vec![255u8; 2 * 4 * height as usize];
+    gpu.queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x, y: 0, z: 0 },
+            aspect: wgpu::TextureAspect::All,
+        },
+        &white,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(8),
+            rows_per_image: Some(height),
+        },
+        wgpu::Extent3d {
+            width: 2,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
+}
+
 /// Three drag values for a vector.
 fn drag_vec3(ui: &mut egui::Ui, v: &mut DVec3, speed: f64) {
     ui.horizontal(|ui| {
@@ -893,54 +943,13 @@ impl Model for ViewModel {
         );
         let x = ((split.divider * size.width as f32).round() as u32).min(size.width - 1);
         if drawn.is_ok() {
-            encoder.copy_texture_to_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &texture,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d { x, y: 0, z: 0 },
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyTextureInfo {
-                    texture: target.texture,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d { x, y: 0, z: 0 },
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::Extent3d {
-                    width: size.width - x,
-                    height: size.height,
-                    depth_or_array_layers: 1,
-                },
-            );
+            copy_right_of(encoder, &texture, target.texture, x);
         }
         self.split_target = Some((texture, view));
         // The divider: two white columns left of the copy (after the left's passes, which
         // were submitted; the copy does not reach them).
         if x >= 2 {
-            let white = vec![255u8; 2 * 4 * size.height as usize];
-            gpu.queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: target.texture,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d {
-                        x: x - 2,
-                        y: 0,
-                        z: 0,
-                    },
-                    aspect: wgpu::TextureAspect::All,
-                },
-                &white,
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(8),
-                    rows_per_image: Some(size.height),
-                },
-                wgpu::Extent3d {
-                    width: 2,
-                    height: size.height,
-                    depth_or_array_layers: 1,
-                },
-            );
+            draw_divider(&gpu, target.texture, x - 2);
         }
         match drawn {
             Ok(right) => {
