@@ -24,10 +24,12 @@ mod atlas;
 mod casters;
 mod cutouts;
 mod error;
+mod frame;
 mod gpu;
 mod headless;
 mod light_view;
 mod measure;
+mod passes;
 mod pipelines;
 mod probes;
 mod readback;
@@ -36,22 +38,24 @@ mod renderer;
 mod resources;
 mod samples;
 mod scene;
+mod settings;
 mod soft;
 mod timing;
 mod volumes;
 
-pub use casters::{CasterBuffers, CasterDraw, CasterSet};
 pub use error::{InvalidInput, RenderError};
+pub use frame::{Frame, LightView, PixelMetrics, SKY};
 pub use gpu::{Gpu, OPTIONAL_FEATURES};
-pub use headless::{Frame, LightView, PixelMetrics, SKY, Timings};
 pub use measure::{JUDGED_N_DOT_L, MaskErrors, Percentiles, PixelVerdict};
+pub use passes::casters::{CasterBuffers, CasterDraw, CasterSet};
+pub use passes::volumes::{StencilMode, VolumeFrame, VolumeStats};
 pub use pipelines::COLOR_FORMAT;
 pub use records::{MAX_LIGHTS, MAX_MAPS, ShadowedLight};
-pub use renderer::{DepthBias, Filter, MapRead, RenderSettings, Renderer, SceneTarget};
+pub use renderer::Renderer;
 pub use scene::{Instance, RenderScene};
+pub use settings::{DepthBias, Filter, MapRead, RenderSettings, SceneTarget};
 pub use soft::{PenumbraError, SoftFrame, penumbra_error};
-pub use timing::TimingSource;
-pub use volumes::{StencilMode, VolumeFrame, VolumeStats};
+pub use timing::{TimingSource, Timings};
 
 /// The farthest far plane the renderer draws (metres, or the scene's units): it draws
 /// relative to the camera in f32 with reversed-Z float depth, which the precision tests hold

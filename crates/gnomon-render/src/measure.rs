@@ -2,7 +2,7 @@
 //! one definition for every front end (the command line's `compare` and `demo`, the Python
 //! bindings' `compare`).
 
-use crate::headless::PixelMetrics;
+use crate::frame::PixelMetrics;
 use crate::{MASK_EMPTY, MASK_LIT, MASK_UNLIT};
 
 /// The N.L above which a pixel is judged: surfaces nearer edge-on to the light are dark

@@ -5,26 +5,13 @@
 use glam::DVec3;
 use gnomon::Camera;
 
+use crate::Renderer;
 use crate::error::{InvalidInput, RenderError};
-use crate::headless::color_target;
-use crate::pipelines::scene_buffers;
-
-/// The probes' target: one u32 of state bits per point.
-const PROBE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+use crate::passes::color_target;
+use crate::passes::probes::{PROBE_SIZE, Probes};
 use crate::records::ShadowedLight;
-use crate::renderer::{RenderSettings, Renderer};
 use crate::scene::Vertex;
-
-/// Points per batch: one per texel of a square target of this side (`PROBE_SIZE` in the
-/// WGSL).
-const PROBE_SIZE: u32 = 256;
-
-/// The probe pass's kept resources (made on first use).
-pub(crate) struct Probes {
-    pipeline: wgpu::RenderPipeline,
-    target: (wgpu::Texture, wgpu::TextureView),
-    points: wgpu::Buffer,
-}
+use crate::settings::RenderSettings;
 
 impl Renderer {
     /// Whether light 0 of `lights` reaches each surface point (world position, unit normal)
@@ -44,7 +31,11 @@ impl Renderer {
         self.encode_shadow_maps(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
         if self.probes.is_none() {
-            self.probes = Some(self.make_probes());
+            self.probes = Some(Probes::new(
+                &self.gpu.device,
+                &self.resources,
+                &self.pipelines,
+            ));
         }
         let view_from_world = camera.view_from_world();
         let batch = (PROBE_SIZE * PROBE_SIZE) as usize;
@@ -94,51 +85,5 @@ impl Renderer {
             }
         }
         Ok(lit)
-    }
-
-    fn make_probes(&self) -> Probes {
-        let device = &self.gpu.device;
-        let shader = &self.pipelines.shader;
-        let [vertex_buffer, _] = scene_buffers();
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("probes"),
-            layout: Some(&self.pipelines.layout),
-            vertex: wgpu::VertexState {
-                module: shader,
-                entry_point: Some("vs_probe"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_buffer)],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::PointList,
-                ..Default::default()
-            },
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: shader,
-                entry_point: Some("fs_probe"),
-                compilation_options: Default::default(),
-                targets: &[Some(PROBE_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let batch = (PROBE_SIZE * PROBE_SIZE) as u64;
-        Probes {
-            pipeline,
-            target: self.resources.target(
-                "probes",
-                (PROBE_SIZE, PROBE_SIZE),
-                1,
-                PROBE_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            ),
-            points: self.resources.buffer(
-                "probe points",
-                batch * std::mem::size_of::<Vertex>() as u64,
-                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            ),
-        }
     }
 }

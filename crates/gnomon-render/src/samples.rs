@@ -4,17 +4,12 @@
 use glam::DVec3;
 use gnomon::{Camera, Light, ViewSamples};
 
+use crate::Renderer;
 use crate::error::RenderError;
-use crate::headless::color_target;
-use crate::pipelines::{CAMERA_DEPTH_FORMAT, METRICS_FORMAT};
-use crate::renderer::{RenderSettings, Renderer, cleared_camera_depth};
-
-/// The kept targets of the samples pass: position and normal per pixel, and depth.
-pub(crate) struct SampleTargets {
-    position: (wgpu::Texture, wgpu::TextureView),
-    normal: (wgpu::Texture, wgpu::TextureView),
-    depth: wgpu::TextureView,
-}
+use crate::passes::cleared_camera_depth;
+use crate::passes::color_target;
+use crate::passes::samples::SampleTargets;
+use crate::settings::RenderSettings;
 
 impl Renderer {
     /// What `camera`'s pixels see of the scene, lit by `light`, as the core's samples: the
@@ -47,27 +42,7 @@ impl Renderer {
     ) -> Result<Vec<Option<(DVec3, DVec3)>>, RenderError> {
         self.gpu.check_size("surface points", cols, rows)?;
         self.prepare_lights(camera, &[], &RenderSettings::default())?;
-        if self
-            .sample_targets
-            .as_ref()
-            .is_none_or(|t| (t.position.0.width(), t.position.0.height()) != (cols, rows))
-        {
-            let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-            let r = &self.resources;
-            self.sample_targets = Some(SampleTargets {
-                position: r.target("sample positions", (cols, rows), 1, METRICS_FORMAT, usage),
-                normal: r.target("sample normals", (cols, rows), 1, METRICS_FORMAT, usage),
-                depth: r
-                    .target(
-                        "sample depth",
-                        (cols, rows),
-                        1,
-                        CAMERA_DEPTH_FORMAT,
-                        wgpu::TextureUsages::RENDER_ATTACHMENT,
-                    )
-                    .1,
-            });
-        }
+        SampleTargets::ensure(&mut self.sample_targets, &self.resources, (cols, rows));
         self.pipelines.samples(&self.gpu.device);
         let targets = self.sample_targets.as_ref().expect("made above");
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());

@@ -1,6 +1,8 @@
 //! Pass timing: GPU timestamps around each pass where the adapter has TIMESTAMP_QUERY, the wall
 //! clock (the GPU waited for after each part) elsewhere.
 
+use std::time::Instant;
+
 use crate::resources::Resources;
 use crate::{Gpu, RenderError};
 
@@ -128,5 +130,112 @@ impl Timer {
         }
         self.readback.unmap();
         Ok(sums)
+    }
+}
+
+/// Times of one frame's parts.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Timings {
+    /// The shadow part (depth passes; for volumes, extrusion and stencil passes), ms.
+    pub shadow_pass_ms: f64,
+    /// The main pass(es), ms.
+    pub main_pass_ms: f64,
+    /// Reading the images back, ms (wall clock).
+    pub readback_ms: f64,
+    /// Where the pass times come from.
+    pub source: TimingSource,
+}
+
+/// A frame's encoder and its part times: with GPU timestamps one submission and the passes'
+/// own times; without, a submission and a wait after each part, timed by the wall clock.
+pub(crate) struct FrameClock {
+    encoder: wgpu::CommandEncoder,
+    gpu_timed: bool,
+    part_start: Instant,
+    cpu_shadow_ms: f64,
+    wall: (f64, f64),
+}
+
+impl FrameClock {
+    /// Starts a frame: timed by `timer` where `gpu_timed`, else by the wall clock.
+    pub fn start(gpu: &Gpu, timer: &mut Option<Timer>, gpu_timed: bool) -> Self {
+        if let Some(timer) = timer {
+            timer.begin_frame();
+        }
+        Self {
+            encoder: gpu.device.create_command_encoder(&Default::default()),
+            gpu_timed,
+            part_start: Instant::now(),
+            cpu_shadow_ms: 0.0,
+            wall: (0.0, 0.0),
+        }
+    }
+
+    pub fn encoder(&mut self) -> &mut wgpu::CommandEncoder {
+        &mut self.encoder
+    }
+
+    /// The timestamp writes of the next pass, when timed on the GPU.
+    pub fn timestamps<'t>(
+        &self,
+        timer: &'t mut Option<Timer>,
+        part: Part,
+    ) -> Option<wgpu::RenderPassTimestampWrites<'t>> {
+        if self.gpu_timed {
+            timer.as_mut()?.pass(part)
+        } else {
+            None
+        }
+    }
+
+    /// Ends CPU work that belongs to the shadow part (volume extrusion).
+    pub fn cpu_part(&mut self, part: Part) {
+        let ms = self.part_start.elapsed().as_secs_f64() * 1e3;
+        if part == Part::Shadow {
+            self.cpu_shadow_ms += ms;
+        }
+        self.part_start = Instant::now();
+    }
+
+    /// Ends a part: on the wall clock, submits and waits.
+    pub fn end_part(&mut self, gpu: &Gpu, part: Part) -> Result<(), RenderError> {
+        if self.gpu_timed {
+            return Ok(());
+        }
+        let encoder = std::mem::replace(
+            &mut self.encoder,
+            gpu.device.create_command_encoder(&Default::default()),
+        );
+        gpu.queue.submit([encoder.finish()]);
+        gpu.wait()?;
+        let ms = self.part_start.elapsed().as_secs_f64() * 1e3;
+        match part {
+            Part::Shadow => self.wall.0 += ms,
+            Part::Main => self.wall.1 += ms,
+        }
+        self.part_start = Instant::now();
+        Ok(())
+    }
+
+    /// Submits what is left, waits, and gives the part times.
+    pub fn finish(mut self, gpu: &Gpu, timer: &Option<Timer>) -> Result<Timings, RenderError> {
+        if let (true, Some(timer)) = (self.gpu_timed, timer) {
+            timer.resolve(&mut self.encoder);
+        }
+        gpu.queue.submit([self.encoder.finish()]);
+        gpu.wait()?;
+        let (shadow, main, source) = match (self.gpu_timed, timer) {
+            (true, Some(timer)) => {
+                let (s, m) = timer.read(gpu)?;
+                (s, m, TimingSource::GpuTimestamps)
+            }
+            _ => (self.wall.0, self.wall.1, TimingSource::WallClock),
+        };
+        Ok(Timings {
+            shadow_pass_ms: shadow + self.cpu_shadow_ms,
+            main_pass_ms: main,
+            readback_ms: 0.0,
+            source,
+        })
     }
 }

@@ -1,0 +1,61 @@
+//! What several passes share: their attachments and the culling of casters by a map's
+//! planes.
+
+pub(crate) mod casters;
+pub(crate) mod probes;
+pub(crate) mod samples;
+pub(crate) mod volumes;
+
+use glam::{DMat4, DVec4};
+use gnomon::Aabb;
+
+/// A depth attachment cleared to 0 (reversed Z: the far plane) and kept.
+pub(crate) fn cleared_camera_depth(
+    view: &wgpu::TextureView,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Clear(0.0),
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    }
+}
+
+/// The four side planes of a map's clip volume as world planes (x <= w, -x <= w, y <= w,
+/// -y <= w): a box outside one of them lands outside the map.
+pub(crate) fn clip_side_planes(clip_from_world: DMat4) -> [DVec4; 4] {
+    let rows = clip_from_world.transpose();
+    [
+        rows.w_axis - rows.x_axis,
+        rows.w_axis + rows.x_axis,
+        rows.w_axis - rows.y_axis,
+        rows.w_axis + rows.y_axis,
+    ]
+}
+
+/// Whether a box reaches the positive side of every plane (some corner on it).
+pub(crate) fn reaches_all(b: &Aabb, planes: &[DVec4]) -> bool {
+    let (c, h) = (b.center(), b.half_extents());
+    planes.iter().all(|p| {
+        let n = p.truncate();
+        n.dot(c) + p.w + n.abs().dot(h) >= 0.0
+    })
+}
+
+/// A colour attachment, cleared to `clear` or loaded; kept either way.
+pub(crate) fn color_target(
+    view: &wgpu::TextureView,
+    clear: Option<wgpu::Color>,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}

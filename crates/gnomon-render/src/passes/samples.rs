@@ -1,0 +1,37 @@
+//! The view samples pass's kept targets: position and normal per pixel, and depth.
+
+use crate::pipelines::{CAMERA_DEPTH_FORMAT, METRICS_FORMAT};
+use crate::resources::Resources;
+
+/// The kept targets of the samples pass: position and normal per pixel, and depth.
+pub(crate) struct SampleTargets {
+    pub position: (wgpu::Texture, wgpu::TextureView),
+    pub normal: (wgpu::Texture, wgpu::TextureView),
+    pub depth: wgpu::TextureView,
+}
+
+impl SampleTargets {
+    /// Makes (or keeps) the targets of a `cols` x `rows` grid in `slot`.
+    pub fn ensure(slot: &mut Option<SampleTargets>, r: &Resources, (cols, rows): (u32, u32)) {
+        if slot
+            .as_ref()
+            .is_some_and(|t| (t.position.0.width(), t.position.0.height()) == (cols, rows))
+        {
+            return;
+        }
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        *slot = Some(SampleTargets {
+            position: r.target("sample positions", (cols, rows), 1, METRICS_FORMAT, usage),
+            normal: r.target("sample normals", (cols, rows), 1, METRICS_FORMAT, usage),
+            depth: r
+                .target(
+                    "sample depth",
+                    (cols, rows),
+                    1,
+                    CAMERA_DEPTH_FORMAT,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT,
+                )
+                .1,
+        });
+    }
+}

@@ -1,0 +1,503 @@
+//! The shadow volumes' kept pipelines, targets and caster meshes, and the extrusion of
+//! each frame's volumes (the passes are encoded in `volumes.rs`).
+
+use std::ops::Range;
+
+use glam::DVec3;
+use glam::DVec4;
+use gnomon::planar::PlanarReceiver;
+use gnomon::volumes::{
+    MeshTopology, NearClipFallback, NearClipVolume, OpenMeshPolicy, VolumeParts, extrude_volume,
+};
+use gnomon::{Aabb, Camera, Light};
+
+use crate::pipelines::{COLOR_FORMAT, MASK_FORMAT, PipelineSpec, Pipelines, build, scene_buffers};
+use crate::scene::SceneInstance;
+use crate::{Frame, Gpu, RenderScene};
+
+/// How the stencil counts volume faces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StencilMode {
+    /// Count the faces behind the visible surface (Carmack's reverse): exact wherever the
+    /// camera is, with both caps.
+    #[default]
+    ZFail,
+    /// Count the faces in front of the visible surface: cheaper in fill on some hardware,
+    /// wrong where a volume reaches the camera's near plane.
+    ZPass,
+    /// Per caster (a speed option, exact like z-fail): z-pass without caps for the casters
+    /// whose volume cannot reach the near plane (their bounds lie outside the near clip
+    /// volume, [`gnomon::volumes::NearClipVolume`]), z-fail for the others. Both count into
+    /// the same stencil: each closed volume adds one where it covers a pixel's surface
+    /// either way.
+    PerCaster,
+}
+
+/// What the volume passes drew, over all lights.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct VolumeStats {
+    /// Volume triangles drawn into the stencil.
+    pub triangles: usize,
+    /// Caster volumes counted with z-fail (with caps).
+    pub z_fail_casters: usize,
+    /// Caster volumes counted with z-pass (sides only).
+    pub z_pass_casters: usize,
+    /// Set when [`StencilMode::PerCaster`] sent every caster to z-fail because the near clip
+    /// volume was flat for some light.
+    pub near_clip_fallback: Option<NearClipFallback>,
+}
+
+/// A frame drawn with shadow volumes, lit by one or more lights.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VolumeFrame {
+    /// The image; its mask says where at least one light reaches (for one light, that
+    /// light's mask).
+    pub frame: Frame,
+    /// What was drawn.
+    pub stats: VolumeStats,
+}
+
+/// How far the volumes' caps are pushed behind the faces they lie on (and the planar
+/// receiver pulled in front of its face), in units of the f32's last place of the depth: the
+/// shader's `DEPTH_PUSH_ULPS` (see [`VolumePipelines::new`]).
+pub(crate) const PUSH_ULPS: f64 = 16.0;
+
+/// What fills the stencil of a light: its shadow volumes, or planar shadows.
+#[derive(Clone, Copy)]
+pub(crate) enum Stenciled<'a> {
+    Volumes(StencilMode),
+    Planar(&'a PlanarReceiver),
+}
+
+/// The casters' meshes, ready for extrusion (their placements are the scene's instances).
+pub(crate) struct VolumeCasters {
+    /// Per mesh of the scene, its topology (open meshes kept for per-triangle volumes).
+    pub topologies: Vec<Option<MeshTopology>>,
+    /// The last extrusion (kept so that frames reuse its memory).
+    pub out: Vec<DVec4>,
+}
+
+/// The volumes of every light of a frame: view-space homogeneous vertices, three per
+/// triangle; per light, its z-fail volumes (closed) and its z-pass ones (sides only).
+pub(crate) struct ExtrudedVolumes {
+    pub vertices: Vec<[f32; 4]>,
+    pub ranges: Vec<(Range<u32>, Range<u32>)>,
+    pub stats: VolumeStats,
+}
+
+impl VolumeCasters {
+    pub fn new(scene: &RenderScene) -> Self {
+        let mut topologies: Vec<Option<MeshTopology>> = vec![None; scene.meshes.len()];
+        for instance in &scene.instances {
+            if instance.casts && instance.mesh < scene.meshes.len() {
+                let slot = &mut topologies[instance.mesh];
+                if slot.is_none() {
+                    let mesh = &scene.meshes[instance.mesh];
+                    // Per-triangle volumes keep any mesh correct; bad indices were caught when
+                    // the mesh was made, so an error here leaves the mesh without a volume.
+                    *slot = MeshTopology::new(
+                        &mesh.positions,
+                        &mesh.indices,
+                        OpenMeshPolicy::PerTriangle,
+                    )
+                    .ok();
+                }
+            }
+        }
+        Self {
+            topologies,
+            out: Vec::new(),
+        }
+    }
+
+    /// Every casting instance's volume for each light, counted as `mode` says (`camera`
+    /// decides which casters can reach its near plane under [`StencilMode::PerCaster`]; an
+    /// instance without bounds always counts as reaching it), in view space.
+    pub fn extrude(
+        &mut self,
+        instances: &[SceneInstance],
+        camera: &Camera,
+        lights: &[Light],
+        mode: StencilMode,
+        into: &mut ExtrudedVolumes,
+    ) {
+        into.vertices.clear();
+        into.ranges.clear();
+        into.stats = VolumeStats::default();
+        let view_from_world = camera.view_from_world();
+        for light in lights {
+            let near_clip =
+                (mode == StencilMode::PerCaster).then(|| NearClipVolume::new(camera, light));
+            let z_fail = |bounds: &Option<Aabb>| match mode {
+                StencilMode::ZFail => true,
+                StencilMode::ZPass => false,
+                StencilMode::PerCaster => match (&near_clip, bounds) {
+                    (Some(volume), Some(b)) => volume.may_reach(b),
+                    _ => true,
+                },
+            };
+            into.stats.near_clip_fallback = into
+                .stats
+                .near_clip_fallback
+                .or(near_clip.as_ref().and_then(NearClipVolume::fallback));
+            let start = into.vertices.len() as u32;
+            let mut z_fail_end = start;
+            for counted_z_fail in [true, false] {
+                let parts = if counted_z_fail {
+                    VolumeParts::Closed
+                } else {
+                    VolumeParts::SidesOnly
+                };
+                for instance in instances.iter().filter(|i| i.casts) {
+                    let Some(topology) = &self.topologies[instance.mesh] else {
+                        continue;
+                    };
+                    if z_fail(&instance.bounds) != counted_z_fail {
+                        continue;
+                    }
+                    self.out.clear();
+                    let counts = extrude_volume(
+                        topology,
+                        instance.world_from_object,
+                        light,
+                        parts,
+                        &mut self.out,
+                    );
+                    into.stats.triangles += counts.total();
+                    if counted_z_fail {
+                        into.stats.z_fail_casters += 1;
+                    } else {
+                        into.stats.z_pass_casters += 1;
+                    }
+                    // To view space in f64 (directions at infinity stay directions).
+                    into.vertices.extend(
+                        self.out
+                            .iter()
+                            .map(|v| (view_from_world * *v).as_vec4().to_array()),
+                    );
+                }
+                if counted_z_fail {
+                    z_fail_end = into.vertices.len() as u32;
+                }
+            }
+            into.ranges
+                .push((start..z_fail_end, z_fail_end..into.vertices.len() as u32));
+        }
+    }
+}
+
+impl VolumeCasters {
+    /// Planar shadows of every light on `receiver`, in view space: per light, the receiver
+    /// polygon's triangles, then every casting instance's triangles flattened onto its plane
+    /// (the ranges take the places of the z-fail and z-pass volumes).
+    pub fn flatten(
+        &mut self,
+        scene: &[SceneInstance],
+        camera: &Camera,
+        lights: &[Light],
+        receiver: &PlanarReceiver,
+        into: &mut ExtrudedVolumes,
+    ) {
+        into.vertices.clear();
+        into.ranges.clear();
+        into.stats = VolumeStats::default();
+        let view_from_world = camera.view_from_world();
+        let to_view = |p: DVec3| (view_from_world * p.extend(1.0)).as_vec4().to_array();
+        let mut flat = Vec::new();
+        for light in lights {
+            let start = into.vertices.len() as u32;
+            into.vertices
+                .extend(receiver.triangles().flatten().map(to_view));
+            let mid = into.vertices.len() as u32;
+            for instance in scene.iter().filter(|i| i.casts) {
+                let Some(topology) = &self.topologies[instance.mesh] else {
+                    continue;
+                };
+                into.stats.z_fail_casters += 1;
+                let (m, positions) = (instance.world_from_object, topology.positions());
+                for t in topology.triangles() {
+                    let corner = |k: usize| m.transform_point3(positions[t[k] as usize]);
+                    flat.clear();
+                    gnomon::planar::flatten_triangle(
+                        light,
+                        &receiver.plane,
+                        [corner(0), corner(1), corner(2)],
+                        &mut flat,
+                    );
+                    into.stats.triangles += flat.len();
+                    into.vertices
+                        .extend(flat.iter().flatten().map(|p| to_view(*p)));
+                }
+            }
+            into.ranges
+                .push((start..mid, mid..into.vertices.len() as u32));
+        }
+    }
+}
+
+/// The pipelines of the volume passes.
+pub(crate) struct VolumePipelines {
+    /// Whether the depth is Depth32FloatStencil8 (else Depth24PlusStencil8).
+    pub float_depth: bool,
+    pub format: wgpu::TextureFormat,
+    /// The scene's depth, the ambient term and the first light's mask as if shadowed.
+    pub depth_and_ambient: wgpu::RenderPipeline,
+    pub z_fail: wgpu::RenderPipeline,
+    pub z_pass: wgpu::RenderPipeline,
+    /// One light's direct light added where its stencil count is 0, and its mask.
+    pub lit: wgpu::RenderPipeline,
+    /// Its mask where the count is not 0, and the direct light of instances that receive no
+    /// shadows (skipped for the first light when every instance receives: the ambient pass
+    /// wrote its mask).
+    pub shadowed: wgpu::RenderPipeline,
+    /// Planar shadows: the receiver polygon's visible pixels marked 1 (pulled in front of the
+    /// face it lies on), the flattened casters raising a marked pixel to 2 once, the marks
+    /// that stayed 1 cleared: the stencil is then non-zero exactly where a caster's shadow
+    /// falls on the visible receiver.
+    pub planar_mark: wgpu::RenderPipeline,
+    pub planar_flat: wgpu::RenderPipeline,
+    pub planar_unmark: wgpu::RenderPipeline,
+}
+
+impl VolumePipelines {
+    pub fn new(gpu: &Gpu, pipelines: &Pipelines) -> Self {
+        let device = &gpu.device;
+        let float_depth = device
+            .features()
+            .contains(wgpu::Features::DEPTH32FLOAT_STENCIL8);
+        let format = if float_depth {
+            wgpu::TextureFormat::Depth32FloatStencil8
+        } else {
+            wgpu::TextureFormat::Depth24PlusStencil8
+        };
+        let volume_attributes = wgpu::vertex_attr_array![0 => Float32x4];
+        let volume_vertices = [wgpu::VertexBufferLayout {
+            array_stride: 16,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &volume_attributes,
+        }];
+        let face = |depth_fail_op, pass_op| wgpu::StencilFaceState {
+            compare: wgpu::CompareFunction::Always,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op,
+            pass_op,
+        };
+        let test = |compare| wgpu::StencilFaceState {
+            compare,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Keep,
+            pass_op: wgpu::StencilOperation::Keep,
+        };
+        let depth_stencil = |write, compare, front, back, read_mask, write_mask, bias| {
+            Some(wgpu::DepthStencilState {
+                format,
+                depth_write_enabled: Some(write),
+                depth_compare: Some(compare),
+                stencil: wgpu::StencilState {
+                    front,
+                    back,
+                    read_mask,
+                    write_mask,
+                },
+                bias,
+            })
+        };
+        // The volumes' vertices are formed in f64 on the CPU, the scene's on the GPU from
+        // object space: a light cap, which lies on its caster's lit faces, would z-fight with
+        // them. Pushed a little behind (reversed Z: smaller), a cap always counts as behind
+        // the face it lies on, as z-fail needs; the push is far below a pixel. Two parts:
+        // PUSH_ULPS, 16 units of the f32's last place of each fragment's depth, applied
+        // by the vertex shader (the same relative push on every device), and 0.05 of the
+        // depth's slope per pixel from the pipeline's bias, for faces seen edge-on. No
+        // constant bias on float depth: its unit there is each implementation's own. On an
+        // NVIDIA H200 (Vulkan) a constant of 16 pushed caps metres behind far terrain, and
+        // the volumes of the suite's terrain, long_view, disagreed with the ray-cast oracle
+        // on 0.77% of the pixels (0.018% with the push and the slope term; lavapipe 0.013%
+        // either way). A 24-bit depth's unit is fixed (2^-24), and far coarser than the push:
+        // there the constant stays.
+        let constant = if float_depth { 0 } else { 16 };
+        let behind = wgpu::DepthBiasState {
+            constant: -constant,
+            slope_scale: -0.05,
+            clamp: 0.0,
+        };
+        let push_behind = [("DEPTH_PUSH_ULPS", PUSH_ULPS)];
+        let no_bias = wgpu::DepthBiasState::default();
+        let plain = [Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())];
+        // Lights: colour added (linear, before sRGB encoding), mask written.
+        let additive = [
+            Some(wgpu::ColorTargetState {
+                format: COLOR_FORMAT,
+                blend: Some(wgpu::BlendState {
+                    color: wgpu::BlendComponent {
+                        src_factor: wgpu::BlendFactor::One,
+                        dst_factor: wgpu::BlendFactor::One,
+                        operation: wgpu::BlendOperation::Add,
+                    },
+                    alpha: wgpu::BlendComponent::REPLACE,
+                }),
+                write_mask: wgpu::ColorWrites::ALL,
+            }),
+            Some(MASK_FORMAT.into()),
+        ];
+        let (fs_ambient, fs_lit, fs_shadowed, fs_volume) = (
+            pipelines.fragment("fs_ambient"),
+            pipelines.fragment("fs_volume_lit"),
+            pipelines.fragment("fs_volume_shadowed"),
+            pipelines.fragment_depth.then_some("fs_volume_frag_depth"),
+        );
+        let make =
+            |spec: PipelineSpec<'_>| build(device, &pipelines.shader, &pipelines.layout, &spec);
+        use wgpu::CompareFunction as C;
+        use wgpu::StencilOperation as S;
+        let scene = scene_buffers();
+        // The volumes: stencil only, two-sided, no depth writes; front and back faces count
+        // as `front` and `back` say. Reversed Z: a face in front of the surface passes
+        // (Greater), one behind it fails the depth test.
+        let volumes = |label, front, back| {
+            make(PipelineSpec {
+                label,
+                vertex: "vs_volume",
+                buffers: &volume_vertices,
+                fragment: fs_volume,
+                targets: &[],
+                constants: &push_behind,
+                depth: depth_stencil(false, C::Greater, front, back, 0xff, 0xff, behind),
+                samples: 1,
+            })
+        };
+        // One light's shading: the scene where the stencil count compares to 0 as `compare`
+        // says, colour added.
+        let light_pass = |label, fragment: &str, compare| {
+            make(PipelineSpec {
+                label,
+                vertex: "vs_main_infinite",
+                buffers: &scene,
+                fragment: Some(fragment),
+                targets: &additive,
+                constants: &[],
+                depth: depth_stencil(
+                    false,
+                    C::GreaterEqual,
+                    test(compare),
+                    test(compare),
+                    0xff,
+                    0,
+                    no_bias,
+                ),
+                samples: 1,
+            })
+        };
+        // The planar receiver's polygon pulled in front of the face it lies on, as the caps
+        // are pushed behind (above).
+        let in_front = wgpu::DepthBiasState {
+            constant,
+            slope_scale: 0.05,
+            clamp: 0.0,
+        };
+        let pull_in_front = [("DEPTH_PUSH_ULPS", -PUSH_ULPS)];
+        let stencil_only = |compare, pass_op| wgpu::StencilFaceState {
+            compare,
+            fail_op: S::Keep,
+            depth_fail_op: S::Keep,
+            pass_op,
+        };
+        let fs_planar = pipelines.fragment_depth.then_some("fs_planar_frag_depth");
+        let planar = |label, depth_compare, fragment, face, (bias, constants)| {
+            make(PipelineSpec {
+                label,
+                vertex: "vs_volume",
+                buffers: &volume_vertices,
+                fragment,
+                targets: &[],
+                constants,
+                depth: depth_stencil(false, depth_compare, face, face, 0xff, 0xff, bias),
+                samples: 1,
+            })
+        };
+        Self {
+            float_depth,
+            format,
+            planar_mark: planar(
+                "planar: receiver",
+                C::GreaterEqual,
+                fs_planar,
+                stencil_only(C::Always, S::Replace),
+                (in_front, &pull_in_front[..]),
+            ),
+            planar_flat: planar(
+                "planar: flattened casters",
+                C::Always,
+                None,
+                stencil_only(C::Equal, S::IncrementClamp),
+                (no_bias, &[][..]),
+            ),
+            planar_unmark: planar(
+                "planar: unshadowed receiver",
+                C::Always,
+                None,
+                stencil_only(C::Equal, S::Zero),
+                (no_bias, &[][..]),
+            ),
+            z_fail: volumes(
+                "volumes: z-fail",
+                face(S::DecrementWrap, S::Keep),
+                face(S::IncrementWrap, S::Keep),
+            ),
+            z_pass: volumes(
+                "volumes: z-pass",
+                face(S::Keep, S::IncrementWrap),
+                face(S::Keep, S::DecrementWrap),
+            ),
+            depth_and_ambient: make(PipelineSpec {
+                label: "volumes: depth and ambient",
+                vertex: "vs_main_infinite",
+                buffers: &scene,
+                fragment: Some(&fs_ambient),
+                targets: &plain,
+                constants: &[],
+                depth: depth_stencil(
+                    true,
+                    C::Greater,
+                    wgpu::StencilFaceState::IGNORE,
+                    wgpu::StencilFaceState::IGNORE,
+                    0,
+                    0,
+                    no_bias,
+                ),
+                samples: 1,
+            }),
+            lit: light_pass("volumes: lit", &fs_lit, C::Equal),
+            shadowed: light_pass("volumes: shadowed", &fs_shadowed, C::NotEqual),
+        }
+    }
+}
+
+/// The volume passes' kept targets and buffers.
+pub(crate) struct VolumeTargets {
+    pub size: (u32, u32),
+    pub depth_view: wgpu::TextureView,
+    pub masks: Vec<(wgpu::Texture, wgpu::TextureView)>,
+    pub vertices: Option<wgpu::Buffer>,
+    pub extruded: ExtrudedVolumes,
+}
+
+/// The depth-stencil attachment of the volume passes: depth cleared to 0 (reversed Z: the
+/// far plane) or loaded, stencil cleared to 0 or loaded; both kept.
+pub(crate) fn depth_stencil(
+    view: &wgpu::TextureView,
+    clear_depth: bool,
+    clear_stencil: bool,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    fn ops<T>(clear: Option<T>) -> wgpu::Operations<T> {
+        wgpu::Operations {
+            load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+            store: wgpu::StoreOp::Store,
+        }
+    }
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(ops(clear_depth.then_some(0.0))),
+        stencil_ops: Some(ops(clear_stencil.then_some(0))),
+    }
+}
