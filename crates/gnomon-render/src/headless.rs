@@ -193,7 +193,7 @@ impl Renderer {
                         ..Default::default()
                     });
                     pass.set_pipeline(&self.pipelines.light_view);
-                    pass.set_bind_group(0, &self.frame_group, &[offset]);
+                    pass.set_bind_group(0, &self.uniforms.frame_group, &[offset]);
                     pass.set_bind_group(1, &self.atlas.bind_group, &[]);
                     pass.draw(0..3, 0..1);
                 }

@@ -41,6 +41,7 @@ mod scene;
 mod settings;
 mod soft;
 mod timing;
+mod uniforms;
 mod volumes;
 
 pub use error::{InvalidInput, RenderError};

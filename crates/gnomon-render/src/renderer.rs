@@ -4,41 +4,27 @@
 //! main pass into the caller's encoder and target. `headless.rs` wraps them for the CLI and
 //! the tests (submit, read back).
 
-use glam::{DMat4, DVec4};
+use glam::DMat4;
 use gnomon::{Camera, MapSelection};
 
 use crate::atlas::{AtlasBindings, ShadowAtlas};
 use crate::gpu::ErrorScopes;
 use crate::passes::casters::CasterSet;
-use crate::passes::volumes::{VolumeCasters, VolumePipelines, VolumeTargets};
-use crate::passes::{cleared_camera_depth, clip_side_planes};
+use crate::passes::cleared_camera_depth;
+use crate::passes::maps::{PreparedMap, begin_depth_pass};
+use crate::passes::volumes::{VolumeCasters, VolumePass, VolumePipelines};
 use crate::pipelines::{CAMERA_DEPTH_FORMAT, Pipelines};
 use crate::readback::Readback;
 use crate::records::{
-    GpuFrame, GpuShadows, GpuSlot, MAX_LIGHTS, MAX_MAPS, MapSlot, ShadowedLight, filter_code,
-    light_record, map_record, mat, reversed_clip_from_view,
+    GpuFrame, MAX_LIGHTS, MAX_MAPS, MapSlot, ShadowedLight, filter_code, light_record, map_record,
+    mat, reversed_clip_from_view,
 };
 use crate::resources::Resources;
 use crate::scene::{GpuScene, RenderScene};
 use crate::settings::{DepthBias, MapRead, PROJECTIVE_DEPTH_BIAS, RenderSettings, SceneTarget};
 use crate::timing::{FrameClock, Part, Timer, TimingSource, Timings};
+use crate::uniforms::FrameUniforms;
 use crate::{Gpu, InvalidInput, RenderError};
-
-/// One map of the prepared frame: where it is and which instances it draws.
-#[derive(Default)]
-pub(crate) struct PreparedMap {
-    pub layer: u32,
-    pub resolution: u32,
-    pub inset: u32,
-    /// World planes (a, b, c, d) a caster's box must reach (positive side) to be drawn: the
-    /// map's clip volume's sides and, for a plane selection, the map's side of the plane.
-    pub planes: Vec<DVec4>,
-    /// The scene's instances drawn into it.
-    pub casters: Vec<u32>,
-    /// Whether it is a paraboloid hemisphere (drawn by the exact paraboloid pass where the
-    /// device has it).
-    pub paraboloid: bool,
-}
 
 /// Draws shadowed scenes. It keeps the pipelines, samplers, uniform buffers, the shadow maps
 /// and the targets, and remakes a texture only when a frame needs a larger one; the scene's
@@ -48,27 +34,15 @@ pub struct Renderer {
     pub(crate) resources: Resources,
     pub(crate) scene: GpuScene,
     pub(crate) pipelines: Pipelines,
-    compare_sampler: wgpu::Sampler,
-    nearest_sampler: wgpu::Sampler,
-    frame_buffer: wgpu::Buffer,
-    shadows_buffer: wgpu::Buffer,
-    _slot_buffer: wgpu::Buffer,
-    slot_stride: u32,
-    pub(crate) frame_group: wgpu::BindGroup,
-    /// The records alone, for the depth passes.
-    records_group: wgpu::BindGroup,
+    pub(crate) uniforms: FrameUniforms,
     pub(crate) atlas: ShadowAtlas,
     /// The camera's depth for `encode_scene` (its size and samples are the target's).
     camera_depth: Option<(wgpu::Texture, wgpu::TextureView)>,
     pub(crate) maps: Vec<PreparedMap>,
-    /// The prepared frame's records (kept to be rewritten without allocating).
-    shadows: Box<GpuShadows>,
     pub(crate) prepared_camera: Option<Camera>,
     /// What the prepared frame's main pass is specialised for (its lights, a per-pixel choice of map).
     pub(crate) main_spec: crate::pipelines::MainSpec,
-    pub(crate) volumes: VolumePipelines,
-    pub(crate) volume_casters: VolumeCasters,
-    pub(crate) volume_targets: Option<VolumeTargets>,
+    pub(crate) volumes: VolumePass,
     pub(crate) readback: Readback,
     pub(crate) timer: Option<Timer>,
     /// Time headless frames by the wall clock even where timestamps exist.
@@ -91,83 +65,24 @@ impl Renderer {
         let scopes = ErrorScopes::push(&gpu);
         let resources = Resources::new(device.clone());
         let pipelines = Pipelines::new(&device, gpu.adapter_info.backend);
-        let sampler = |label, filter, compare| {
-            device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some(label),
-                address_mode_u: wgpu::AddressMode::ClampToEdge,
-                address_mode_v: wgpu::AddressMode::ClampToEdge,
-                mag_filter: filter,
-                min_filter: filter,
-                compare,
-                ..Default::default()
-            })
-        };
-        let compare_sampler = sampler(
-            "shadow comparison (2x2)",
-            wgpu::FilterMode::Linear,
-            Some(wgpu::CompareFunction::LessEqual),
-        );
-        let nearest_sampler = sampler("shadow raw depth", wgpu::FilterMode::Nearest, None);
-        let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
-        let frame_buffer =
-            resources.buffer("frame", std::mem::size_of::<GpuFrame>() as u64, uniform);
-        let shadows_buffer =
-            resources.buffer("shadows", std::mem::size_of::<GpuShadows>() as u64, uniform);
-        // One slot per map (depth passes, light views) and per light (volume passes).
-        let slot_stride = device.limits().min_uniform_buffer_offset_alignment.max(16);
-        let slots: Vec<u8> = (0..MAX_MAPS.max(MAX_LIGHTS) as u32)
-            .flat_map(|k| {
-                let mut bytes = bytemuck::bytes_of(&GpuSlot {
-                    map: k,
-                    light: k,
-                    unused: [0; 2],
-                })
-                .to_vec();
-                bytes.resize(slot_stride as usize, 0);
-                bytes
-            })
-            .collect();
-        let slot_buffer = resources.buffer_init("slots", &slots, wgpu::BufferUsages::UNIFORM);
-        let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("gnomon frame"),
-            layout: &pipelines.frame_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: frame_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &slot_buffer,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(std::mem::size_of::<GpuSlot>() as u64),
-                    }),
-                },
-            ],
-        });
-        let records_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("gnomon records"),
-            layout: &pipelines.records_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: shadows_buffer.as_entire_binding(),
-            }],
-        });
+        let uniforms = FrameUniforms::new(&device, &resources, &pipelines);
         let atlas = ShadowAtlas::new(
             &resources,
             &AtlasBindings {
                 layout: &pipelines.lookup_layout,
-                shadows: &shadows_buffer,
-                compare: &compare_sampler,
-                nearest: &nearest_sampler,
+                shadows: &uniforms.shadows_buffer,
+                compare: &uniforms.compare_sampler,
+                nearest: &uniforms.nearest_sampler,
             },
             1,
             1,
             false,
         );
-        let volumes = VolumePipelines::new(&gpu, &pipelines);
-        let volume_casters = VolumeCasters::new(scene);
+        let volumes = VolumePass {
+            pipelines: VolumePipelines::new(&gpu, &pipelines),
+            casters: VolumeCasters::new(scene),
+            targets: None,
+        };
         let gpu_scene = GpuScene::new(
             &resources,
             &gpu.queue,
@@ -179,23 +94,13 @@ impl Renderer {
         let mut renderer = Self {
             scene: gpu_scene,
             pipelines,
-            compare_sampler,
-            nearest_sampler,
-            frame_buffer,
-            shadows_buffer,
-            _slot_buffer: slot_buffer,
-            slot_stride,
-            frame_group,
-            records_group,
+            uniforms,
             atlas,
             camera_depth: None,
             maps: Vec::new(),
-            shadows: Box::new(bytemuck::Zeroable::zeroed()),
             prepared_camera: None,
             main_spec: Default::default(),
             volumes,
-            volume_casters,
-            volume_targets: None,
             readback: Readback::new(),
             timer,
             wall_clock: false,
@@ -256,7 +161,7 @@ impl Renderer {
     /// Whether the shadow volumes' depth is 32-bit float (DEPTH32FLOAT_STENCIL8); without the
     /// feature it is Depth24PlusStencil8 (reversed Z then gains nothing far away).
     pub fn volumes_have_float_depth(&self) -> bool {
-        self.volumes.float_depth
+        self.volumes.pipelines.float_depth
     }
 
     /// Whether instance `index` of the scene casts shadows from the next frame on (its maps
@@ -354,67 +259,11 @@ impl Renderer {
         lights: &[(&gnomon::Light, Option<&gnomon::ShadowSetup>)],
         settings: &RenderSettings,
     ) -> Result<(), RenderError> {
-        if camera.lens().far > crate::MAX_VIEW_DISTANCE {
-            return Err(InvalidInput::FarPlane {
-                far: camera.lens().far,
-                max: crate::MAX_VIEW_DISTANCE,
-            }
-            .into());
-        }
-        if lights.len() > MAX_LIGHTS {
-            return Err(InvalidInput::TooManyLights {
-                count: lights.len(),
-                max: MAX_LIGHTS,
-            }
-            .into());
-        }
-        let map_count: usize = lights.iter().flat_map(|l| l.1).map(|s| s.maps.len()).sum();
-        if map_count > MAX_MAPS {
-            return Err(InvalidInput::TooManyMaps {
-                count: map_count,
-                max: MAX_MAPS,
-            }
-            .into());
-        }
-        let max = self.gpu.max_texture_size();
-        let mut largest = 1;
-        for setup in lights.iter().flat_map(|l| l.1) {
-            for map in &setup.maps {
-                if map.resolution > max {
-                    return Err(InvalidInput::MapTooLarge {
-                        resolution: map.resolution,
-                        max,
-                    }
-                    .into());
-                }
-                if map.resolution <= 2 * map.viewport_inset {
-                    return Err(InvalidInput::MapInsideInset {
-                        resolution: map.resolution,
-                        inset: map.viewport_inset,
-                    }
-                    .into());
-                }
-                largest = largest.max(map.resolution);
-            }
-        }
-        let ids = settings.read.reads_ids() || self.atlas.has_ids();
-        if !self.atlas.holds(largest, map_count.max(1) as u32, ids) {
-            self.atlas = ShadowAtlas::new(
-                &self.resources,
-                &AtlasBindings {
-                    layout: &self.pipelines.lookup_layout,
-                    shadows: &self.shadows_buffer,
-                    compare: &self.compare_sampler,
-                    nearest: &self.nearest_sampler,
-                },
-                largest.max(self.atlas.layer_size),
-                (map_count as u32).max(self.atlas.layers),
-                ids,
-            );
-        }
+        let (map_count, largest) = check_frame(camera, lights, self.gpu.max_texture_size())?;
+        self.ensure_atlas(map_count, largest, settings.read.reads_ids());
         let view_from_world = camera.view_from_world();
         let world_from_camera = view_from_world.inverse();
-        let shadows = &mut *self.shadows;
+        let shadows = &mut *self.uniforms.shadows;
         shadows.lights = [bytemuck::Zeroable::zeroed(); MAX_LIGHTS];
         // The maps' records are refilled in place (their lists keep their memory).
         self.maps.resize_with(map_count, PreparedMap::default);
@@ -425,13 +274,14 @@ impl Renderer {
             shadows.lights[k].range[2] = area_size(light, settings.area_light_radius)?;
             let Some(setup) = setup else { continue };
             for (i, map) in setup.maps.iter().enumerate() {
+                let slot = MapSlot {
+                    layer: layer as u32,
+                    layer_size: self.atlas.layer_size,
+                };
                 shadows.maps[layer] = map_record(
                     map,
                     world_from_camera,
-                    MapSlot {
-                        layer: layer as u32,
-                        layer_size: self.atlas.layer_size,
-                    },
+                    slot,
                     &settings.bias,
                     self.scene_diagonal,
                 );
@@ -443,34 +293,50 @@ impl Renderer {
                     shadows.maps[layer].bias[0] = PROJECTIVE_DEPTH_BIAS as f32;
                     shadows.maps[layer].bias[1] = 0.0;
                 }
-                let prepared = &mut self.maps[layer];
-                prepared.layer = layer as u32;
-                prepared.resolution = map.resolution;
-                prepared.inset = map.viewport_inset;
-                prepared.planes.clear();
-                prepared
-                    .planes
-                    .extend(clip_side_planes(map.clip_from_world));
-                if let MapSelection::Plane { plane_world } = setup.selection {
+                let side = match setup.selection {
                     // The first map reads the negative side, the second the positive.
-                    let sign = if i == 0 { -1.0 } else { 1.0 };
-                    prepared.planes.push(sign * plane_world);
-                }
-                prepared.paraboloid = map.projection == gnomon::MapProjection::Paraboloid;
-                if prepared.paraboloid {
-                    // A hemisphere holds what lies on its side of the light, to its rim
-                    // (q.z >= -sin(margin) |q|, and |q| <= 1 within the range).
-                    let rim = gnomon::PARABOLOID_MARGIN_DEGREES.to_radians().sin();
-                    prepared
-                        .planes
-                        .push(map.clip_from_world.row(2) + DVec4::new(0.0, 0.0, 0.0, rim));
-                }
-                self.scene
-                    .casters_reaching(&prepared.planes, &mut prepared.casters);
+                    MapSelection::Plane { plane_world } => {
+                        Some(if i == 0 { -plane_world } else { plane_world })
+                    }
+                    _ => None,
+                };
+                self.maps[layer].fill(layer as u32, map, side, &mut self.scene);
                 layer += 1;
             }
         }
         shadows.info = [lights.len() as u32, filter_code(settings.filter), 0, 0];
+        self.write_frame(camera, lights, settings);
+        Ok(())
+    }
+
+    /// Makes the map array anew where this frame needs more or larger layers (or object IDs).
+    fn ensure_atlas(&mut self, map_count: usize, largest: u32, reads_ids: bool) {
+        let ids = reads_ids || self.atlas.has_ids();
+        if self.atlas.holds(largest, map_count.max(1) as u32, ids) {
+            return;
+        }
+        self.atlas = ShadowAtlas::new(
+            &self.resources,
+            &AtlasBindings {
+                layout: &self.pipelines.lookup_layout,
+                shadows: &self.uniforms.shadows_buffer,
+                compare: &self.uniforms.compare_sampler,
+                nearest: &self.uniforms.nearest_sampler,
+            },
+            largest.max(self.atlas.layer_size),
+            (map_count as u32).max(self.atlas.layers),
+            ids,
+        );
+    }
+
+    /// Writes the frame's uniforms, records and instance transforms, and what its main pass
+    /// is specialised for.
+    fn write_frame(
+        &mut self,
+        camera: &Camera,
+        lights: &[(&gnomon::Light, Option<&gnomon::ShadowSetup>)],
+        settings: &RenderSettings,
+    ) {
         let frame = GpuFrame {
             clip_from_camera: mat(reversed_clip_from_view(camera)),
             infinite_clip_from_camera: mat(gnomon::volumes::reversed_infinite_clip_from_view(
@@ -484,10 +350,15 @@ impl Renderer {
             ],
         };
         let queue = &self.gpu.queue;
-        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
-        queue.write_buffer(&self.shadows_buffer, 0, bytemuck::bytes_of(&*self.shadows));
+        queue.write_buffer(&self.uniforms.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        queue.write_buffer(
+            &self.uniforms.shadows_buffer,
+            0,
+            bytemuck::bytes_of(&*self.uniforms.shadows),
+        );
+        let coverage = settings.read == MapRead::Coverage;
         self.scene
-            .write_transforms(queue, view_from_world, settings.read == MapRead::Coverage);
+            .write_transforms(queue, camera.view_from_world(), coverage);
         self.prepared_camera = Some(*camera);
         self.main_spec = crate::pipelines::MainSpec {
             lights: lights.len() as u32,
@@ -500,12 +371,11 @@ impl Renderer {
             }),
             cutout: self.scene.cutouts.any(),
         };
-        Ok(())
     }
 
     /// The dynamic offset of slot `k` (map k for depth passes, light k for volume passes).
     pub(crate) fn slot(&self, k: u32) -> u32 {
-        k * self.slot_stride
+        k * self.uniforms.slot_stride
     }
 
     /// Whether paraboloid maps are drawn exactly (each texel's ray cast at each triangle: see
@@ -546,8 +416,8 @@ impl Renderer {
             };
             let map = &self.maps[k];
             let mut pass = begin_depth_pass(encoder, &self.atlas, map, ids, timestamps);
-            pass.set_bind_group(0, &self.frame_group, &[offset]);
-            pass.set_bind_group(1, &self.records_group, &[]);
+            pass.set_bind_group(0, &self.uniforms.frame_group, &[offset]);
+            pass.set_bind_group(1, &self.uniforms.records_group, &[]);
             let exact = self.pipelines.paraboloid_for(ids, cut);
             if let Some(pipeline) = exact.filter(|_| map.paraboloid) {
                 pass.set_pipeline(pipeline);
@@ -587,8 +457,8 @@ impl Renderer {
                     .depth_for(casters.vertex_stride, ids, false)
                     .expect("made above"),
             );
-            pass.set_bind_group(0, &self.frame_group, &[self.slot(k as u32)]);
-            pass.set_bind_group(1, &self.records_group, &[]);
+            pass.set_bind_group(0, &self.uniforms.frame_group, &[self.slot(k as u32)]);
+            pass.set_bind_group(1, &self.uniforms.records_group, &[]);
             casters.draw(&mut pass, &map.planes);
         }
     }
@@ -653,9 +523,59 @@ impl Renderer {
     }
 
     pub(crate) fn bind_frame(&self, pass: &mut wgpu::RenderPass<'_>) {
-        pass.set_bind_group(0, &self.frame_group, &[0]);
+        pass.set_bind_group(0, &self.uniforms.frame_group, &[0]);
         pass.set_bind_group(1, &self.atlas.bind_group, &[]);
     }
+}
+
+/// A frame's camera, lights and maps checked against what the renderer draws: its map
+/// count and largest map.
+fn check_frame(
+    camera: &Camera,
+    lights: &[(&gnomon::Light, Option<&gnomon::ShadowSetup>)],
+    max: u32,
+) -> Result<(usize, u32), RenderError> {
+    if camera.lens().far > crate::MAX_VIEW_DISTANCE {
+        return Err(InvalidInput::FarPlane {
+            far: camera.lens().far,
+            max: crate::MAX_VIEW_DISTANCE,
+        }
+        .into());
+    }
+    if lights.len() > MAX_LIGHTS {
+        return Err(InvalidInput::TooManyLights {
+            count: lights.len(),
+            max: MAX_LIGHTS,
+        }
+        .into());
+    }
+    let map_count: usize = lights.iter().flat_map(|l| l.1).map(|s| s.maps.len()).sum();
+    if map_count > MAX_MAPS {
+        return Err(InvalidInput::TooManyMaps {
+            count: map_count,
+            max: MAX_MAPS,
+        }
+        .into());
+    }
+    let mut largest = 1;
+    for map in lights.iter().flat_map(|l| l.1).flat_map(|s| &s.maps) {
+        if map.resolution > max {
+            return Err(InvalidInput::MapTooLarge {
+                resolution: map.resolution,
+                max,
+            }
+            .into());
+        }
+        if map.resolution <= 2 * map.viewport_inset {
+            return Err(InvalidInput::MapInsideInset {
+                resolution: map.resolution,
+                inset: map.viewport_inset,
+            }
+            .into());
+        }
+        largest = largest.max(map.resolution);
+    }
+    Ok((map_count, largest))
 }
 
 /// A light's area for PCSS as the lookup reads it (`GnomonLight.range.z`): a directional
@@ -666,47 +586,4 @@ fn area_size(light: &gnomon::Light, radius: f64) -> Result<f32, RenderError> {
         gnomon::Light::Directional(_) => radius.to_radians().tan(),
         _ => radius,
     } as f32)
-}
-
-/// The depth pass of one map: its layer cleared to the far depth, drawn inside the inset
-/// square (the border stays at the far depth: lookups outside the focus region read as lit);
-/// with `ids`, its object-ID layer too, cleared to 0 (no caster).
-fn begin_depth_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    atlas: &ShadowAtlas,
-    map: &PreparedMap,
-    ids: bool,
-    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
-) -> wgpu::RenderPass<'e> {
-    let id_target = ids.then(|| wgpu::RenderPassColorAttachment {
-        view: &atlas.id_layer_views[map.layer as usize],
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-            store: wgpu::StoreOp::Store,
-        },
-    });
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("shadow depth"),
-        color_attachments: if ids {
-            std::slice::from_ref(&id_target)
-        } else {
-            &[]
-        },
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &atlas.layer_views[map.layer as usize],
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: timestamps,
-        ..Default::default()
-    });
-    let r = map.resolution;
-    pass.set_viewport(0.0, 0.0, r as f32, r as f32, 0.0, 1.0);
-    pass.set_scissor_rect(map.inset, map.inset, r - 2 * map.inset, r - 2 * map.inset);
-    pass
 }

@@ -70,7 +70,7 @@ impl Renderer {
         let color = self
             .readback
             .read(&self.gpu, &self.resources, &headless.color.0, 4, 0)?;
-        let targets = self.volume_targets.as_ref().expect("kept by the draw");
+        let targets = self.volumes.targets.as_ref().expect("kept by the draw");
         let mut light_masks = Vec::with_capacity(light_count);
         for (texture, _) in targets.masks.iter().take(light_count) {
             light_masks.push(
@@ -161,14 +161,14 @@ impl Renderer {
         let scopes = crate::gpu::ErrorScopes::push(&self.gpu);
         self.prepare_lights(camera, lights, settings)?;
         self.ensure_headless(width, height, false);
-        let mut targets = match self.volume_targets.take() {
+        let mut targets = match self.volumes.targets.take() {
             Some(t) if t.size == (width, height) && t.masks.len() >= lights.len() => t,
             old => {
                 let (_, depth_view) = self.resources.target(
                     "volumes depth and stencil",
                     (width, height),
                     1,
-                    self.volumes.format,
+                    self.volumes.pipelines.format,
                     wgpu::TextureUsages::RENDER_ATTACHMENT,
                 );
                 let masks = (0..lights.len())
@@ -205,14 +205,14 @@ impl Renderer {
         let mut clock = self.start_clock();
         // Extrusion (or flattening) on the CPU counts as the shadow part.
         match stenciled {
-            Stenciled::Volumes(mode) => self.volume_casters.extrude(
+            Stenciled::Volumes(mode) => self.volumes.casters.extrude(
                 &self.scene.instances,
                 camera,
                 lights,
                 mode,
                 &mut targets.extruded,
             ),
-            Stenciled::Planar(receiver) => self.volume_casters.flatten(
+            Stenciled::Planar(receiver) => self.volumes.casters.flatten(
                 &self.scene.instances,
                 camera,
                 lights,
@@ -241,7 +241,7 @@ impl Renderer {
         let planar = matches!(stenciled, Stenciled::Planar(_));
         let result = self.encode_volumes(&mut clock, &targets, lights.len(), planar);
         let stats = targets.extruded.stats;
-        self.volume_targets = Some(targets);
+        self.volumes.targets = Some(targets);
         result?;
         let timings = self.finish_clock(clock)?;
         scopes.pop()?;
@@ -271,7 +271,7 @@ impl Renderer {
                     timestamp_writes: timestamps,
                     ..Default::default()
                 });
-            pass.set_pipeline(&self.volumes.depth_and_ambient);
+            pass.set_pipeline(&self.volumes.pipelines.depth_and_ambient);
             self.bind_frame(&mut pass);
             self.scene.bind(&mut pass);
             self.scene.draw_all(&mut pass, false);
@@ -295,7 +295,7 @@ impl Renderer {
                         timestamp_writes: timestamps,
                         ..Default::default()
                     });
-                pass.set_bind_group(0, &self.frame_group, &[slot]);
+                pass.set_bind_group(0, &self.uniforms.frame_group, &[slot]);
                 pass.set_bind_group(1, &self.atlas.bind_group, &[]);
                 if let (Some(buffer), true) = (&targets.vertices, planar) {
                     // The receiver's visible pixels marked, raised once under the flattened
@@ -303,9 +303,9 @@ impl Renderer {
                     pass.set_vertex_buffer(0, buffer.slice(..));
                     pass.set_stencil_reference(1);
                     for (pipeline, range) in [
-                        (&self.volumes.planar_mark, &z_fail),
-                        (&self.volumes.planar_flat, &z_pass),
-                        (&self.volumes.planar_unmark, &z_fail),
+                        (&self.volumes.pipelines.planar_mark, &z_fail),
+                        (&self.volumes.pipelines.planar_flat, &z_pass),
+                        (&self.volumes.pipelines.planar_unmark, &z_fail),
                     ] {
                         if !range.is_empty() {
                             pass.set_pipeline(pipeline);
@@ -315,8 +315,8 @@ impl Renderer {
                 } else if let Some(buffer) = &targets.vertices {
                     pass.set_vertex_buffer(0, buffer.slice(..));
                     for (pipeline, range) in [
-                        (&self.volumes.z_fail, z_fail),
-                        (&self.volumes.z_pass, z_pass),
+                        (&self.volumes.pipelines.z_fail, z_fail),
+                        (&self.volumes.pipelines.z_pass, z_pass),
                     ] {
                         if !range.is_empty() {
                             pass.set_pipeline(pipeline);
@@ -351,10 +351,13 @@ impl Renderer {
                         ..Default::default()
                     });
                 pass.set_stencil_reference(0);
-                pass.set_bind_group(0, &self.frame_group, &[slot]);
+                pass.set_bind_group(0, &self.uniforms.frame_group, &[slot]);
                 pass.set_bind_group(1, &self.atlas.bind_group, &[]);
                 self.scene.bind(&mut pass);
-                let draws = [&self.volumes.lit, &self.volumes.shadowed];
+                let draws = [
+                    &self.volumes.pipelines.lit,
+                    &self.volumes.pipelines.shadowed,
+                ];
                 for pipeline in draws.iter().take(if skip_shadowed { 1 } else { 2 }) {
                     pass.set_pipeline(pipeline);
                     self.scene.draw_all(&mut pass, false);

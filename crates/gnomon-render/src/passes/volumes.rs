@@ -69,6 +69,14 @@ pub(crate) enum Stenciled<'a> {
     Planar(&'a PlanarReceiver),
 }
 
+/// The shadow volumes' kept state: their pipelines, the casters' meshes, and the targets
+/// (made on first use).
+pub(crate) struct VolumePass {
+    pub pipelines: VolumePipelines,
+    pub casters: VolumeCasters,
+    pub targets: Option<VolumeTargets>,
+}
+
 /// The casters' meshes, ready for extrusion (their placements are the scene's instances).
 pub(crate) struct VolumeCasters {
     /// Per mesh of the scene, its topology (open meshes kept for per-triangle volumes).
@@ -261,70 +269,177 @@ pub(crate) struct VolumePipelines {
 
 impl VolumePipelines {
     pub fn new(gpu: &Gpu, pipelines: &Pipelines) -> Self {
-        let device = &gpu.device;
-        let float_depth = device
+        let float_depth = gpu
+            .device
             .features()
             .contains(wgpu::Features::DEPTH32FLOAT_STENCIL8);
-        let format = if float_depth {
-            wgpu::TextureFormat::Depth32FloatStencil8
-        } else {
-            wgpu::TextureFormat::Depth24PlusStencil8
+        let b = VolumeBuilder {
+            device: &gpu.device,
+            pipelines,
+            format: if float_depth {
+                wgpu::TextureFormat::Depth32FloatStencil8
+            } else {
+                wgpu::TextureFormat::Depth24PlusStencil8
+            },
+            // A float depth's constant bias unit is each implementation's own: the push in
+            // the shader does its work there. A 24-bit depth's unit is fixed and far coarser.
+            constant: if float_depth { 0 } else { 16 },
         };
-        let volume_attributes = wgpu::vertex_attr_array![0 => Float32x4];
-        let volume_vertices = [wgpu::VertexBufferLayout {
-            array_stride: 16,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &volume_attributes,
-        }];
+        use wgpu::CompareFunction as C;
+        use wgpu::StencilOperation as S;
         let face = |depth_fail_op, pass_op| wgpu::StencilFaceState {
-            compare: wgpu::CompareFunction::Always,
-            fail_op: wgpu::StencilOperation::Keep,
+            compare: C::Always,
+            fail_op: S::Keep,
             depth_fail_op,
             pass_op,
         };
-        let test = |compare| wgpu::StencilFaceState {
+        let stencil_only = |compare, pass_op| wgpu::StencilFaceState {
             compare,
-            fail_op: wgpu::StencilOperation::Keep,
-            depth_fail_op: wgpu::StencilOperation::Keep,
-            pass_op: wgpu::StencilOperation::Keep,
+            fail_op: S::Keep,
+            depth_fail_op: S::Keep,
+            pass_op,
         };
-        let depth_stencil = |write, compare, front, back, read_mask, write_mask, bias| {
-            Some(wgpu::DepthStencilState {
-                format,
-                depth_write_enabled: Some(write),
-                depth_compare: Some(compare),
-                stencil: wgpu::StencilState {
-                    front,
-                    back,
-                    read_mask,
-                    write_mask,
-                },
-                bias,
-            })
-        };
-        // The volumes' vertices are formed in f64 on the CPU, the scene's on the GPU from
-        // object space: a light cap, which lies on its caster's lit faces, would z-fight with
-        // them. Pushed a little behind (reversed Z: smaller), a cap always counts as behind
-        // the face it lies on, as z-fail needs; the push is far below a pixel. Two parts:
-        // PUSH_ULPS, 16 units of the f32's last place of each fragment's depth, applied
-        // by the vertex shader (the same relative push on every device), and 0.05 of the
-        // depth's slope per pixel from the pipeline's bias, for faces seen edge-on. No
-        // constant bias on float depth: its unit there is each implementation's own. On an
-        // NVIDIA H200 (Vulkan) a constant of 16 pushed caps metres behind far terrain, and
-        // the volumes of the suite's terrain, long_view, disagreed with the ray-cast oracle
-        // on 0.77% of the pixels (0.018% with the push and the slope term; lavapipe 0.013%
-        // either way). A 24-bit depth's unit is fixed (2^-24), and far coarser than the push:
-        // there the constant stays.
-        let constant = if float_depth { 0 } else { 16 };
-        let behind = wgpu::DepthBiasState {
-            constant: -constant,
-            slope_scale: -0.05,
+        let fs_planar = pipelines.fragment_depth.then_some("fs_planar_frag_depth");
+        Self {
+            float_depth,
+            format: b.format,
+            planar_mark: b.planar(
+                "planar: receiver",
+                (C::GreaterEqual, fs_planar),
+                stencil_only(C::Always, S::Replace),
+                true,
+            ),
+            planar_flat: b.planar(
+                "planar: flattened casters",
+                (C::Always, None),
+                stencil_only(C::Equal, S::IncrementClamp),
+                false,
+            ),
+            planar_unmark: b.planar(
+                "planar: unshadowed receiver",
+                (C::Always, None),
+                stencil_only(C::Equal, S::Zero),
+                false,
+            ),
+            z_fail: b.volumes(
+                "volumes: z-fail",
+                face(S::DecrementWrap, S::Keep),
+                face(S::IncrementWrap, S::Keep),
+            ),
+            z_pass: b.volumes(
+                "volumes: z-pass",
+                face(S::Keep, S::IncrementWrap),
+                face(S::Keep, S::DecrementWrap),
+            ),
+            depth_and_ambient: b.depth_and_ambient(),
+            lit: b.light_pass("volumes: lit", "fs_volume_lit", C::Equal),
+            shadowed: b.light_pass("volumes: shadowed", "fs_volume_shadowed", C::NotEqual),
+        }
+    }
+}
+
+/// What the volume passes' pipelines share: the device, the scene's shader and layout, the
+/// depth-stencil format and the constant part of the caps' push.
+struct VolumeBuilder<'a> {
+    device: &'a wgpu::Device,
+    pipelines: &'a Pipelines,
+    format: wgpu::TextureFormat,
+    constant: i32,
+}
+
+/// The volumes' vertices: view-space homogeneous positions.
+const VOLUME_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![0 => Float32x4];
+
+impl VolumeBuilder<'_> {
+    fn make(&self, spec: PipelineSpec<'_>) -> wgpu::RenderPipeline {
+        build(
+            self.device,
+            &self.pipelines.shader,
+            &self.pipelines.layout,
+            &spec,
+        )
+    }
+
+    fn volume_vertices() -> [wgpu::VertexBufferLayout<'static>; 1] {
+        [wgpu::VertexBufferLayout {
+            array_stride: 16,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &VOLUME_ATTRIBUTES,
+        }]
+    }
+
+    /// Depth compared (and written where `write`), stencil faces as given.
+    fn depth_stencil(
+        &self,
+        (write, compare): (bool, wgpu::CompareFunction),
+        (front, back): (wgpu::StencilFaceState, wgpu::StencilFaceState),
+        (read_mask, write_mask): (u32, u32),
+        bias: wgpu::DepthBiasState,
+    ) -> Option<wgpu::DepthStencilState> {
+        Some(wgpu::DepthStencilState {
+            format: self.format,
+            depth_write_enabled: Some(write),
+            depth_compare: Some(compare),
+            stencil: wgpu::StencilState {
+                front,
+                back,
+                read_mask,
+                write_mask,
+            },
+            bias,
+        })
+    }
+
+    /// The caps' push behind the faces they lie on (`sign` -1), or the planar receiver's pull
+    /// in front of its face (+1). The volumes' vertices are formed in f64 on the CPU, the
+    /// scene's on the GPU from object space: a light cap would z-fight with its caster's lit
+    /// faces. Pushed a little behind (reversed Z: smaller), a cap always counts as behind
+    /// the face it lies on, as z-fail needs; the push is far below a pixel. The shader pushes
+    /// by `DEPTH_PUSH_ULPS` units of the f32's last place of each fragment's depth (the same
+    /// relative push on every device); the pipeline adds 0.05 of the depth's slope per pixel,
+    /// for faces seen edge-on.
+    fn push(&self, sign: i32) -> wgpu::DepthBiasState {
+        wgpu::DepthBiasState {
+            constant: sign * self.constant,
+            slope_scale: sign as f32 * 0.05,
             clamp: 0.0,
-        };
-        let push_behind = [("DEPTH_PUSH_ULPS", PUSH_ULPS)];
-        let no_bias = wgpu::DepthBiasState::default();
-        let plain = [Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())];
-        // Lights: colour added (linear, before sRGB encoding), mask written.
+        }
+    }
+
+    /// The volumes: stencil only, two-sided, no depth writes; front and back faces count as
+    /// `front` and `back` say. Reversed Z: a face in front of the surface passes (Greater),
+    /// one behind it fails the depth test.
+    fn volumes(
+        &self,
+        label: &str,
+        front: wgpu::StencilFaceState,
+        back: wgpu::StencilFaceState,
+    ) -> wgpu::RenderPipeline {
+        let faces = (front, back);
+        let depth = (false, wgpu::CompareFunction::Greater);
+        self.make(PipelineSpec {
+            label,
+            vertex: "vs_volume",
+            buffers: &Self::volume_vertices(),
+            fragment: self
+                .pipelines
+                .fragment_depth
+                .then_some("fs_volume_frag_depth"),
+            targets: &[],
+            constants: &[("DEPTH_PUSH_ULPS", PUSH_ULPS)],
+            depth: self.depth_stencil(depth, faces, (0xff, 0xff), self.push(-1)),
+            samples: 1,
+        })
+    }
+
+    /// One light's shading: the scene where the stencil count compares to 0 as `compare`
+    /// says, colour added (linear, before sRGB encoding), mask written.
+    fn light_pass(
+        &self,
+        label: &str,
+        fragment: &str,
+        compare: wgpu::CompareFunction,
+    ) -> wgpu::RenderPipeline {
         let additive = [
             Some(wgpu::ColorTargetState {
                 format: COLOR_FORMAT,
@@ -340,136 +455,72 @@ impl VolumePipelines {
             }),
             Some(MASK_FORMAT.into()),
         ];
-        let (fs_ambient, fs_lit, fs_shadowed, fs_volume) = (
-            pipelines.fragment("fs_ambient"),
-            pipelines.fragment("fs_volume_lit"),
-            pipelines.fragment("fs_volume_shadowed"),
-            pipelines.fragment_depth.then_some("fs_volume_frag_depth"),
-        );
-        let make =
-            |spec: PipelineSpec<'_>| build(device, &pipelines.shader, &pipelines.layout, &spec);
-        use wgpu::CompareFunction as C;
-        use wgpu::StencilOperation as S;
-        let scene = scene_buffers();
-        // The volumes: stencil only, two-sided, no depth writes; front and back faces count
-        // as `front` and `back` say. Reversed Z: a face in front of the surface passes
-        // (Greater), one behind it fails the depth test.
-        let volumes = |label, front, back| {
-            make(PipelineSpec {
-                label,
-                vertex: "vs_volume",
-                buffers: &volume_vertices,
-                fragment: fs_volume,
-                targets: &[],
-                constants: &push_behind,
-                depth: depth_stencil(false, C::Greater, front, back, 0xff, 0xff, behind),
-                samples: 1,
-            })
-        };
-        // One light's shading: the scene where the stencil count compares to 0 as `compare`
-        // says, colour added.
-        let light_pass = |label, fragment: &str, compare| {
-            make(PipelineSpec {
-                label,
-                vertex: "vs_main_infinite",
-                buffers: &scene,
-                fragment: Some(fragment),
-                targets: &additive,
-                constants: &[],
-                depth: depth_stencil(
-                    false,
-                    C::GreaterEqual,
-                    test(compare),
-                    test(compare),
-                    0xff,
-                    0,
-                    no_bias,
-                ),
-                samples: 1,
-            })
-        };
-        // The planar receiver's polygon pulled in front of the face it lies on, as the caps
-        // are pushed behind (above).
-        let in_front = wgpu::DepthBiasState {
-            constant,
-            slope_scale: 0.05,
-            clamp: 0.0,
-        };
-        let pull_in_front = [("DEPTH_PUSH_ULPS", -PUSH_ULPS)];
-        let stencil_only = |compare, pass_op| wgpu::StencilFaceState {
+        let test = wgpu::StencilFaceState {
             compare,
-            fail_op: S::Keep,
-            depth_fail_op: S::Keep,
-            pass_op,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Keep,
+            pass_op: wgpu::StencilOperation::Keep,
         };
-        let fs_planar = pipelines.fragment_depth.then_some("fs_planar_frag_depth");
-        let planar = |label, depth_compare, fragment, face, (bias, constants)| {
-            make(PipelineSpec {
-                label,
-                vertex: "vs_volume",
-                buffers: &volume_vertices,
-                fragment,
-                targets: &[],
-                constants,
-                depth: depth_stencil(false, depth_compare, face, face, 0xff, 0xff, bias),
-                samples: 1,
-            })
+        let depth = (false, wgpu::CompareFunction::GreaterEqual);
+        let no_bias = wgpu::DepthBiasState::default();
+        self.make(PipelineSpec {
+            label,
+            vertex: "vs_main_infinite",
+            buffers: &scene_buffers(),
+            fragment: Some(&self.pipelines.fragment(fragment)),
+            targets: &additive,
+            constants: &[],
+            depth: self.depth_stencil(depth, (test, test), (0xff, 0), no_bias),
+            samples: 1,
+        })
+    }
+
+    /// A planar shadows' stencil pass; `pulled` pulls the receiver's polygon in front of the
+    /// face it lies on, as the caps are pushed behind.
+    fn planar(
+        &self,
+        label: &str,
+        (depth_compare, fragment): (wgpu::CompareFunction, Option<&str>),
+        face: wgpu::StencilFaceState,
+        pulled: bool,
+    ) -> wgpu::RenderPipeline {
+        let (bias, constants) = if pulled {
+            (self.push(1), &[("DEPTH_PUSH_ULPS", -PUSH_ULPS)][..])
+        } else {
+            (wgpu::DepthBiasState::default(), &[][..])
         };
-        Self {
-            float_depth,
-            format,
-            planar_mark: planar(
-                "planar: receiver",
-                C::GreaterEqual,
-                fs_planar,
-                stencil_only(C::Always, S::Replace),
-                (in_front, &pull_in_front[..]),
+        let depth = self.depth_stencil((false, depth_compare), (face, face), (0xff, 0xff), bias);
+        self.make(PipelineSpec {
+            label,
+            vertex: "vs_volume",
+            buffers: &Self::volume_vertices(),
+            fragment,
+            targets: &[],
+            constants,
+            depth,
+            samples: 1,
+        })
+    }
+
+    /// The scene's depth and its ambient term, the mask cleared to lit.
+    fn depth_and_ambient(&self) -> wgpu::RenderPipeline {
+        let ignore = wgpu::StencilFaceState::IGNORE;
+        let depth = (true, wgpu::CompareFunction::Greater);
+        self.make(PipelineSpec {
+            label: "volumes: depth and ambient",
+            vertex: "vs_main_infinite",
+            buffers: &scene_buffers(),
+            fragment: Some(&self.pipelines.fragment("fs_ambient")),
+            targets: &[Some(COLOR_FORMAT.into()), Some(MASK_FORMAT.into())],
+            constants: &[],
+            depth: self.depth_stencil(
+                depth,
+                (ignore, ignore),
+                (0, 0),
+                wgpu::DepthBiasState::default(),
             ),
-            planar_flat: planar(
-                "planar: flattened casters",
-                C::Always,
-                None,
-                stencil_only(C::Equal, S::IncrementClamp),
-                (no_bias, &[][..]),
-            ),
-            planar_unmark: planar(
-                "planar: unshadowed receiver",
-                C::Always,
-                None,
-                stencil_only(C::Equal, S::Zero),
-                (no_bias, &[][..]),
-            ),
-            z_fail: volumes(
-                "volumes: z-fail",
-                face(S::DecrementWrap, S::Keep),
-                face(S::IncrementWrap, S::Keep),
-            ),
-            z_pass: volumes(
-                "volumes: z-pass",
-                face(S::Keep, S::IncrementWrap),
-                face(S::Keep, S::DecrementWrap),
-            ),
-            depth_and_ambient: make(PipelineSpec {
-                label: "volumes: depth and ambient",
-                vertex: "vs_main_infinite",
-                buffers: &scene,
-                fragment: Some(&fs_ambient),
-                targets: &plain,
-                constants: &[],
-                depth: depth_stencil(
-                    true,
-                    C::Greater,
-                    wgpu::StencilFaceState::IGNORE,
-                    wgpu::StencilFaceState::IGNORE,
-                    0,
-                    0,
-                    no_bias,
-                ),
-                samples: 1,
-            }),
-            lit: light_pass("volumes: lit", &fs_lit, C::Equal),
-            shadowed: light_pass("volumes: shadowed", &fs_shadowed, C::NotEqual),
-        }
+            samples: 1,
+        })
     }
 }
 
