@@ -215,6 +215,44 @@ pub(crate) fn light_record(
             LIGHT_POINT,
         ),
     };
+    let (selection, params) = selection_record(setup, view_from_world, world_from_camera)?;
+    let map_count = setup.map_or(0, |s| s.maps.len() as u32);
+    Ok(GpuLight {
+        vector,
+        spot,
+        range,
+        info: [kind, selection, first_map as u32, map_count],
+        params,
+    })
+}
+
+/// The filter's code (`GnomonShadows.info.y`).
+pub(crate) fn filter_code(filter: Filter) -> u32 {
+    match filter {
+        Filter::None => 0,
+        Filter::Hardware2x2 => 1,
+        Filter::Pcf5x5 => 2,
+        Filter::Pcss => 3,
+    }
+}
+
+/// Reversed Z: view to clip space with depth 1 at the near plane and 0 at the far plane
+/// (`1 - d` of [`Camera::clip_from_view`], formed in f64 so that far depths keep the float
+/// format's precision near 0).
+pub(crate) fn reversed_clip_from_view(camera: &Camera) -> DMat4 {
+    // z' = w - z: the row of z becomes row_w - row_z.
+    let mut rows = camera.clip_from_view().transpose();
+    rows.z_axis = rows.w_axis - rows.z_axis;
+    rows.transpose()
+}
+
+/// How the shader picks a light's map (its selection code) and the selection's parameters:
+/// the plane, the cascades' depths and blend, or the cube's axes and face maps.
+fn selection_record(
+    setup: Option<&ShadowSetup>,
+    view_from_world: DMat4,
+    world_from_camera: DMat4,
+) -> Result<(u32, [[f32; 4]; 4]), RenderError> {
     let mut params = [[0.0f32; 4]; 4];
     let selection = match setup.map(|s| (s, s.selection, s.maps.len())) {
         None | Some((_, MapSelection::Single, 1)) => SELECT_SINGLE,
@@ -278,32 +316,5 @@ pub(crate) fn light_record(
             .into());
         }
     };
-    let map_count = setup.map_or(0, |s| s.maps.len() as u32);
-    Ok(GpuLight {
-        vector,
-        spot,
-        range,
-        info: [kind, selection, first_map as u32, map_count],
-        params,
-    })
-}
-
-/// The filter's code (`GnomonShadows.info.y`).
-pub(crate) fn filter_code(filter: Filter) -> u32 {
-    match filter {
-        Filter::None => 0,
-        Filter::Hardware2x2 => 1,
-        Filter::Pcf5x5 => 2,
-        Filter::Pcss => 3,
-    }
-}
-
-/// Reversed Z: view to clip space with depth 1 at the near plane and 0 at the far plane
-/// (`1 - d` of [`Camera::clip_from_view`], formed in f64 so that far depths keep the float
-/// format's precision near 0).
-pub(crate) fn reversed_clip_from_view(camera: &Camera) -> DMat4 {
-    // z' = w - z: the row of z becomes row_w - row_z.
-    let mut rows = camera.clip_from_view().transpose();
-    rows.z_axis = rows.w_axis - rows.z_axis;
-    rows.transpose()
+    Ok((selection, params))
 }

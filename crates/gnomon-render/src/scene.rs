@@ -365,6 +365,61 @@ impl InstanceStream {
     }
 }
 
+/// Every mesh once, in one vertex and one index list, and each mesh's range of indices.
+fn packed_meshes(
+    meshes: &[gnomon_scene::Mesh],
+) -> Result<(Vec<Vertex>, Vec<u32>, Vec<MeshRange>), RenderError> {
+    let mut vertices: Vec<Vertex> = Vec::new();
+    let mut indices: Vec<u32> = Vec::new();
+    let mut ranges = Vec::new();
+    for mesh in meshes {
+        let first = indices.len() as u32;
+        let base_vertex =
+            u32::try_from(vertices.len()).map_err(|_| InvalidInput::TooManyVertices)?;
+        let uv = |k: usize| mesh.uvs.get(k).map_or([0.0; 2], |t| t.as_vec2().to_array());
+        vertices.extend(
+            mesh.positions
+                .iter()
+                .zip(&mesh.normals)
+                .enumerate()
+                .map(|(k, (p, n))| Vertex {
+                    position: p.as_vec3().to_array(),
+                    normal: n.as_vec3().to_array(),
+                    uv: uv(k),
+                }),
+        );
+        indices.extend(mesh.indices.iter().map(|i| i + base_vertex));
+        ranges.push(MeshRange {
+            indices: first..indices.len() as u32,
+        });
+    }
+    Ok((vertices, indices, ranges))
+}
+
+/// The scene's instances with their world boxes, each naming a mesh the scene has.
+fn scene_instances(scene: &RenderScene) -> Result<Vec<SceneInstance>, RenderError> {
+    let mut instances = Vec::new();
+    for instance in &scene.instances {
+        if instance.mesh >= scene.meshes.len() {
+            return Err(InvalidInput::InstanceMesh {
+                instance: instance.name.clone(),
+                mesh: instance.mesh,
+                count: scene.meshes.len(),
+            }
+            .into());
+        }
+        instances.push(SceneInstance {
+            mesh: instance.mesh,
+            world_from_object: instance.world_from_object,
+            bounds: scene.instance_bounds(instance).ok(),
+            casts: instance.casts,
+            receives: instance.receives,
+            color: instance.color,
+        });
+    }
+    Ok(instances)
+}
+
 impl GpuScene {
     pub fn new(
         resources: &Resources,
@@ -373,45 +428,8 @@ impl GpuScene {
         pulled_layout: Option<&wgpu::BindGroupLayout>,
         scene: &RenderScene,
     ) -> Result<Self, RenderError> {
-        let mut vertices: Vec<Vertex> = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
-        let mut meshes = Vec::new();
-        for mesh in &scene.meshes {
-            let first = indices.len() as u32;
-            let base_vertex =
-                u32::try_from(vertices.len()).map_err(|_| InvalidInput::TooManyVertices)?;
-            let uv = |k: usize| mesh.uvs.get(k).map_or([0.0; 2], |t| t.as_vec2().to_array());
-            vertices.extend(mesh.positions.iter().zip(&mesh.normals).enumerate().map(
-                |(k, (p, n))| Vertex {
-                    position: p.as_vec3().to_array(),
-                    normal: n.as_vec3().to_array(),
-                    uv: uv(k),
-                },
-            ));
-            indices.extend(mesh.indices.iter().map(|i| i + base_vertex));
-            meshes.push(MeshRange {
-                indices: first..indices.len() as u32,
-            });
-        }
-        let mut instances = Vec::new();
-        for instance in &scene.instances {
-            if instance.mesh >= scene.meshes.len() {
-                return Err(InvalidInput::InstanceMesh {
-                    instance: instance.name.clone(),
-                    mesh: instance.mesh,
-                    count: scene.meshes.len(),
-                }
-                .into());
-            }
-            instances.push(SceneInstance {
-                mesh: instance.mesh,
-                world_from_object: instance.world_from_object,
-                bounds: scene.instance_bounds(instance).ok(),
-                casts: instance.casts,
-                receives: instance.receives,
-                color: instance.color,
-            });
-        }
+        let (vertices, indices, meshes) = packed_meshes(&scene.meshes)?;
+        let instances = scene_instances(scene)?;
         // Buffers are never empty (a scene without geometry still binds them).
         let pad = |mut bytes: Vec<u8>| {
             bytes.resize(bytes.len().max(16).next_multiple_of(4), 0);

@@ -297,32 +297,11 @@ impl Renderer {
                     });
                 pass.set_bind_group(0, &self.uniforms.frame_group, &[slot]);
                 pass.set_bind_group(1, &self.atlas.bind_group, &[]);
-                if let (Some(buffer), true) = (&targets.vertices, planar) {
-                    // The receiver's visible pixels marked, raised once under the flattened
-                    // casters, the unshadowed marks cleared.
+                if let Some(buffer) = &targets.vertices {
                     pass.set_vertex_buffer(0, buffer.slice(..));
-                    pass.set_stencil_reference(1);
-                    for (pipeline, range) in [
-                        (&self.volumes.pipelines.planar_mark, &z_fail),
-                        (&self.volumes.pipelines.planar_flat, &z_pass),
-                        (&self.volumes.pipelines.planar_unmark, &z_fail),
-                    ] {
-                        if !range.is_empty() {
-                            pass.set_pipeline(pipeline);
-                            pass.draw(range.clone(), 0..1);
-                        }
-                    }
-                } else if let Some(buffer) = &targets.vertices {
-                    pass.set_vertex_buffer(0, buffer.slice(..));
-                    for (pipeline, range) in [
-                        (&self.volumes.pipelines.z_fail, z_fail),
-                        (&self.volumes.pipelines.z_pass, z_pass),
-                    ] {
-                        if !range.is_empty() {
-                            pass.set_pipeline(pipeline);
-                            pass.draw(range, 0..1);
-                        }
-                    }
+                    self.volumes
+                        .pipelines
+                        .draw_stencil(&mut pass, (z_fail, z_pass), planar);
                 }
             }
             clock.end_part(&self.gpu, Part::Shadow)?;

@@ -338,6 +338,35 @@ impl VolumePipelines {
     }
 }
 
+impl VolumePipelines {
+    /// One light's stencil, its vertices bound: its volumes, z-fail then z-pass (`ranges`), or
+    /// with `planar` the receiver's visible pixels marked (the first range), raised once
+    /// under the flattened casters (the second), the unshadowed marks cleared.
+    pub fn draw_stencil(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        (z_fail, z_pass): (Range<u32>, Range<u32>),
+        planar: bool,
+    ) {
+        let draws = if planar {
+            pass.set_stencil_reference(1);
+            vec![
+                (&self.planar_mark, z_fail.clone()),
+                (&self.planar_flat, z_pass),
+                (&self.planar_unmark, z_fail),
+            ]
+        } else {
+            vec![(&self.z_fail, z_fail), (&self.z_pass, z_pass)]
+        };
+        for (pipeline, range) in draws {
+            if !range.is_empty() {
+                pass.set_pipeline(pipeline);
+                pass.draw(range, 0..1);
+            }
+        }
+    }
+}
+
 /// What the volume passes' pipelines share: the device, the scene's shader and layout, the
 /// depth-stencil format and the constant part of the caps' push.
 struct VolumeBuilder<'a> {
