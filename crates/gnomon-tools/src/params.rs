@@ -378,80 +378,88 @@ impl TechniqueParams {
                 t.limit &= limit;
                 Technique::Xpsm(t)
             }
-            Technique::Sppsm(mut t) => {
-                if let Some(with) = self.sppsm_with {
-                    t.perspective = match with {
-                        SppsmWithArg::Psm => PerspectiveMap::Psm(Default::default()),
-                        SppsmWithArg::Lispsm => PerspectiveMap::Lispsm(Default::default()),
-                        SppsmWithArg::Tsm => PerspectiveMap::Tsm(Default::default()),
-                        SppsmWithArg::Xpsm => PerspectiveMap::Xpsm(Default::default()),
-                    };
-                }
-                // The perspective map's own parameters, as for the technique alone.
-                t.perspective = match self.apply(perspective_technique(t.perspective)) {
-                    Technique::Psm(p) => PerspectiveMap::Psm(p),
-                    Technique::Lispsm(p) => PerspectiveMap::Lispsm(p),
-                    Technique::Tsm(p) => PerspectiveMap::Tsm(p),
-                    Technique::Xpsm(p) => PerspectiveMap::Xpsm(p),
-                    _ => t.perspective,
-                };
-                t.iterations = self.sppsm_iterations.unwrap_or(t.iterations);
-                Technique::Sppsm(t)
-            }
-            Technique::Cascades(mut t) => {
-                t.count = self.cascades.unwrap_or(t.count);
-                let lambda = match t.split {
-                    CascadeSplit::Practical { lambda } => lambda,
-                    _ => 0.5,
-                };
-                let lambda = self.cascade_lambda.unwrap_or(lambda);
-                t.split = match self.cascade_split {
-                    None => match t.split {
-                        CascadeSplit::Practical { .. } => CascadeSplit::Practical { lambda },
-                        other => other,
-                    },
-                    Some(CascadeSplitArg::Practical) => CascadeSplit::Practical { lambda },
-                    Some(CascadeSplitArg::Log) => CascadeSplit::Log,
-                    Some(CascadeSplitArg::Uniform) => CascadeSplit::Uniform,
-                    Some(CascadeSplitArg::FirstThenLog(first)) => {
-                        CascadeSplit::FirstThenLog { first }
-                    }
-                    Some(CascadeSplitArg::Distances(count, depths)) => {
-                        CascadeSplit::Distances { count, depths }
-                    }
-                };
-                t.shadow_distance = self.shadow_distance.or(t.shadow_distance);
-                if let Some(fit) = self.cascade_fit {
-                    t.fit = match fit {
-                        CascadeFitArg::Focused => CascadeFit::Focused,
-                        CascadeFitArg::Lispsm => CascadeFit::Lispsm(Default::default()),
-                        CascadeFitArg::Tsm => CascadeFit::Tsm(Default::default()),
-                        CascadeFitArg::Xpsm => CascadeFit::Xpsm(Default::default()),
-                        CascadeFitArg::Psm => CascadeFit::Psm(Default::default()),
-                    };
-                }
-                // The fit's own parameters, as for the technique alone.
-                t.fit = match fit_technique(t.fit).map(|f| self.apply(f)) {
-                    Some(Technique::Lispsm(f)) => CascadeFit::Lispsm(f),
-                    Some(Technique::Tsm(f)) => CascadeFit::Tsm(f),
-                    Some(Technique::Xpsm(f)) => CascadeFit::Xpsm(f),
-                    Some(Technique::Psm(f)) => CascadeFit::Psm(f),
-                    _ => t.fit,
-                };
-                t.blend = self.cascade_blend.unwrap_or(t.blend);
-                t.stable |= self.stable;
-                t.equal_texels |= self.equal_texels;
-                t.adaptive |= self.cascade_adaptive;
-                if let Some(select) = self.cascade_select {
-                    t.select = match select {
-                        CascadeSelectArg::Auto => CascadeSelect::Auto,
-                        CascadeSelectArg::Depth => CascadeSelect::ViewDepth,
-                        CascadeSelectArg::Coverage => CascadeSelect::Coverage,
-                    };
-                }
-                Technique::Cascades(t)
-            }
+            Technique::Sppsm(t) => Technique::Sppsm(self.apply_sppsm(t)),
+            Technique::Cascades(t) => Technique::Cascades(self.apply_cascades(t)),
             other => other,
+        }
+    }
+
+    /// SPPSM with its perspective map and that map's own parameters, as for the technique
+    /// alone.
+    fn apply_sppsm(&self, mut t: gnomon::Sppsm) -> gnomon::Sppsm {
+        if let Some(with) = self.sppsm_with {
+            t.perspective = match with {
+                SppsmWithArg::Psm => PerspectiveMap::Psm(Default::default()),
+                SppsmWithArg::Lispsm => PerspectiveMap::Lispsm(Default::default()),
+                SppsmWithArg::Tsm => PerspectiveMap::Tsm(Default::default()),
+                SppsmWithArg::Xpsm => PerspectiveMap::Xpsm(Default::default()),
+            };
+        }
+        t.perspective = match self.apply(perspective_technique(t.perspective)) {
+            Technique::Psm(p) => PerspectiveMap::Psm(p),
+            Technique::Lispsm(p) => PerspectiveMap::Lispsm(p),
+            Technique::Tsm(p) => PerspectiveMap::Tsm(p),
+            Technique::Xpsm(p) => PerspectiveMap::Xpsm(p),
+            _ => t.perspective,
+        };
+        t.iterations = self.sppsm_iterations.unwrap_or(t.iterations);
+        t
+    }
+
+    /// Cascades with their split, fit (and the fit's own parameters), blend and selection.
+    fn apply_cascades(&self, mut t: gnomon::Cascades) -> gnomon::Cascades {
+        t.count = self.cascades.unwrap_or(t.count);
+        t.split = self.split(t.split);
+        t.shadow_distance = self.shadow_distance.or(t.shadow_distance);
+        if let Some(fit) = self.cascade_fit {
+            t.fit = match fit {
+                CascadeFitArg::Focused => CascadeFit::Focused,
+                CascadeFitArg::Lispsm => CascadeFit::Lispsm(Default::default()),
+                CascadeFitArg::Tsm => CascadeFit::Tsm(Default::default()),
+                CascadeFitArg::Xpsm => CascadeFit::Xpsm(Default::default()),
+                CascadeFitArg::Psm => CascadeFit::Psm(Default::default()),
+            };
+        }
+        t.fit = match fit_technique(t.fit).map(|f| self.apply(f)) {
+            Some(Technique::Lispsm(f)) => CascadeFit::Lispsm(f),
+            Some(Technique::Tsm(f)) => CascadeFit::Tsm(f),
+            Some(Technique::Xpsm(f)) => CascadeFit::Xpsm(f),
+            Some(Technique::Psm(f)) => CascadeFit::Psm(f),
+            _ => t.fit,
+        };
+        t.blend = self.cascade_blend.unwrap_or(t.blend);
+        t.stable |= self.stable;
+        t.equal_texels |= self.equal_texels;
+        t.adaptive |= self.cascade_adaptive;
+        if let Some(select) = self.cascade_select {
+            t.select = match select {
+                CascadeSelectArg::Auto => CascadeSelect::Auto,
+                CascadeSelectArg::Depth => CascadeSelect::ViewDepth,
+                CascadeSelectArg::Coverage => CascadeSelect::Coverage,
+            };
+        }
+        t
+    }
+
+    /// The split rule: the one given, else the technique's with the lambda given.
+    fn split(&self, split: CascadeSplit) -> CascadeSplit {
+        let lambda = match split {
+            CascadeSplit::Practical { lambda } => lambda,
+            _ => 0.5,
+        };
+        let lambda = self.cascade_lambda.unwrap_or(lambda);
+        match self.cascade_split {
+            None => match split {
+                CascadeSplit::Practical { .. } => CascadeSplit::Practical { lambda },
+                other => other,
+            },
+            Some(CascadeSplitArg::Practical) => CascadeSplit::Practical { lambda },
+            Some(CascadeSplitArg::Log) => CascadeSplit::Log,
+            Some(CascadeSplitArg::Uniform) => CascadeSplit::Uniform,
+            Some(CascadeSplitArg::FirstThenLog(first)) => CascadeSplit::FirstThenLog { first },
+            Some(CascadeSplitArg::Distances(count, depths)) => {
+                CascadeSplit::Distances { count, depths }
+            }
         }
     }
 }
