@@ -272,55 +272,8 @@ impl Shape {
     pub fn mesh(&self) -> Mesh {
         let mut m = Mesh::default();
         match *self {
-            Shape::Cuboid { half_extents: h } => {
-                // Four vertices per face so that each face has its own normal.
-                for axis in 0..3 {
-                    for sign in [-1.0, 1.0] {
-                        let mut n = DVec3::ZERO;
-                        n[axis] = sign;
-                        let u = DVec3::from_array(std::array::from_fn(|k| {
-                            if k == (axis + 1) % 3 { 1.0 } else { 0.0 }
-                        }));
-                        let v = n.cross(u);
-                        let c = n * h;
-                        let (hu, hv) = (u * h, v * h);
-                        let a = m.vertex(c - hu - hv, n);
-                        let b = m.vertex(c + hu - hv, n);
-                        let cc = m.vertex(c + hu + hv, n);
-                        let d = m.vertex(c - hu + hv, n);
-                        m.quad(a, b, cc, d);
-                    }
-                }
-            }
-            Shape::Sphere { radius } => {
-                // Latitude rings between the poles; the poles are single vertices.
-                let rings = SEGMENTS / 2;
-                let top = m.vertex(DVec3::Y * radius, DVec3::Y);
-                let bottom = m.vertex(-DVec3::Y * radius, -DVec3::Y);
-                let first = m.positions.len() as u32;
-                for i in 1..rings {
-                    let theta = PI * i as f64 / rings as f64;
-                    for j in 0..SEGMENTS {
-                        let phi = TAU * j as f64 / SEGMENTS as f64;
-                        let n = DVec3::new(
-                            theta.sin() * phi.cos(),
-                            theta.cos(),
-                            -theta.sin() * phi.sin(),
-                        );
-                        m.vertex(n * radius, n);
-                    }
-                }
-                let at = |i: u32, j: u32| first + (i - 1) * SEGMENTS + j % SEGMENTS;
-                for j in 0..SEGMENTS {
-                    m.triangle(top, at(1, j), at(1, j + 1));
-                    m.triangle(bottom, at(rings - 1, j + 1), at(rings - 1, j));
-                }
-                for i in 1..rings - 1 {
-                    for j in 0..SEGMENTS {
-                        m.quad(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-                    }
-                }
-            }
+            Shape::Cuboid { half_extents } => cuboid(&mut m, half_extents),
+            Shape::Sphere { radius } => sphere(&mut m, radius),
             Shape::Torus {
                 major_radius,
                 minor_radius,
@@ -338,54 +291,116 @@ impl Shape {
                 major_radius,
                 minor_radius,
                 tube_radius,
-            } => {
-                let curve = |t: f64| {
-                    let r = major_radius + minor_radius * (q as f64 * t).cos();
-                    DVec3::new(
-                        r * (p as f64 * t).cos(),
-                        minor_radius * (q as f64 * t).sin(),
-                        -r * (p as f64 * t).sin(),
-                    )
-                };
-                let steps = SEGMENTS * 8;
-                m.parametric(steps, SEGMENTS / 2, true, |u, v| {
-                    let t = TAU * u;
-                    let dt = 1e-4;
-                    let c = curve(t);
-                    let tangent = (curve(t + dt) - curve(t - dt)).normalize();
-                    // A frame around the tangent from the direction away from the axis.
-                    let outward = DVec3::new(c.x, 0.0, c.z).normalize();
-                    let normal = (outward - tangent * tangent.dot(outward)).normalize();
-                    let binormal = tangent.cross(normal);
-                    let theta = TAU * v;
-                    let n = normal * theta.cos() + binormal * theta.sin();
-                    (c + n * tube_radius, n)
-                });
-            }
-            Shape::Pole { radius, height } => {
-                let bottom_center = m.vertex(DVec3::ZERO, -DVec3::Y);
-                let top_center = m.vertex(DVec3::Y * height, DVec3::Y);
-                let n_sides = SEGMENTS / 2;
-                let mut ring = Vec::new();
-                for j in 0..n_sides {
-                    let phi = TAU * j as f64 / n_sides as f64;
-                    let dir = DVec3::new(phi.cos(), 0.0, -phi.sin());
-                    ring.push([
-                        m.vertex(dir * radius, dir),
-                        m.vertex(dir * radius + DVec3::Y * height, dir),
-                        m.vertex(dir * radius, -DVec3::Y),
-                        m.vertex(dir * radius + DVec3::Y * height, DVec3::Y),
-                    ]);
-                }
-                for j in 0..n_sides as usize {
-                    let (a, b) = (ring[j], ring[(j + 1) % n_sides as usize]);
-                    m.quad(a[0], b[0], b[1], a[1]);
-                    m.triangle(top_center, a[3], b[3]);
-                    m.triangle(bottom_center, b[2], a[2]);
-                }
-            }
+            } => torus_knot(&mut m, (p, q), (major_radius, minor_radius), tube_radius),
+            Shape::Pole { radius, height } => pole(&mut m, radius, height),
         }
         m
+    }
+}
+
+/// A box of half extents `h`: four vertices per face so that each face has its own normal.
+fn cuboid(m: &mut Mesh, h: DVec3) {
+    for axis in 0..3 {
+        for sign in [-1.0, 1.0] {
+            let mut n = DVec3::ZERO;
+            n[axis] = sign;
+            let u = DVec3::from_array(std::array::from_fn(|k| {
+                if k == (axis + 1) % 3 { 1.0 } else { 0.0 }
+            }));
+            let v = n.cross(u);
+            let c = n * h;
+            let (hu, hv) = (u * h, v * h);
+            let a = m.vertex(c - hu - hv, n);
+            let b = m.vertex(c + hu - hv, n);
+            let cc = m.vertex(c + hu + hv, n);
+            let d = m.vertex(c - hu + hv, n);
+            m.quad(a, b, cc, d);
+        }
+    }
+}
+
+/// Latitude rings between the poles; the poles are single vertices.
+fn sphere(m: &mut Mesh, radius: f64) {
+    let rings = SEGMENTS / 2;
+    let top = m.vertex(DVec3::Y * radius, DVec3::Y);
+    let bottom = m.vertex(-DVec3::Y * radius, -DVec3::Y);
+    let first = m.positions.len() as u32;
+    for i in 1..rings {
+        let theta = PI * i as f64 / rings as f64;
+        for j in 0..SEGMENTS {
+            let phi = TAU * j as f64 / SEGMENTS as f64;
+            let n = DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                -theta.sin() * phi.sin(),
+            );
+            m.vertex(n * radius, n);
+        }
+    }
+    let at = |i: u32, j: u32| first + (i - 1) * SEGMENTS + j % SEGMENTS;
+    for j in 0..SEGMENTS {
+        m.triangle(top, at(1, j), at(1, j + 1));
+        m.triangle(bottom, at(rings - 1, j + 1), at(rings - 1, j));
+    }
+    for i in 1..rings - 1 {
+        for j in 0..SEGMENTS {
+            m.quad(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+        }
+    }
+}
+
+/// A (p, q) torus knot's tube.
+fn torus_knot(
+    m: &mut Mesh,
+    (p, q): (u32, u32),
+    (major_radius, minor_radius): (f64, f64),
+    tube_radius: f64,
+) {
+    let curve = |t: f64| {
+        let r = major_radius + minor_radius * (q as f64 * t).cos();
+        DVec3::new(
+            r * (p as f64 * t).cos(),
+            minor_radius * (q as f64 * t).sin(),
+            -r * (p as f64 * t).sin(),
+        )
+    };
+    let steps = SEGMENTS * 8;
+    m.parametric(steps, SEGMENTS / 2, true, |u, v| {
+        let t = TAU * u;
+        let dt = 1e-4;
+        let c = curve(t);
+        let tangent = (curve(t + dt) - curve(t - dt)).normalize();
+        // A frame around the tangent from the direction away from the axis.
+        let outward = DVec3::new(c.x, 0.0, c.z).normalize();
+        let normal = (outward - tangent * tangent.dot(outward)).normalize();
+        let binormal = tangent.cross(normal);
+        let theta = TAU * v;
+        let n = normal * theta.cos() + binormal * theta.sin();
+        (c + n * tube_radius, n)
+    });
+}
+
+/// A capped cylinder standing on the origin.
+fn pole(m: &mut Mesh, radius: f64, height: f64) {
+    let bottom_center = m.vertex(DVec3::ZERO, -DVec3::Y);
+    let top_center = m.vertex(DVec3::Y * height, DVec3::Y);
+    let n_sides = SEGMENTS / 2;
+    let mut ring = Vec::new();
+    for j in 0..n_sides {
+        let phi = TAU * j as f64 / n_sides as f64;
+        let dir = DVec3::new(phi.cos(), 0.0, -phi.sin());
+        ring.push([
+            m.vertex(dir * radius, dir),
+            m.vertex(dir * radius + DVec3::Y * height, dir),
+            m.vertex(dir * radius, -DVec3::Y),
+            m.vertex(dir * radius + DVec3::Y * height, DVec3::Y),
+        ]);
+    }
+    for j in 0..n_sides as usize {
+        let (a, b) = (ring[j], ring[(j + 1) % n_sides as usize]);
+        m.quad(a[0], b[0], b[1], a[1]);
+        m.triangle(top_center, a[3], b[3]);
+        m.triangle(bottom_center, b[2], a[2]);
     }
 }
 
