@@ -200,16 +200,7 @@ impl Collector<'_> {
             return;
         }
         let material = primitive.material();
-        // An alpha-masked material cut entirely by its constant alpha is never drawn (its
-        // texture's alpha, if any, is not read: drawn opaque otherwise).
-        if material.alpha_mode() == gltf::material::AlphaMode::Mask
-            && material
-                .pbr_metallic_roughness()
-                .base_color_texture()
-                .is_none()
-            && material.pbr_metallic_roughness().base_color_factor()[3]
-                < material.alpha_cutoff().unwrap_or(0.5)
-        {
+        if fully_cut(&material) {
             self.notes.push(format!(
                 "skipped a primitive of {}: its material's alpha is below its cutoff",
                 name()
@@ -225,54 +216,11 @@ impl Collector<'_> {
             return;
         };
         let cutout = self.cutout(&material);
-        let uvs: Vec<DVec2> = match &cutout {
-            Some(_) => {
-                let set = material
-                    .pbr_metallic_roughness()
-                    .base_color_texture()
-                    .map_or(0, |t| t.tex_coord());
-                match reader.read_tex_coords(set) {
-                    Some(uvs) => uvs
-                        .into_f32()
-                        .map(|[u, v]| DVec2::new(u.into(), v.into()))
-                        .collect(),
-                    None => {
-                        self.notes.push(format!(
-                            "a primitive of {} has no texture coordinates {set}: drawn without its material's holes",
-                            name()
-                        ));
-                        Vec::new()
-                    }
-                }
-            }
+        let uvs = match &cutout {
+            Some(_) => self.cutout_uvs(&reader, &material, &name()),
             None => Vec::new(),
         };
-        let key = (mesh.index(), material.index());
-        let k = match self.parts.iter().position(|(m, _)| *m == key) {
-            Some(k) => k,
-            None => {
-                let [r, g, b, _] = material.pbr_metallic_roughness().base_color_factor();
-                let material = key.1;
-                let mesh_name = name();
-                self.parts.push((
-                    key,
-                    RawPart {
-                        name: match material {
-                            Some(i) => format!("{mesh_name} material {i}"),
-                            None => mesh_name,
-                        },
-                        positions: Vec::new(),
-                        polygons: Vec::new(),
-                        // The default material (no material given) is white.
-                        color: material.map(|_| [r, g, b].map(|v| v.clamp(0.0, 1.0))),
-                        placements: Vec::new(),
-                        uvs: Vec::new(),
-                        cutout: cutout.clone(),
-                    },
-                ));
-                self.parts.len() - 1
-            }
-        };
+        let k = self.part_of(mesh, &material, &cutout);
         let part = &mut self.parts[k].1;
         let start = part.positions.len() as i64;
         part.positions
@@ -312,7 +260,77 @@ impl Collector<'_> {
     }
 }
 
+/// Whether an alpha-masked material is cut entirely by its constant alpha: never drawn (its
+/// texture's alpha, if any, is not read: drawn opaque otherwise).
+fn fully_cut(material: &gltf::Material) -> bool {
+    let pbr = material.pbr_metallic_roughness();
+    material.alpha_mode() == gltf::material::AlphaMode::Mask
+        && pbr.base_color_texture().is_none()
+        && pbr.base_color_factor()[3] < material.alpha_cutoff().unwrap_or(0.5)
+}
+
 impl Collector<'_> {
+    /// The texture coordinates a material's cutout reads (none, named in the notes, where the
+    /// primitive has none: it is drawn without its holes).
+    fn cutout_uvs<'a, 's, F>(
+        &mut self,
+        reader: &gltf::mesh::Reader<'a, 's, F>,
+        material: &gltf::Material,
+        name: &str,
+    ) -> Vec<DVec2>
+    where
+        F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+    {
+        let set = material
+            .pbr_metallic_roughness()
+            .base_color_texture()
+            .map_or(0, |t| t.tex_coord());
+        match reader.read_tex_coords(set) {
+            Some(uvs) => uvs
+                .into_f32()
+                .map(|[u, v]| DVec2::new(u.into(), v.into()))
+                .collect(),
+            None => {
+                self.notes.push(format!(
+                    "a primitive of {name} has no texture coordinates {set}: drawn without its material's holes"
+                ));
+                Vec::new()
+            }
+        }
+    }
+
+    /// The part of a mesh's primitives of one material: made on its first primitive.
+    fn part_of(
+        &mut self,
+        mesh: &gltf::Mesh,
+        material: &gltf::Material,
+        cutout: &Option<Arc<Cutout>>,
+    ) -> usize {
+        let key = (mesh.index(), material.index());
+        if let Some(k) = self.parts.iter().position(|(m, _)| *m == key) {
+            return k;
+        }
+        let [r, g, b, _] = material.pbr_metallic_roughness().base_color_factor();
+        let mesh_name = format!("mesh {}", mesh.index());
+        self.parts.push((
+            key,
+            RawPart {
+                name: match key.1 {
+                    Some(i) => format!("{mesh_name} material {i}"),
+                    None => mesh_name,
+                },
+                positions: Vec::new(),
+                polygons: Vec::new(),
+                // The default material (no material given) is white.
+                color: key.1.map(|_| [r, g, b].map(|v| v.clamp(0.0, 1.0))),
+                placements: Vec::new(),
+                uvs: Vec::new(),
+                cutout: cutout.clone(),
+            },
+        ));
+        self.parts.len() - 1
+    }
+
     /// The cutout of an alpha-masked material with a base colour texture (read once per
     /// material); `None` for other materials, a texture without holes, or one that cannot be
     /// read (named in the notes: the part is drawn whole).
