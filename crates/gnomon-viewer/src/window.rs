@@ -433,27 +433,14 @@ impl<M: Model> Running<M> {
         self.model.command(&self.rigs, self.view_size())
     }
 
-    /// One frame: scripted input, the panel, the model's passes into the offscreen view, the
-    /// blit and the panel onto the window.
-    fn redraw(&mut self, options: &ViewerOptions) -> Result<(), ViewerError> {
-        let scripted = options.frames.is_some() || options.script.last_frame() > 0;
-        let now = Instant::now();
-        let elapsed = now.duration_since(self.last_frame_at).as_secs_f64();
-        self.last_frame_at = now;
-        let dt = if scripted {
-            SCRIPTED_STEP_SECONDS
-        } else {
-            elapsed.min(0.25)
-        };
-        let inputs: Vec<Input> = options.script.at(self.frame).collect();
-        for input in inputs {
-            self.apply(input);
-        }
-        self.move_by_held_keys(dt);
-
-        // The panel (it may move the rigs and change the model's options).
+    /// The panel and the help window, and the actions their buttons ask for; the full output
+    /// and where the 3D view starts (logical points).
+    fn run_panel(
+        &mut self,
+        ctx: &egui::Context,
+        options: &ViewerOptions,
+    ) -> (egui::FullOutput, f32) {
         let raw = self.egui_state.take_egui_input(&self.window);
-        let ctx = self.egui_state.egui_ctx().clone();
         let mut view_left = 0.0f32;
         let mut copy = false;
         let mut screenshot = false;
@@ -461,7 +448,7 @@ impl<M: Model> Running<M> {
             "{:.1} frames/s, {:.1} ms a frame, setup {:.1} us",
             self.fps.value, self.fps.frame_ms, self.report.setup_us
         );
-        let mut full = ctx.run_ui(raw, |ui| {
+        let full = ctx.run_ui(raw, |ui| {
             if !options.no_ui {
                 let panel = egui::Panel::left("gnomon panel")
                     .default_size(PANEL_WIDTH)
@@ -504,6 +491,30 @@ impl<M: Model> Running<M> {
         }
         self.egui_state
             .handle_platform_output(&self.window, full.platform_output.clone());
+        (full, view_left)
+    }
+
+    /// One frame: scripted input, the panel, the model's passes into the offscreen view, the
+    /// blit and the panel onto the window.
+    fn redraw(&mut self, options: &ViewerOptions) -> Result<(), ViewerError> {
+        let scripted = options.frames.is_some() || options.script.last_frame() > 0;
+        let now = Instant::now();
+        let elapsed = now.duration_since(self.last_frame_at).as_secs_f64();
+        self.last_frame_at = now;
+        let dt = if scripted {
+            SCRIPTED_STEP_SECONDS
+        } else {
+            elapsed.min(0.25)
+        };
+        let inputs: Vec<Input> = options.script.at(self.frame).collect();
+        for input in inputs {
+            self.apply(input);
+        }
+        self.move_by_held_keys(dt);
+
+        // The panel (it may move the rigs and change the model's options).
+        let ctx = self.egui_state.egui_ctx().clone();
+        let (mut full, view_left) = self.run_panel(&ctx, options);
 
         // The 3D view: the window right of the panel.
         let ppp = full.pixels_per_point;
