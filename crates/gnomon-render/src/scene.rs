@@ -366,9 +366,10 @@ impl InstanceStream {
 }
 
 /// Every mesh once, in one vertex and one index list, and each mesh's range of indices.
-fn packed_meshes(
-    meshes: &[gnomon_scene::Mesh],
-) -> Result<(Vec<Vertex>, Vec<u32>, Vec<MeshRange>), RenderError> {
+type PackedMeshes = (Vec<Vertex>, Vec<u32>, Vec<MeshRange>);
+
+/// The scene's meshes packed for the GPU.
+fn packed_meshes(meshes: &[gnomon_scene::Mesh]) -> Result<PackedMeshes, RenderError> {
     let mut vertices: Vec<Vertex> = Vec::new();
     let mut indices: Vec<u32> = Vec::new();
     let mut ranges = Vec::new();
