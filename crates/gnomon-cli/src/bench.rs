@@ -7,14 +7,13 @@ use std::time::Instant;
 
 use clap::Args;
 use gnomon::{Camera, Light, Technique};
-use gnomon_render::{RenderSettings, ShadowedLight, Timings};
+use gnomon_render::{RenderSettings, Timings};
 use serde_json::{Value, json};
 
 use crate::CliError;
 use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs};
 use crate::names::Drawn;
 use crate::render::{open_renderer, parse_size};
-use crate::rows::light_setups;
 
 /// `gnomon bench`.
 #[derive(Debug, Clone, Args)]
@@ -177,12 +176,10 @@ impl Timer {
                 return Ok((f64::NAN, Timings::default()));
             }
             Entry::Map(row) => {
-                let row_bounds = self.row_scene.prepare(renderer, row.projective())?;
-                let (setups, setup_us) = light_setups(row, camera, lights, row_bounds, samples)?;
-                let shadowed = ShadowedLight::pairs(lights, &setups);
-                let f = renderer.render_lights(camera, &shadowed, &row.settings(settings))?;
-                let t = f.timings;
-                return Ok((setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t));
+                let lit = (camera, lights, samples);
+                let drawn = self.row_scene.draw(renderer, row, lit, settings)?;
+                let t = drawn.frame.timings;
+                return Ok((drawn.setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms, t));
             }
             Entry::Volumes(mode) => {
                 self.row_scene.restore(renderer)?;

@@ -8,9 +8,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use gnomon_render::{
-    Filter, Frame, MaskErrors, PixelVerdict, RenderSettings, ShadowedLight, StencilMode,
-};
+use gnomon_render::{Filter, Frame, MaskErrors, PixelVerdict, RenderSettings, StencilMode};
 use serde_json::{Value, json};
 
 use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs};
@@ -431,17 +429,17 @@ impl<'a> SceneRun<'a> {
         (self.techniques.len() + usize::from(self.receiver.is_some())) as u32 + 1
     }
 
-    /// A row's settings: PCSS filters maps read by depth; rows that read IDs or coverage keep
-    /// the default filter (and their commands say nothing of it).
-    fn row_settings(&self, row: &crate::rows::Row) -> RenderSettings {
+    /// The settings a row's own go over: PCSS filters maps read by depth; rows that read IDs
+    /// or coverage keep the default filter (and their commands say nothing of it).
+    fn row_base(&self, row: &crate::rows::Row) -> RenderSettings {
         if row.read == gnomon_render::MapRead::Depth {
-            row.settings(&self.settings)
+            self.settings
         } else {
-            row.settings(&RenderSettings {
+            RenderSettings {
                 filter: Filter::default(),
                 area_light_radius: 0.0,
                 ..self.settings
-            })
+            }
         }
     }
 
@@ -674,17 +672,12 @@ impl<'a> SceneRun<'a> {
         soft: Option<&gnomon_render::SoftFrame>,
     ) -> Result<MapRow, CliError> {
         let (width, height) = self.args.size;
-        let row_bounds = self
-            .row_scene
-            .prepare(&mut self.renderer, entry.projective())?;
-        let (setups, setup_us) = light_setups(entry, camera, lights, row_bounds, samples)?;
-        let setup = &setups[0];
-        let shadowed = ShadowedLight::pairs(lights, &setups);
-        let frame = self
-            .renderer
-            .render_lights(camera, &shadowed, &self.row_settings(entry))?;
+        let base = self.row_base(entry);
+        let lit = (camera, lights, samples);
+        let drawn = self.row_scene.draw(&mut self.renderer, entry, lit, &base)?;
+        let (setup, setup_us, frame) = (&drawn.setups[0], drawn.setup_us, &drawn.frame);
         let metrics = frame.metrics.as_ref().expect("metrics asked for");
-        let (errors, error_image) = mask_errors(&frame, &metrics.n_dot_l, &exact.frame);
+        let (errors, error_image) = mask_errors(frame, &metrics.n_dot_l, &exact.frame);
         let t = frame.timings;
         let frame_ms = setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms;
         let undersampling = heatmap::percentiles(metrics, &metrics.undersampling);
@@ -755,13 +748,10 @@ impl<'a> SceneRun<'a> {
             Some(n) => n,
             None => {
                 let focused = crate::rows::row("focused", &self.args.params, self.args.shadow_map)?;
-                let bounds = self.row_scene.bounds();
-                let (setups, _) = light_setups(&focused, camera, lights, bounds, samples)?;
-                let shadowed = ShadowedLight::pairs(lights, &setups);
-                let frame = self
-                    .renderer
-                    .render_lights(camera, &shadowed, &self.settings)?;
-                frame.metrics.expect("metrics asked for").n_dot_l
+                let lit = (camera, lights, samples);
+                let drawn =
+                    (self.row_scene).draw(&mut self.renderer, &focused, lit, &self.settings)?;
+                drawn.frame.metrics.expect("metrics asked for").n_dot_l
             }
         };
         let frame = self

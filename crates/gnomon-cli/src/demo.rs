@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use gnomon_render::{Frame, RenderSettings, Renderer, ShadowedLight, StencilMode};
+use gnomon_render::{Frame, RenderSettings, Renderer, StencilMode};
 use gnomon_scene::NamedView;
 use serde_json::{Value, json};
 
@@ -15,7 +15,6 @@ use crate::args::{SceneArgs, TechniqueParams, ViewListArgs};
 use crate::args::{render_command, render_command_of};
 use crate::gallery::{Cell, Kind, ViewCells};
 use crate::render::{SoftArgs, open_renderer};
-use crate::rows::light_setups;
 use crate::rows::{Row, RowScene};
 
 /// `gnomon demo`.
@@ -226,14 +225,9 @@ impl<'a> Demo<'a> {
                 .push(json!({ "view": view.name, "technique": row.label, "skipped": why }));
             return Ok(Cell::skipped(&view.name, &row.label, why));
         }
-        let bounds = self
-            .row_scene
-            .prepare(&mut self.renderer, row.projective())?;
-        let (setups, setup_us) = light_setups(row, camera, lights, bounds, samples)?;
-        let shadowed = ShadowedLight::pairs(lights, &setups);
-        let frame =
-            self.renderer
-                .render_lights(camera, &shadowed, &row.settings(&self.settings))?;
+        let lit = (camera, lights, samples);
+        let drawn = (self.row_scene).draw(&mut self.renderer, row, lit, &self.settings)?;
+        let (setups, setup_us, frame) = (drawn.setups, drawn.setup_us, drawn.frame);
         let t = frame.timings;
         let command = render_command_of(
             &self.options,
@@ -446,16 +440,15 @@ impl<'a> Demo<'a> {
             return Ok(Cell::skipped(&view.name, &label, why));
         }
         let pcss = Self::soft_args(lights, crate::render::PcfArg::Pcss);
-        let bounds = self.row_scene.prepare(&mut self.renderer, false)?;
-        let (setups, setup_us) = light_setups(&self.pcss_row, camera, lights, bounds, samples)?;
-        let shadowed = ShadowedLight::pairs(lights, &setups);
         let settings = RenderSettings {
             filter: gnomon_render::Filter::Pcss,
             area_light_radius: pcss.pcss_radius(),
             light_view: false,
             ..self.settings
         };
-        let frame = self.renderer.render_lights(camera, &shadowed, &settings)?;
+        let lit = (camera, lights, samples);
+        let drawn = (self.row_scene).draw(&mut self.renderer, &self.pcss_row, lit, &settings)?;
+        let (setup_us, frame) = (drawn.setup_us, drawn.frame);
         let error = gnomon_render::penumbra_error(
             reference,
             frame.shadow.as_deref().expect("a map frame has its factor"),

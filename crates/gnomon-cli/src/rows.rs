@@ -266,6 +266,37 @@ impl RowScene {
     pub fn restore(&self, renderer: &mut gnomon_render::Renderer) -> Result<(), CliError> {
         self.prepare(renderer, false).map(|_| ())
     }
+
+    /// Draws `row` in one view, as every command that compares rows does: the scene as the
+    /// row draws it, each light's setup with that light's view samples, then the frame with
+    /// the row's settings over `base`.
+    pub fn draw(
+        &self,
+        renderer: &mut gnomon_render::Renderer,
+        row: &Row,
+        (camera, lights, samples): (&gnomon::Camera, &[gnomon::Light], &[gnomon::ViewSamples]),
+        base: &gnomon_render::RenderSettings,
+    ) -> Result<RowFrame, CliError> {
+        let bounds = self.prepare(renderer, row.projective())?;
+        let (setups, setup_us) = light_setups(row, camera, lights, bounds, samples)?;
+        let shadowed = gnomon_render::ShadowedLight::pairs(lights, &setups);
+        let frame = renderer.render_lights(camera, &shadowed, &row.settings(base))?;
+        Ok(RowFrame {
+            setups,
+            setup_us,
+            frame,
+        })
+    }
+}
+
+/// One row drawn in one view.
+pub struct RowFrame {
+    /// Each light's setup.
+    pub setups: Vec<gnomon::ShadowSetup>,
+    /// Their setup time together, in microseconds.
+    pub setup_us: f64,
+    /// The frame.
+    pub frame: gnomon_render::Frame,
 }
 
 /// A row's setup for each light (with that light's view samples) and their total time in
