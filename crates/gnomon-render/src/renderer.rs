@@ -10,10 +10,10 @@ use gnomon::{Camera, MapSelection};
 use crate::atlas::{AtlasBindings, ShadowAtlas};
 use crate::gpu::ErrorScopes;
 use crate::passes::casters::CasterSet;
-use crate::passes::cleared_camera_depth;
+use crate::passes::main::{MainTargets, begin_main_pass};
 use crate::passes::maps::{PreparedMap, begin_depth_pass};
 use crate::passes::volumes::{VolumeCasters, VolumePass, VolumePipelines};
-use crate::pipelines::{CAMERA_DEPTH_FORMAT, Pipelines};
+use crate::pipelines::Pipelines;
 use crate::readback::Readback;
 use crate::records::{
     GpuFrame, MAX_LIGHTS, MAX_MAPS, MapSlot, ShadowedLight, filter_code, light_record, map_record,
@@ -36,8 +36,8 @@ pub struct Renderer {
     pub(crate) pipelines: Pipelines,
     pub(crate) uniforms: FrameUniforms,
     pub(crate) atlas: ShadowAtlas,
-    /// The camera's depth for `encode_scene` (its size and samples are the target's).
-    camera_depth: Option<(wgpu::Texture, wgpu::TextureView)>,
+    /// The main pass's kept depth buffer.
+    main: MainTargets,
     pub(crate) maps: Vec<PreparedMap>,
     pub(crate) prepared_camera: Option<Camera>,
     /// What the prepared frame's main pass is specialised for (its lights, a per-pixel choice of map).
@@ -96,7 +96,7 @@ impl Renderer {
             pipelines,
             uniforms,
             atlas,
-            camera_depth: None,
+            main: MainTargets::default(),
             maps: Vec::new(),
             prepared_camera: None,
             main_spec: Default::default(),
@@ -472,37 +472,11 @@ impl Renderer {
     ) -> Result<(), RenderError> {
         let (w, h, samples) = (target.width, target.height, target.sample_count);
         self.gpu.check_size("target", w, h)?;
-        if self
-            .camera_depth
-            .as_ref()
-            .is_none_or(|(t, _)| (t.width(), t.height(), t.sample_count()) != (w, h, samples))
-        {
-            self.camera_depth = Some(self.resources.target(
-                "camera depth",
-                (w, h),
-                samples,
-                CAMERA_DEPTH_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            ));
-        }
-        let depth = &self.camera_depth.as_ref().expect("made above").1;
+        let depth = self.main.depth(&self.resources, (w, h, samples));
         let pipeline =
             self.pipelines
                 .color(&self.gpu.device, target.format, samples, self.main_spec);
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("main"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target.view,
-                depth_slice: None,
-                resolve_target: target.resolve_target,
-                ops: wgpu::Operations {
-                    load: target.clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(cleared_camera_depth(depth)),
-            ..Default::default()
-        });
+        let mut pass = begin_main_pass(encoder, target, depth);
         pass.set_pipeline(pipeline);
         self.bind_frame(&mut pass);
         self.scene.bind(&mut pass);
@@ -510,7 +484,6 @@ impl Renderer {
         Ok(())
     }
 
-    /// Binds group 0 (slot 0) and the lookup group.
     /// A frame's clock, on the GPU's timestamps where the renderer has them.
     pub(crate) fn start_clock(&mut self) -> FrameClock {
         let gpu_timed = self.timing_source() == TimingSource::GpuTimestamps;
@@ -522,6 +495,7 @@ impl Renderer {
         clock.finish(&self.gpu, &self.timer)
     }
 
+    /// Binds group 0 (slot 0) and the lookup group.
     pub(crate) fn bind_frame(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.uniforms.frame_group, &[0]);
         pass.set_bind_group(1, &self.atlas.bind_group, &[]);

@@ -2,6 +2,7 @@
 //! planes.
 
 pub(crate) mod casters;
+pub(crate) mod main;
 pub(crate) mod maps;
 pub(crate) mod probes;
 pub(crate) mod samples;
