@@ -135,4 +135,8 @@ echo "test.sh: cargo package --workspace"
 if [ -n "${GNOMON_FREE_DISK:-}" ]; then
     rm -rf target/debug target/wheels
 fi
+# cargo unpacks the workspace's own packages into the registry's source cache to verify them,
+# and reuses what an earlier run unpacked there under the same name and version: a machine that
+# packed older sources would verify against those.
+rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/gnomon-{core,scene,render,tools,cli}-0.1.0
 cargo package --workspace --exclude gnomon-py --exclude gnomon-c --exclude bevy_gnomon --locked --allow-dirty -q
