@@ -681,6 +681,7 @@ impl<'a> SceneRun<'a> {
         let t = frame.timings;
         let frame_ms = setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms;
         let undersampling = heatmap::percentiles(metrics, &metrics.undersampling);
+        let p99 = undersampling["p99"].as_f64().unwrap_or(f64::NAN);
         // PCSS filters maps read by depth; the other reads take one tap.
         let penumbra = soft
             .filter(|_| entry.read == gnomon_render::MapRead::Depth)
@@ -718,15 +719,15 @@ impl<'a> SceneRun<'a> {
             "setup_us": setup_us,
             "frame_ms": frame_ms,
         });
+        let error_map = heatmap::draw(metrics, width, height);
+        // The frame's colour and N.L become the row's cells and the view's N.L, not copies.
+        let mut frame = drawn.frame;
+        let n_dot_l = frame.metrics.take().map(|m| m.n_dot_l).unwrap_or_default();
         Ok(MapRow {
-            cells: [
-                frame.color.clone(),
-                error_image,
-                heatmap::draw(metrics, width, height),
-            ],
-            n_dot_l: metrics.n_dot_l.clone(),
+            cells: [frame.color, error_image, error_map],
+            n_dot_l,
             wrong_percent: errors.wrong_percent(),
-            p99: undersampling["p99"].as_f64().unwrap_or(f64::NAN),
+            p99,
             penumbra: penumbra.map(|p| p.mean),
             setup_us,
             frame_ms,

@@ -311,7 +311,7 @@ struct Transition<'a> {
     before: &'a [bool],
     facing_before: &'a [bool],
     /// Where the exact state changed (the sun path); `None`: it did not.
-    exact_changed: Option<Vec<bool>>,
+    exact_changed: Option<&'a [bool]>,
 }
 
 impl Tally {
@@ -323,7 +323,7 @@ impl Tally {
                 continue;
             }
             self.judged += 1;
-            let exact_changed = t.exact_changed.as_ref().is_some_and(|c| c[k]);
+            let exact_changed = t.exact_changed.is_some_and(|c| c[k]);
             if t.lit[k] != t.before[k] && !exact_changed {
                 changes += 1;
             }
@@ -371,7 +371,12 @@ fn measure(
             _ => None,
         };
         let exact_changed = match (&exact, &previous_exact) {
-            (Some(now), Some(then)) => Some(now.iter().zip(then).map(|(a, b)| a != b).collect()),
+            (Some(now), Some(then)) => Some(
+                now.iter()
+                    .zip(then)
+                    .map(|(a, b)| a != b)
+                    .collect::<Vec<bool>>(),
+            ),
             _ => None,
         };
         let samples = renderer.view_samples(camera_t, light_t)?;
@@ -396,7 +401,7 @@ fn measure(
                     facing: &facing,
                     before,
                     facing_before,
-                    exact_changed: exact_changed.clone(),
+                    exact_changed: exact_changed.as_deref(),
                 };
                 tallies[r].add(points, &transition);
             }

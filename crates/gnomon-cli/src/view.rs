@@ -462,7 +462,7 @@ impl ViewModel {
             }
             _ => {
                 let receiver = self.planar_receiver(draw.receiver_plane)?;
-                renderer.draw_planar_lit_by(camera, lights, &receiver, settings)?
+                renderer.draw_planar_lit_by(camera, lights, receiver, settings)?
             }
         };
         let Some(color) = renderer.frame_color() else {
@@ -500,15 +500,17 @@ impl ViewModel {
     fn planar_receiver(
         &mut self,
         plane: Option<[f64; 4]>,
-    ) -> Result<gnomon::planar::PlanarReceiver, CliError> {
-        match &self.receiver {
-            Some((kept, receiver)) if *kept == plane => Ok(receiver.clone()),
-            _ => {
-                let receiver = crate::render::planar_receiver(&self.loaded.scene, plane)?;
-                self.receiver = Some((plane, receiver.clone()));
-                Ok(receiver)
-            }
+    ) -> Result<&gnomon::planar::PlanarReceiver, CliError> {
+        if self
+            .receiver
+            .as_ref()
+            .is_none_or(|(kept, _)| *kept != plane)
+        {
+            let receiver = crate::render::planar_receiver(&self.loaded.scene, plane)?;
+            self.receiver = Some((plane, receiver));
         }
+        let (_, receiver) = self.receiver.as_ref().expect("made above");
+        Ok(receiver)
     }
 
     /// A measured headless frame: the panel's figures once at rest (`measure`), and the

@@ -44,19 +44,6 @@ impl MeshFormat {
         }
     }
 
-    /// The gnomon-scene feature that reads the format (the Terragen reader is built in and
-    /// never left out).
-    pub(crate) fn feature(self) -> &'static str {
-        match self {
-            Self::Off => "off",
-            Self::Obj => "obj",
-            Self::Ply => "ply",
-            Self::Gltf => "gltf",
-            Self::Stl => "stl",
-            Self::Ter => "ter",
-        }
-    }
-
     /// The format's usual extension.
     pub fn extension(self) -> &'static str {
         match self {
@@ -189,10 +176,10 @@ impl fmt::Display for LoadError {
             Self::NoTriangles { path } => write!(f, "{}: no triangles", path.display()),
             Self::LeftOut { path, format } => write!(
                 f,
-                "{}: this build reads no .{} files (gnomon-scene's feature '{}' is off)",
+                // Each reader's feature is named by its format's extension.
+                "{}: this build reads no .{ext} files (gnomon-scene's feature '{ext}' is off)",
                 path.display(),
-                format.extension(),
-                format.feature()
+                ext = format.extension()
             ),
             Self::UnsupportedExtension { path, extension } => write!(
                 f,

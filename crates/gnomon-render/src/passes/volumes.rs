@@ -348,20 +348,23 @@ impl VolumePipelines {
         (z_fail, z_pass): (Range<u32>, Range<u32>),
         planar: bool,
     ) {
-        let draws = if planar {
+        let (planar_draws, volume_draws);
+        let draws: &[(&wgpu::RenderPipeline, Range<u32>)] = if planar {
             pass.set_stencil_reference(1);
-            vec![
+            planar_draws = [
                 (&self.planar_mark, z_fail.clone()),
                 (&self.planar_flat, z_pass),
                 (&self.planar_unmark, z_fail),
-            ]
+            ];
+            &planar_draws
         } else {
-            vec![(&self.z_fail, z_fail), (&self.z_pass, z_pass)]
+            volume_draws = [(&self.z_fail, z_fail), (&self.z_pass, z_pass)];
+            &volume_draws
         };
         for (pipeline, range) in draws {
             if !range.is_empty() {
                 pass.set_pipeline(pipeline);
-                pass.draw(range, 0..1);
+                pass.draw(range.clone(), 0..1);
             }
         }
     }
