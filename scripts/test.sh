@@ -11,6 +11,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 # Mesa's device-select layer warns about XDG_RUNTIME_DIR on headless machines; harmless.
 export NODEVICE_SELECT=1
+# Each step's name with the minutes since the start, so that a slow step shows in CI's log.
+step() {
+    printf 'test.sh [%dm%02ds]: %s\n' $((SECONDS / 60)) $((SECONDS % 60)) "$*"
+}
 
 missing=()
 ls /usr/share/vulkan/icd.d/*.json >/dev/null 2>&1 || ls /etc/vulkan/icd.d/*.json >/dev/null 2>&1 ||
@@ -40,24 +44,24 @@ else
     bash scripts/fetch-suite.sh --small
 fi
 
-echo "test.sh: cargo fmt --check"
+step "cargo fmt --check"
 cargo fmt --all --check
 # The CLI's window is an opt-in feature (viewer): lint and test with it, and lint the CLI
 # without it too (what the demo's first build compiles).
-echo "test.sh: cargo clippy"
+step "cargo clippy"
 cargo clippy --workspace --all-targets --locked --features gnomon-cli/viewer -- -D warnings
 cargo clippy -p gnomon-cli --all-targets --locked -- -D warnings
 # No import circle between the files of any crate, and no function over 100 lines outside
 # tests, benches and examples save the one data table ARCHITECTURE.md names.
-echo "test.sh: the code's shape"
+step "the code's shape"
 python3 scripts/shape.py --self-test
 python3 scripts/shape.py --max-cycles 0 --max-long 1
-echo "test.sh: the core with its opt-in feature (parallel): clippy and tests"
+step "the core with its opt-in feature (parallel): clippy and tests"
 cargo clippy -p gnomon-core --features parallel --all-targets --locked -- -D warnings
 cargo test -p gnomon-core --features parallel --locked --lib
 # The renderer builds without the scene parsers (gnomon-scene's default features), and
 # gnomon-scene with none of them.
-echo "test.sh: the renderer without the parsers"
+step "the renderer without the parsers"
 cargo clippy -q -p gnomon-scene --no-default-features --locked -- -D warnings
 parsers=$(cargo tree -q -p gnomon-render -e normal --prefix none --locked |
     grep -E '^(tobj|gltf|toml|stl_io|ply-rs-bw|off-rs|serde) ' | sort -u || true)
@@ -65,14 +69,14 @@ if [ -n "$parsers" ]; then
     echo "test.sh: gnomon-render pulls in parsers: $parsers" >&2
     exit 1
 fi
-echo "test.sh: the core's examples"
+step "the core's examples"
 cargo run -q --locked -p gnomon-core --example cascades >/dev/null
 cargo run -q --locked -p gnomon-core --example own_samples >/dev/null
-echo "test.sh: cargo doc (warnings are errors)"
+step "cargo doc (warnings are errors)"
 RUSTDOCFLAGS="-D warnings" cargo doc -q --workspace --no-deps --locked --features gnomon-cli/viewer
 # The book: mdBook 0.5 (installed once, light: only the search feature), then a check of its
 # relative links and anchors, which mdBook 0.5 does not make.
-echo "test.sh: the book"
+step "the book"
 if ! mdbook --version 2>/dev/null | grep -q "v0.5.4"; then
     cargo install -q --locked mdbook --version 0.5.4 --no-default-features --features search
 fi
@@ -80,7 +84,7 @@ mdbook build docs >/dev/null 2>&1 || mdbook build docs
 python3 scripts/check-links.py docs/book README.md CHANGELOG.md crates/*/README.md
 # The Bevy plugin's tests (bevy_gnomon) run here too: Bevy's renderer on Vulkan, against the
 # exact shadows. Bevy is built without its GL backend, so they are not in the GL step below.
-echo "test.sh: cargo test (GPU tests on Vulkan)"
+step "cargo test (GPU tests on Vulkan)"
 cargo test --workspace --locked --features gnomon-cli/viewer
 # The packages that draw, with the bindings and the Bevy plugin: one selection for the steps
 # below, so that cargo resolves one feature set for the crates they share. gnomon-scene (its
@@ -93,7 +97,7 @@ gpu_packages=(-p gnomon-scene -p gnomon-render -p gnomon-cli -p gnomon-py -p gno
 # the tests time nothing), then pytest over the Python package (its renders on Vulkan) and
 # over the C and C++ examples, compiled with cc and c++ and checked against
 # `gnomon setup --json` (the command line and the C library as the tests above built them).
-echo "test.sh: the bindings: the C header, the Python wheel, pytest"
+step "the bindings: the C header, the Python wheel, pytest"
 if ! cbindgen --version 2>/dev/null | grep -q "cbindgen 0.29"; then
     cargo install -q --locked cbindgen --version "^0.29"
 fi
@@ -120,7 +124,7 @@ GNOMON_BIN=target/debug/gnomon python3 -m pytest -q -p no:cacheprovider crates/g
 # (Bevy's dev-dependencies add some) and rebuilds wgpu, winit and egui (several minutes). One
 # at a time costs about a minute. Bevy is built without its GL backend, so its two rendering
 # tests (run on Vulkan above) are left out here; the plugin's own tests draw nothing and run.
-echo "test.sh: cargo test, GPU tests on GL (WGPU_BACKEND=gl)"
+step "cargo test, GPU tests on GL (WGPU_BACKEND=gl)"
 WGPU_BACKEND=gl cargo test --locked "${gpu_packages[@]}" --features gnomon-cli/viewer -- \
     --test-threads=1 \
     --skip the_plugins_default_is_wrong_on_at_most_half_as_many_pixels_as_bevys \
@@ -129,7 +133,7 @@ WGPU_BACKEND=gl cargo test --locked "${gpu_packages[@]}" --features gnomon-cli/v
 # What would be published: each crate packs and builds from its package alone (the bindings
 # ship as a wheel and a C library, not as crates; the Bevy plugin is not packed here, since
 # building Bevy once more from the package would add a quarter of an hour).
-echo "test.sh: cargo package --workspace"
+step "cargo package --workspace"
 # CI's disk is not always large: the packages build from scratch anyway, so the test builds go
 # first where asked (.ci/run asks).
 if [ -n "${GNOMON_FREE_DISK:-}" ]; then
@@ -140,3 +144,4 @@ fi
 # packed older sources would verify against those.
 rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/gnomon-{core,scene,render,tools,cli}-0.1.0
 cargo package --workspace --exclude gnomon-py --exclude gnomon-c --exclude bevy_gnomon --locked --allow-dirty -q
+step "done"

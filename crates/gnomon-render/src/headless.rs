@@ -6,10 +6,11 @@ use std::time::Instant;
 
 use gnomon::{Camera, Light, ShadowSetup};
 
-use crate::frame::{Frame, LightView, PixelMetrics, SKY, Targets};
+use crate::frame::{Frame, LightView, PixelMetrics, Targets};
 use crate::gpu::ErrorScopes;
 use crate::light_view::{MAX_LIGHT_VIEW, draw_frustum};
-use crate::passes::{cleared_camera_depth, color_target};
+use crate::passes::main::encode_measured;
+use crate::passes::{FrameBindings, color_target};
 use crate::pipelines::LIGHT_VIEW_FORMAT;
 use crate::records::ShadowedLight;
 use crate::timing::Part;
@@ -83,35 +84,21 @@ impl Renderer {
         let mut clock = self.start_clock();
         self.encode_shadow_maps_timed(clock.encoder(), true);
         clock.end_part(&self.gpu, Part::Shadow)?;
-        {
-            let targets = self.headless.as_ref().expect("made above");
-            let timestamps = clock.timestamps(&mut self.timer, Part::Main);
-            let mut attachments = vec![
-                color_target(&targets.color.1, Some(SKY)),
-                color_target(&targets.lit.1, Some(wgpu::Color::TRANSPARENT)),
-            ];
-            if settings.metrics {
-                let view = &targets.metrics.as_ref().expect("made above").1;
-                attachments.push(color_target(view, Some(wgpu::Color::TRANSPARENT)));
-            }
-            let mut pass = clock
-                .encoder()
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("main (measured)"),
-                    color_attachments: &attachments,
-                    depth_stencil_attachment: Some(cleared_camera_depth(&targets.depth)),
-                    timestamp_writes: timestamps,
-                    ..Default::default()
-                });
-            pass.set_pipeline(
-                self.pipelines
-                    .measured_for(settings.metrics, self.main_spec)
-                    .expect("made above"),
-            );
-            self.bind_frame(&mut pass);
-            self.scene.bind(&mut pass);
-            self.scene.draw_all(&mut pass, true);
-        }
+        let timestamps = clock.timestamps(&mut self.timer, Part::Main);
+        let pipeline = self
+            .pipelines
+            .measured_for(settings.metrics, self.main_spec);
+        encode_measured(
+            clock.encoder(),
+            self.headless.as_ref().expect("made above"),
+            settings.metrics,
+            (
+                pipeline.expect("made above"),
+                FrameBindings::of(&self.uniforms, &self.atlas),
+                &self.scene,
+            ),
+            timestamps,
+        );
         clock.end_part(&self.gpu, Part::Main)?;
         let mut timings = self.finish_clock(clock)?;
         scopes.pop()?;
@@ -169,7 +156,7 @@ impl Renderer {
         let mut k = 0u32;
         for l in lights {
             for (i, map) in l.setup.maps.iter().enumerate() {
-                let (size, offset) = (map.resolution.min(largest), self.slot(k));
+                let size = map.resolution.min(largest);
                 let targets = self.headless.as_mut().expect("made by render");
                 if targets
                     .light_view
@@ -193,8 +180,7 @@ impl Renderer {
                         ..Default::default()
                     });
                     pass.set_pipeline(&self.pipelines.light_view);
-                    pass.set_bind_group(0, &self.uniforms.frame_group, &[offset]);
-                    pass.set_bind_group(1, &self.atlas.bind_group, &[]);
+                    FrameBindings::of(&self.uniforms, &self.atlas).bind(&mut pass, k);
                     pass.draw(0..3, 0..1);
                 }
                 self.gpu.queue.submit([encoder.finish()]);

@@ -7,7 +7,7 @@ use gnomon::Camera;
 
 use crate::Renderer;
 use crate::error::{InvalidInput, RenderError};
-use crate::passes::color_target;
+use crate::passes::FrameBindings;
 use crate::passes::probes::{PROBE_SIZE, Probes};
 use crate::records::ShadowedLight;
 use crate::scene::Vertex;
@@ -54,20 +54,8 @@ impl Renderer {
                 .queue
                 .write_buffer(&probes.points, 0, bytemuck::cast_slice(&vertices));
             let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("probes"),
-                    color_attachments: &[color_target(
-                        &probes.target.1,
-                        Some(wgpu::Color::TRANSPARENT),
-                    )],
-                    ..Default::default()
-                });
-                pass.set_pipeline(&probes.pipeline);
-                self.bind_frame(&mut pass);
-                pass.set_vertex_buffer(0, probes.points.slice(..));
-                pass.draw(0..chunk.len() as u32, 0..1);
-            }
+            let bindings = FrameBindings::of(&self.uniforms, &self.atlas);
+            probes.encode(&mut encoder, bindings, chunk.len() as u32);
             self.gpu.queue.submit([encoder.finish()]);
             let bits = self.readback.read(
                 &self.gpu,

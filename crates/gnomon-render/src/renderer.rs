@@ -9,10 +9,12 @@ use gnomon::{Camera, MapSelection};
 
 use crate::atlas::{AtlasBindings, ShadowAtlas};
 use crate::gpu::ErrorScopes;
+use crate::passes::FrameBindings;
 use crate::passes::casters::CasterSet;
 use crate::passes::main::{MainTargets, begin_main_pass};
-use crate::passes::maps::{PreparedMap, begin_depth_pass};
-use crate::passes::volumes::{VolumeCasters, VolumePass, VolumePipelines};
+use crate::passes::maps::{PreparedMap, SceneDepth, begin_depth_pass};
+use crate::passes::stencil::VolumePass;
+use crate::passes::volumes::{VolumeCasters, VolumePipelines};
 use crate::pipelines::Pipelines;
 use crate::readback::Readback;
 use crate::records::{
@@ -407,34 +409,23 @@ impl Renderer {
         let (ids, cut) = (self.main_spec.read != 0, self.main_spec.cutout);
         self.pipelines.depth(&self.gpu.device, stride, ids, cut);
         self.pipelines.paraboloid(&self.gpu.device, ids, cut);
-        for k in 0..self.maps.len() {
-            let offset = self.slot(k as u32);
+        let depth = SceneDepth {
+            atlas: &self.atlas,
+            scene: &self.scene,
+            pipelines: &self.pipelines,
+            frame_group: &self.uniforms.frame_group,
+            records_group: &self.uniforms.records_group,
+            slot_stride: self.uniforms.slot_stride,
+            ids,
+            cut,
+        };
+        for (k, map) in self.maps.iter().enumerate() {
             let timestamps = if timed {
                 self.timer.as_mut().and_then(|t| t.pass(Part::Shadow))
             } else {
                 None
             };
-            let map = &self.maps[k];
-            let mut pass = begin_depth_pass(encoder, &self.atlas, map, ids, timestamps);
-            pass.set_bind_group(0, &self.uniforms.frame_group, &[offset]);
-            pass.set_bind_group(1, &self.uniforms.records_group, &[]);
-            let exact = self.pipelines.paraboloid_for(ids, cut);
-            if let Some(pipeline) = exact.filter(|_| map.paraboloid) {
-                pass.set_pipeline(pipeline);
-                if self.scene.bind_pulled(&mut pass) {
-                    self.scene
-                        .draw_pulled(&mut pass, map.casters.iter().copied(), cut);
-                    continue;
-                }
-            }
-            pass.set_pipeline(
-                self.pipelines
-                    .depth_for(stride, ids, cut)
-                    .expect("made above"),
-            );
-            self.scene.bind(&mut pass);
-            self.scene
-                .draw_instances(&mut pass, map.casters.iter().copied(), cut);
+            depth.encode(encoder, k as u32, map, timestamps);
         }
     }
 
@@ -478,7 +469,7 @@ impl Renderer {
                 .color(&self.gpu.device, target.format, samples, self.main_spec);
         let mut pass = begin_main_pass(encoder, target, depth);
         pass.set_pipeline(pipeline);
-        self.bind_frame(&mut pass);
+        self.frame_bindings().bind(&mut pass, 0);
         self.scene.bind(&mut pass);
         self.scene.draw_all(&mut pass, true);
         Ok(())
@@ -495,10 +486,9 @@ impl Renderer {
         clock.finish(&self.gpu, &self.timer)
     }
 
-    /// Binds group 0 (slot 0) and the lookup group.
-    pub(crate) fn bind_frame(&self, pass: &mut wgpu::RenderPass<'_>) {
-        pass.set_bind_group(0, &self.uniforms.frame_group, &[0]);
-        pass.set_bind_group(1, &self.atlas.bind_group, &[]);
+    /// The frame's bind groups as the passes that shade bind them.
+    fn frame_bindings(&self) -> FrameBindings<'_> {
+        FrameBindings::of(&self.uniforms, &self.atlas)
     }
 }
 

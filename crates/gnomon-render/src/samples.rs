@@ -6,8 +6,7 @@ use gnomon::{Camera, Light, ViewSamples};
 
 use crate::Renderer;
 use crate::error::RenderError;
-use crate::passes::cleared_camera_depth;
-use crate::passes::color_target;
+use crate::passes::FrameBindings;
 use crate::passes::samples::SampleTargets;
 use crate::settings::RenderSettings;
 
@@ -44,23 +43,13 @@ impl Renderer {
         self.prepare_lights(camera, &[], &RenderSettings::default())?;
         SampleTargets::ensure(&mut self.sample_targets, &self.resources, (cols, rows));
         self.pipelines.samples(&self.gpu.device);
-        let targets = self.sample_targets.as_ref().expect("made above");
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("view samples"),
-                color_attachments: &[
-                    color_target(&targets.position.1, Some(wgpu::Color::TRANSPARENT)),
-                    color_target(&targets.normal.1, Some(wgpu::Color::TRANSPARENT)),
-                ],
-                depth_stencil_attachment: Some(cleared_camera_depth(&targets.depth)),
-                ..Default::default()
-            });
-            pass.set_pipeline(self.pipelines.samples(&self.gpu.device));
-            self.bind_frame(&mut pass);
-            self.scene.bind(&mut pass);
-            self.scene.draw_all(&mut pass, false);
-        }
+        self.sample_targets.as_ref().expect("made above").encode(
+            &mut encoder,
+            self.pipelines.samples(&self.gpu.device),
+            FrameBindings::of(&self.uniforms, &self.atlas),
+            &self.scene,
+        );
         self.gpu.queue.submit([encoder.finish()]);
         let targets = self.sample_targets.as_ref().expect("made above");
         let positions =

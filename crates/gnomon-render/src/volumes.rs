@@ -17,13 +17,10 @@
 use gnomon::planar::PlanarReceiver;
 use gnomon::{Camera, Light};
 
-use crate::frame::{MASK_CLEAR, SKY};
-use crate::passes::color_target;
-use crate::passes::volumes::{
-    ExtrudedVolumes, StencilMode, Stenciled, VolumeFrame, VolumeStats, VolumeTargets, depth_stencil,
-};
-use crate::pipelines::MASK_FORMAT;
-use crate::timing::{FrameClock, Part};
+use crate::passes::FrameBindings;
+use crate::passes::stencil::{StencilFrame, VolumeTargets};
+use crate::passes::volumes::{StencilMode, Stenciled, VolumeFrame, VolumeStats};
+use crate::timing::Part;
 use crate::{Frame, InvalidInput, RenderError, RenderSettings, Renderer};
 
 impl Renderer {
@@ -161,47 +158,13 @@ impl Renderer {
         let scopes = crate::gpu::ErrorScopes::push(&self.gpu);
         self.prepare_lights(camera, lights, settings)?;
         self.ensure_headless(width, height, false);
-        let mut targets = match self.volumes.targets.take() {
-            Some(t) if t.size == (width, height) && t.masks.len() >= lights.len() => t,
-            old => {
-                let (_, depth_view) = self.resources.target(
-                    "volumes depth and stencil",
-                    (width, height),
-                    1,
-                    self.volumes.pipelines.format,
-                    wgpu::TextureUsages::RENDER_ATTACHMENT,
-                );
-                let masks = (0..lights.len())
-                    .map(|_| {
-                        self.resources.target(
-                            "light mask",
-                            (width, height),
-                            1,
-                            MASK_FORMAT,
-                            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                        )
-                    })
-                    .collect();
-                let (vertices, extruded) = match old {
-                    Some(o) => (o.vertices, o.extruded),
-                    None => (
-                        None,
-                        ExtrudedVolumes {
-                            vertices: Vec::new(),
-                            ranges: Vec::new(),
-                            stats: VolumeStats::default(),
-                        },
-                    ),
-                };
-                VolumeTargets {
-                    size: (width, height),
-                    depth_view,
-                    masks,
-                    vertices,
-                    extruded,
-                }
-            }
-        };
+        let mut targets = VolumeTargets::fitting(
+            self.volumes.targets.take(),
+            &self.resources,
+            self.volumes.pipelines.format,
+            (width, height),
+            lights.len(),
+        );
         let mut clock = self.start_clock();
         // Extrusion (or flattening) on the CPU counts as the shadow part.
         match stenciled {
@@ -220,130 +183,27 @@ impl Renderer {
                 &mut targets.extruded,
             ),
         }
-        let bytes = (targets.extruded.vertices.len() * 16) as u64;
-        if bytes > 0 && targets.vertices.as_ref().is_none_or(|b| b.size() < bytes) {
-            let size = bytes.next_power_of_two().max(1 << 16);
-            targets.vertices = Some(self.resources.buffer(
-                "shadow volumes",
-                size,
-                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            ));
-        }
-        if bytes > 0 {
-            let buffer = targets.vertices.as_ref().expect("made above");
-            self.gpu.queue.write_buffer(
-                buffer,
-                0,
-                bytemuck::cast_slice(&targets.extruded.vertices),
-            );
-        }
+        targets.upload(&self.resources, &self.gpu.queue);
         clock.cpu_part(Part::Shadow);
-        let planar = matches!(stenciled, Stenciled::Planar(_));
-        let result = self.encode_volumes(&mut clock, &targets, lights.len(), planar);
+        let frame = StencilFrame {
+            gpu: &self.gpu,
+            bindings: FrameBindings::of(&self.uniforms, &self.atlas),
+            scene: &self.scene,
+            color_view: &self.headless.as_ref().expect("made above").color.1,
+            planar: matches!(stenciled, Stenciled::Planar(_)),
+        };
+        let result = frame.encode(
+            &self.volumes.pipelines,
+            &targets,
+            lights.len(),
+            &mut clock,
+            &mut self.timer,
+        );
         let stats = targets.extruded.stats;
         self.volumes.targets = Some(targets);
         result?;
         let timings = self.finish_clock(clock)?;
         scopes.pop()?;
         Ok((timings, stats))
-    }
-
-    fn encode_volumes(
-        &mut self,
-        clock: &mut FrameClock,
-        targets: &VolumeTargets,
-        light_count: usize,
-        planar: bool,
-    ) -> Result<(), RenderError> {
-        let headless = self.headless.as_ref().expect("made by the caller");
-        let color_view = &headless.color.1;
-        {
-            let timestamps = clock.timestamps(&mut self.timer, Part::Main);
-            let mut pass = clock
-                .encoder()
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("volumes: depth and ambient"),
-                    color_attachments: &[
-                        color_target(color_view, Some(SKY)),
-                        color_target(&targets.masks[0].1, Some(MASK_CLEAR)),
-                    ],
-                    depth_stencil_attachment: Some(depth_stencil(&targets.depth_view, true, true)),
-                    timestamp_writes: timestamps,
-                    ..Default::default()
-                });
-            pass.set_pipeline(&self.volumes.pipelines.depth_and_ambient);
-            self.bind_frame(&mut pass);
-            self.scene.bind(&mut pass);
-            self.scene.draw_all(&mut pass, false);
-        }
-        clock.end_part(&self.gpu, Part::Main)?;
-        for k in 0..light_count {
-            let slot = self.slot(k as u32);
-            let (z_fail, z_pass) = targets.extruded.ranges[k].clone();
-            {
-                let timestamps = clock.timestamps(&mut self.timer, Part::Shadow);
-                let mut pass = clock
-                    .encoder()
-                    .begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("volumes: stencil"),
-                        color_attachments: &[],
-                        depth_stencil_attachment: Some(depth_stencil(
-                            &targets.depth_view,
-                            false,
-                            true,
-                        )),
-                        timestamp_writes: timestamps,
-                        ..Default::default()
-                    });
-                pass.set_bind_group(0, &self.uniforms.frame_group, &[slot]);
-                pass.set_bind_group(1, &self.atlas.bind_group, &[]);
-                if let Some(buffer) = &targets.vertices {
-                    pass.set_vertex_buffer(0, buffer.slice(..));
-                    self.volumes
-                        .pipelines
-                        .draw_stencil(&mut pass, (z_fail, z_pass), planar);
-                }
-            }
-            clock.end_part(&self.gpu, Part::Shadow)?;
-            {
-                // The first light's mask was started by the ambient pass; the others' start
-                // empty and get their shadowed pixels here. (Instances that receive no
-                // shadows get their direct light in the shadowed draw too, so the first light
-                // skips it only when every instance receives.)
-                let first = k == 0;
-                let skip_shadowed = first && self.scene.all_receive();
-                let timestamps = clock.timestamps(&mut self.timer, Part::Main);
-                let mut pass = clock
-                    .encoder()
-                    .begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("volumes: one light"),
-                        color_attachments: &[
-                            color_target(color_view, None),
-                            color_target(&targets.masks[k].1, (!first).then_some(MASK_CLEAR)),
-                        ],
-                        depth_stencil_attachment: Some(depth_stencil(
-                            &targets.depth_view,
-                            false,
-                            false,
-                        )),
-                        timestamp_writes: timestamps,
-                        ..Default::default()
-                    });
-                pass.set_stencil_reference(0);
-                pass.set_bind_group(0, &self.uniforms.frame_group, &[slot]);
-                pass.set_bind_group(1, &self.atlas.bind_group, &[]);
-                self.scene.bind(&mut pass);
-                let draws = [
-                    &self.volumes.pipelines.lit,
-                    &self.volumes.pipelines.shadowed,
-                ];
-                for pipeline in draws.iter().take(if skip_shadowed { 1 } else { 2 }) {
-                    pass.set_pipeline(pipeline);
-                    self.scene.draw_all(&mut pass, false);
-                }
-            }
-            clock.end_part(&self.gpu, Part::Main)?;
-        }
-        Ok(())
     }
 }

@@ -1,9 +1,12 @@
 //! The main pass: the scene, shaded and shadowed, into the caller's target, with a depth
-//! buffer it keeps.
+//! buffer it keeps; or, headless, into the renderer's own targets with the lit-light bits and
+//! the pixel metrics beside the colour.
 
-use crate::passes::cleared_camera_depth;
+use crate::frame::{SKY, Targets};
+use crate::passes::{FrameBindings, cleared_camera_depth, color_target};
 use crate::pipelines::CAMERA_DEPTH_FORMAT;
 use crate::resources::Resources;
+use crate::scene::GpuScene;
 use crate::settings::SceneTarget;
 
 /// The main pass's kept depth buffer (its size and samples are the last target's).
@@ -57,4 +60,34 @@ pub(crate) fn begin_main_pass<'e>(
         depth_stencil_attachment: Some(cleared_camera_depth(depth)),
         ..Default::default()
     })
+}
+
+/// Records the headless main pass into `targets`: the colour, the lit-light bits and, where
+/// `targets` holds them (`metrics`), the pixel metrics, drawn by the measured `pipeline`.
+pub(crate) fn encode_measured(
+    encoder: &mut wgpu::CommandEncoder,
+    targets: &Targets,
+    metrics: bool,
+    (pipeline, bindings, scene): (&wgpu::RenderPipeline, FrameBindings<'_>, &GpuScene),
+    timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) {
+    let mut attachments = vec![
+        color_target(&targets.color.1, Some(SKY)),
+        color_target(&targets.lit.1, Some(wgpu::Color::TRANSPARENT)),
+    ];
+    if metrics {
+        let view = &targets.metrics.as_ref().expect("made with the targets").1;
+        attachments.push(color_target(view, Some(wgpu::Color::TRANSPARENT)));
+    }
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("main (measured)"),
+        color_attachments: &attachments,
+        depth_stencil_attachment: Some(cleared_camera_depth(&targets.depth)),
+        timestamp_writes: timestamps,
+        ..Default::default()
+    });
+    pass.set_pipeline(pipeline);
+    bindings.bind(&mut pass, 0);
+    scene.bind(&mut pass);
+    scene.draw_all(&mut pass, true);
 }

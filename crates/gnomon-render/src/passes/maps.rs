@@ -1,11 +1,12 @@
 //! The depth passes' per-map state: where each map lies in the array and which casters it
-//! draws, and the pass that clears and scissors its layer.
+//! draws; the pass that clears and scissors its layer, and the scene's casters drawn into it.
 
 use glam::DVec4;
 use gnomon::ShadowMap;
 
 use crate::atlas::ShadowAtlas;
 use crate::passes::clip_side_planes;
+use crate::pipelines::Pipelines;
 use crate::scene::GpuScene;
 
 /// One map of the prepared frame: where it is and which instances it draws.
@@ -88,4 +89,55 @@ pub(crate) fn begin_depth_pass<'e>(
     pass.set_viewport(0.0, 0.0, r as f32, r as f32, 0.0, 1.0);
     pass.set_scissor_rect(map.inset, map.inset, r - 2 * map.inset, r - 2 * map.inset);
     pass
+}
+
+/// What the depth passes of the scene's casters read of the frame.
+pub(crate) struct SceneDepth<'a> {
+    pub atlas: &'a ShadowAtlas,
+    pub scene: &'a GpuScene,
+    /// Made for `ids` and `cut` (and the scene's vertex stride) by the caller.
+    pub pipelines: &'a Pipelines,
+    pub frame_group: &'a wgpu::BindGroup,
+    pub records_group: &'a wgpu::BindGroup,
+    /// The bytes between two slots of the frame group.
+    pub slot_stride: u32,
+    /// Whether the maps hold object IDs beside depth.
+    pub ids: bool,
+    /// Whether alpha-masked instances cut holes.
+    pub cut: bool,
+}
+
+impl SceneDepth<'_> {
+    /// Records map `k`'s depth pass: the exact paraboloid pass where the map is a hemisphere
+    /// and the device has it, else the rasterised casters.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        k: u32,
+        map: &PreparedMap,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let (ids, cut) = (self.ids, self.cut);
+        let mut pass = begin_depth_pass(encoder, self.atlas, map, ids, timestamps);
+        pass.set_bind_group(0, self.frame_group, &[k * self.slot_stride]);
+        pass.set_bind_group(1, self.records_group, &[]);
+        let exact = self.pipelines.paraboloid_for(ids, cut);
+        if let Some(pipeline) = exact.filter(|_| map.paraboloid) {
+            pass.set_pipeline(pipeline);
+            if self.scene.bind_pulled(&mut pass) {
+                self.scene
+                    .draw_pulled(&mut pass, map.casters.iter().copied(), cut);
+                return;
+            }
+        }
+        let stride = std::mem::size_of::<crate::scene::Vertex>() as u64;
+        pass.set_pipeline(
+            self.pipelines
+                .depth_for(stride, ids, cut)
+                .expect("made by the caller"),
+        );
+        self.scene.bind(&mut pass);
+        self.scene
+            .draw_instances(&mut pass, map.casters.iter().copied(), cut);
+    }
 }

@@ -1,15 +1,46 @@
-//! What several passes share: their attachments and the culling of casters by a map's
-//! planes.
+//! What several passes share: the frame's bindings, their attachments and the culling of
+//! casters by a map's planes.
 
 pub(crate) mod casters;
 pub(crate) mod main;
 pub(crate) mod maps;
 pub(crate) mod probes;
 pub(crate) mod samples;
+pub(crate) mod stencil;
 pub(crate) mod volumes;
 
 use glam::{DMat4, DVec4};
 use gnomon::Aabb;
+
+use crate::atlas::ShadowAtlas;
+use crate::uniforms::FrameUniforms;
+
+/// The frame's bind groups as the passes that shade bind them: group 0 (the frame's records,
+/// at a slot's dynamic offset) and group 1 (the maps and the samplers that read them).
+#[derive(Clone, Copy)]
+pub(crate) struct FrameBindings<'a> {
+    pub frame_group: &'a wgpu::BindGroup,
+    pub lookup_group: &'a wgpu::BindGroup,
+    /// The bytes between two slots of group 0.
+    pub slot_stride: u32,
+}
+
+impl<'a> FrameBindings<'a> {
+    /// The frame's groups: its records' and the atlas's lookup.
+    pub fn of(uniforms: &'a FrameUniforms, atlas: &'a ShadowAtlas) -> Self {
+        Self {
+            frame_group: &uniforms.frame_group,
+            lookup_group: &atlas.bind_group,
+            slot_stride: uniforms.slot_stride,
+        }
+    }
+
+    /// Binds both groups, group 0 at `slot` (light k for the volume passes).
+    pub fn bind(&self, pass: &mut wgpu::RenderPass<'_>, slot: u32) {
+        pass.set_bind_group(0, self.frame_group, &[slot * self.slot_stride]);
+        pass.set_bind_group(1, self.lookup_group, &[]);
+    }
+}
 
 /// A depth attachment cleared to 0 (reversed Z: the far plane) and kept.
 pub(crate) fn cleared_camera_depth(

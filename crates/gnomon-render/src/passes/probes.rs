@@ -1,6 +1,7 @@
-//! The probe pass's kept resources: a pipeline that draws points, a square target of state
-//! bits, one per point, and the points' buffer.
+//! The probe pass: its kept resources (a pipeline that draws points, a square target of state
+//! bits, one per point, and the points' buffer) and a batch of points drawn into them.
 
+use crate::passes::{FrameBindings, color_target};
 use crate::pipelines::{Pipelines, scene_buffers};
 use crate::resources::Resources;
 use crate::scene::Vertex;
@@ -64,5 +65,25 @@ impl Probes {
                 wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             ),
         }
+    }
+}
+
+impl Probes {
+    /// Records the first `count` points of the buffer drawn into the target (cleared).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bindings: FrameBindings<'_>,
+        count: u32,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("probes"),
+            color_attachments: &[color_target(&self.target.1, Some(wgpu::Color::TRANSPARENT))],
+            ..Default::default()
+        });
+        pass.set_pipeline(&self.pipeline);
+        bindings.bind(&mut pass, 0);
+        pass.set_vertex_buffer(0, self.points.slice(..));
+        pass.draw(0..count, 0..1);
     }
 }

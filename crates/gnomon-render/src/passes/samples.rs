@@ -1,7 +1,10 @@
-//! The view samples pass's kept targets: position and normal per pixel, and depth.
+//! The view samples pass: its kept targets (position and normal per pixel, and depth) and the
+//! scene drawn into them.
 
+use crate::passes::{FrameBindings, cleared_camera_depth, color_target};
 use crate::pipelines::{CAMERA_DEPTH_FORMAT, METRICS_FORMAT};
 use crate::resources::Resources;
+use crate::scene::GpuScene;
 
 /// The kept targets of the samples pass: position and normal per pixel, and depth.
 pub(crate) struct SampleTargets {
@@ -33,5 +36,30 @@ impl SampleTargets {
                 )
                 .1,
         });
+    }
+}
+
+impl SampleTargets {
+    /// Records the scene drawn by the samples `pipeline` into the targets (cleared).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::RenderPipeline,
+        bindings: FrameBindings<'_>,
+        scene: &GpuScene,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("view samples"),
+            color_attachments: &[
+                color_target(&self.position.1, Some(wgpu::Color::TRANSPARENT)),
+                color_target(&self.normal.1, Some(wgpu::Color::TRANSPARENT)),
+            ],
+            depth_stencil_attachment: Some(cleared_camera_depth(&self.depth)),
+            ..Default::default()
+        });
+        pass.set_pipeline(pipeline);
+        bindings.bind(&mut pass, 0);
+        scene.bind(&mut pass);
+        scene.draw_all(&mut pass, false);
     }
 }

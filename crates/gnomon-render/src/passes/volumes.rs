@@ -69,14 +69,6 @@ pub(crate) enum Stenciled<'a> {
     Planar(&'a PlanarReceiver),
 }
 
-/// The shadow volumes' kept state: their pipelines, the casters' meshes, and the targets
-/// (made on first use).
-pub(crate) struct VolumePass {
-    pub pipelines: VolumePipelines,
-    pub casters: VolumeCasters,
-    pub targets: Option<VolumeTargets>,
-}
-
 /// The casters' meshes, ready for extrusion (their placements are the scene's instances).
 pub(crate) struct VolumeCasters {
     /// Per mesh of the scene, its topology (open meshes kept for per-triangle volumes).
@@ -553,34 +545,5 @@ impl VolumeBuilder<'_> {
             ),
             samples: 1,
         })
-    }
-}
-
-/// The volume passes' kept targets and buffers.
-pub(crate) struct VolumeTargets {
-    pub size: (u32, u32),
-    pub depth_view: wgpu::TextureView,
-    pub masks: Vec<(wgpu::Texture, wgpu::TextureView)>,
-    pub vertices: Option<wgpu::Buffer>,
-    pub extruded: ExtrudedVolumes,
-}
-
-/// The depth-stencil attachment of the volume passes: depth cleared to 0 (reversed Z: the
-/// far plane) or loaded, stencil cleared to 0 or loaded; both kept.
-pub(crate) fn depth_stencil(
-    view: &wgpu::TextureView,
-    clear_depth: bool,
-    clear_stencil: bool,
-) -> wgpu::RenderPassDepthStencilAttachment<'_> {
-    fn ops<T>(clear: Option<T>) -> wgpu::Operations<T> {
-        wgpu::Operations {
-            load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
-            store: wgpu::StoreOp::Store,
-        }
-    }
-    wgpu::RenderPassDepthStencilAttachment {
-        view,
-        depth_ops: Some(ops(clear_depth.then_some(0.0))),
-        stencil_ops: Some(ops(clear_stencil.then_some(0))),
     }
 }
