@@ -533,6 +533,10 @@ struct Grid {
     abs_axes: [DVec3; 3],
     near: f64,
     far: f64,
+    /// The view frustum's four side planes through the eye (outward normals, world space),
+    /// and their absolute values.
+    sides: [DVec3; 4],
+    abs_sides: [DVec3; 4],
     /// 1 / tan of the half fields of view.
     inv_tan: (f64, f64),
     cols: usize,
@@ -542,6 +546,8 @@ struct Grid {
 impl Grid {
     fn new(camera: &Camera, (tan_x, tan_y): (f64, f64), (cols, rows): (usize, usize)) -> Self {
         let axes = [camera.right(), camera.up(), camera.forward()];
+        let [r, u, f] = axes;
+        let sides = [r - f * tan_x, -r - f * tan_x, u - f * tan_y, -u - f * tan_y];
         let lens = camera.lens();
         Self {
             eye: camera.eye(),
@@ -549,6 +555,8 @@ impl Grid {
             abs_axes: axes.map(DVec3::abs),
             near: lens.near,
             far: lens.far,
+            sides,
+            abs_sides: sides.map(DVec3::abs),
             inv_tan: (1.0 / tan_x, 1.0 / tan_y),
             cols,
             rows,
@@ -558,7 +566,7 @@ impl Grid {
     /// The grid cells (i0, i1, j0, j1) whose rays can hit the box of `centre` and `half`
     /// extents (through the box around it in camera coordinates), or `None` when it lies
     /// wholly before the near plane, beyond the far plane or beside the view. A box reaching
-    /// behind the eye covers every cell.
+    /// behind the eye covers every cell unless it lies beside a side plane.
     /// Also gives the box's nearest view depth.
     #[inline]
     fn cells_covered(
@@ -578,7 +586,11 @@ impl Grid {
         }
         let (cols, rows) = (self.cols, self.rows);
         if z0 <= 0.5 * self.near {
-            return Some(((0, cols - 1, 0, rows - 1), z0));
+            // It reaches behind the eye, where its image is unbounded; but a box wholly
+            // beside one of the frustum's side planes meets no ray (a street's row of
+            // buildings through the eye would otherwise be opened to its last leaf).
+            let beside = (0..4).any(|k| self.sides[k].dot(c) - self.abs_sides[k].dot(half) > 0.0);
+            return (!beside).then_some(((0, cols - 1, 0, rows - 1), z0));
         }
         let (r0, r1) = (1.0 / z0, 1.0 / z1);
         // x / z over the camera-space box: least at the nearest depth when x < 0, else at the
@@ -698,6 +710,95 @@ mod tests {
         let low = ViewSamples::new(&camera, &grazing(3.0), &ground_scene());
         assert_eq!(low.len(), samples.len());
         assert!(ViewSamples::new(&camera, &grazing(-3.0), &ground_scene()).is_empty());
+    }
+
+    /// The samples as every ray cast against every receiver box would give them.
+    fn brute_force(camera: &Camera, light: &Light, scene: &SceneBounds) -> ViewSamples {
+        let lens = camera.lens();
+        let (cols, rows) = ViewSamples::grid(lens.aspect);
+        let (cols, rows) = (cols as usize, rows as usize);
+        let tan_y = (0.5 * lens.fov_y_degrees.to_radians()).tan();
+        let tan_x = tan_y * lens.aspect;
+        let ndc = |i: usize, n: usize| (2.0 * i as f64 + 1.0) / n as f64 - 1.0;
+        let eye = camera.eye();
+        let mut hits = Vec::new();
+        for k in 0..rows * cols {
+            let (i, j) = (k % cols, k / cols);
+            let d = camera.forward()
+                + camera.right() * (ndc(i, cols) * tan_x)
+                + camera.up() * (ndc(j, rows) * tan_y);
+            let mut nearest = (f64::INFINITY, usize::MAX);
+            for b in scene.receivers() {
+                if let Some((t, axis)) = ray_box(d.recip(), b.min() - eye, b.max() - eye)
+                    && t >= lens.near
+                    && t <= lens.far
+                    && t < nearest.0
+                {
+                    nearest = (t, axis);
+                }
+            }
+            let (t, axis) = nearest;
+            if axis != usize::MAX {
+                let mut normal = DVec3::ZERO;
+                normal[axis] = -d[axis].signum();
+                hits.push((eye + d * t, normal));
+            }
+        }
+        ViewSamples::from_surface_points(camera, light, hits)
+    }
+
+    #[test]
+    fn street_level_views_cast_every_ray_against_every_box_that_can_be_seen() {
+        // A town of 400 boxes on a 5 m grid; cameras at eye level in its streets, so that rows
+        // of boxes pass through the eye's plane, beside the view or into it.
+        let mut seed = 7u64;
+        let mut random = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut receivers = Vec::new();
+        for k in 0..400 {
+            let (i, j) = ((k % 20) as f64 * 5.0 - 50.0, (k / 20) as f64 * 5.0 - 50.0);
+            let h = 1.0 + 20.0 * random();
+            receivers
+                .push(Aabb::new(DVec3::new(i, 0.0, j), DVec3::new(i + 3.0, h, j + 3.0)).unwrap());
+        }
+        receivers
+            .push(Aabb::new(DVec3::new(-60.0, -1.0, -60.0), DVec3::new(60.0, 0.0, 60.0)).unwrap());
+        let scene = SceneBounds::new(vec![], receivers, None).unwrap();
+        let sun = Light::Directional(DirectionalLight::new(DVec3::new(0.3, -1.0, 0.2)).unwrap());
+        let mut seen = 0;
+        for _ in 0..300 {
+            // In a street (x or z between two boxes) or anywhere, near the ground.
+            let along = 5.0 * (random() * 20.0).floor() - 48.5;
+            let across = 100.0 * random() - 50.0;
+            let (x, z) = if random() < 0.5 {
+                (along, across)
+            } else {
+                (across, along)
+            };
+            let eye = DVec3::new(x, 0.2 + 2.0 * random(), z);
+            let yaw = std::f64::consts::TAU * random();
+            let pitch = 0.6 * (random() - 0.5);
+            let dir = DVec3::new(
+                yaw.cos() * pitch.cos(),
+                pitch.sin(),
+                yaw.sin() * pitch.cos(),
+            );
+            let lens = Lens {
+                near: 0.05 + random(),
+                far: 20.0 + 150.0 * random(),
+                fov_y_degrees: 20.0 + 100.0 * random(),
+                aspect: 0.5 + 2.0 * random(),
+            };
+            let camera = Camera::look_at(eye, eye + dir, DVec3::Y, lens).unwrap();
+            let samples = ViewSamples::new(&camera, &sun, &scene);
+            assert_eq!(samples, brute_force(&camera, &sun, &scene), "{camera:?}");
+            seen += samples.len();
+        }
+        assert!(seen > 300 * ViewSamples::RAYS / 4, "{seen}");
     }
 
     #[test]
