@@ -187,18 +187,14 @@ impl Renderer {
         clock.cpu_part(Part::Shadow);
         let frame = StencilFrame {
             gpu: &self.gpu,
+            pipelines: &self.volumes.pipelines,
+            targets: &targets,
             bindings: FrameBindings::of(&self.uniforms, &self.atlas),
             scene: &self.scene,
             color_view: &self.headless.as_ref().expect("made above").color.1,
             planar: matches!(stenciled, Stenciled::Planar(_)),
         };
-        let result = frame.encode(
-            &self.volumes.pipelines,
-            &targets,
-            lights.len(),
-            &mut clock,
-            &mut self.timer,
-        );
+        let result = frame.encode(lights.len(), &mut clock, &mut self.timer);
         let stats = targets.extruded.stats;
         self.volumes.targets = Some(targets);
         result?;

@@ -92,6 +92,8 @@ impl VolumeTargets {
 /// What the volume passes read of the renderer's frame.
 pub(crate) struct StencilFrame<'a> {
     pub gpu: &'a Gpu,
+    pub pipelines: &'a VolumePipelines,
+    pub targets: &'a VolumeTargets,
     pub bindings: FrameBindings<'a>,
     pub scene: &'a GpuScene,
     /// The image the frame's colour goes to.
@@ -105,114 +107,120 @@ impl StencilFrame<'_> {
     /// part it belongs to.
     pub fn encode(
         &self,
-        pipelines: &VolumePipelines,
-        targets: &VolumeTargets,
         lights: usize,
         clock: &mut FrameClock,
         timer: &mut Option<Timer>,
     ) -> Result<(), RenderError> {
-        self.depth_and_ambient(pipelines, targets, clock, timer);
+        self.depth_and_ambient(clock, timer);
         clock.end_part(self.gpu, Part::Main)?;
         for k in 0..lights {
-            self.stencil(pipelines, targets, k, clock, timer);
+            self.stencil(k, clock, timer);
             clock.end_part(self.gpu, Part::Shadow)?;
-            self.light(pipelines, targets, k, clock, timer);
+            self.light(k, clock, timer);
             clock.end_part(self.gpu, Part::Main)?;
         }
         Ok(())
     }
 
     /// The scene's depth and its ambient term; the first light's mask is cleared here.
-    fn depth_and_ambient(
-        &self,
-        pipelines: &VolumePipelines,
-        targets: &VolumeTargets,
-        clock: &mut FrameClock,
-        timer: &mut Option<Timer>,
-    ) {
-        let timestamps = clock.timestamps(timer, Part::Main);
-        let mut pass = clock
-            .encoder()
-            .begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("volumes: depth and ambient"),
-                color_attachments: &[
-                    color_target(self.color_view, Some(SKY)),
-                    color_target(&targets.masks[0].1, Some(MASK_CLEAR)),
-                ],
-                depth_stencil_attachment: Some(depth_stencil(&targets.depth_view, true, true)),
-                timestamp_writes: timestamps,
-                ..Default::default()
-            });
-        pass.set_pipeline(&pipelines.depth_and_ambient);
+    fn depth_and_ambient(&self, clock: &mut FrameClock, timer: &mut Option<Timer>) {
+        let shading = Shading {
+            label: "volumes: depth and ambient",
+            clears: (Some(SKY), Some(MASK_CLEAR)),
+            clear_depth_stencil: true,
+        };
+        let mut pass = self.begin_shading(shading, &self.targets.masks[0].1, clock, timer);
+        pass.set_pipeline(&self.pipelines.depth_and_ambient);
         self.bindings.bind(&mut pass, 0);
         self.scene.bind(&mut pass);
         self.scene.draw_all(&mut pass, false);
     }
 
     /// Light `k`'s volumes counted into the cleared stencil.
-    fn stencil(
-        &self,
-        pipelines: &VolumePipelines,
-        targets: &VolumeTargets,
-        k: usize,
-        clock: &mut FrameClock,
-        timer: &mut Option<Timer>,
-    ) {
-        let (z_fail, z_pass) = targets.extruded.ranges[k].clone();
+    fn stencil(&self, k: usize, clock: &mut FrameClock, timer: &mut Option<Timer>) {
+        let (z_fail, z_pass) = self.targets.extruded.ranges[k].clone();
         let timestamps = clock.timestamps(timer, Part::Shadow);
         let mut pass = clock
             .encoder()
             .begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("volumes: stencil"),
                 color_attachments: &[],
-                depth_stencil_attachment: Some(depth_stencil(&targets.depth_view, false, true)),
+                depth_stencil_attachment: Some(depth_stencil(
+                    &self.targets.depth_view,
+                    false,
+                    true,
+                )),
                 timestamp_writes: timestamps,
                 ..Default::default()
             });
         self.bindings.bind(&mut pass, k as u32);
-        if let Some(buffer) = &targets.vertices {
+        if let Some(buffer) = &self.targets.vertices {
             pass.set_vertex_buffer(0, buffer.slice(..));
-            pipelines.draw_stencil(&mut pass, (z_fail, z_pass), self.planar);
+            self.pipelines
+                .draw_stencil(&mut pass, (z_fail, z_pass), self.planar);
         }
     }
 
     /// Light `k`'s direct term where its count is 0, and its mask.
-    fn light(
-        &self,
-        pipelines: &VolumePipelines,
-        targets: &VolumeTargets,
-        k: usize,
-        clock: &mut FrameClock,
-        timer: &mut Option<Timer>,
-    ) {
+    fn light(&self, k: usize, clock: &mut FrameClock, timer: &mut Option<Timer>) {
         // The first light's mask was started by the ambient pass; the others' start empty and
         // get their shadowed pixels here. (Instances that receive no shadows get their direct
         // light in the shadowed draw too, so the first light skips it only when every
         // instance receives.)
         let first = k == 0;
         let skip_shadowed = first && self.scene.all_receive();
-        let timestamps = clock.timestamps(timer, Part::Main);
-        let mut pass = clock
-            .encoder()
-            .begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("volumes: one light"),
-                color_attachments: &[
-                    color_target(self.color_view, None),
-                    color_target(&targets.masks[k].1, (!first).then_some(MASK_CLEAR)),
-                ],
-                depth_stencil_attachment: Some(depth_stencil(&targets.depth_view, false, false)),
-                timestamp_writes: timestamps,
-                ..Default::default()
-            });
+        let shading = Shading {
+            label: "volumes: one light",
+            clears: (None, (!first).then_some(MASK_CLEAR)),
+            clear_depth_stencil: false,
+        };
+        let mut pass = self.begin_shading(shading, &self.targets.masks[k].1, clock, timer);
         pass.set_stencil_reference(0);
         self.bindings.bind(&mut pass, k as u32);
         self.scene.bind(&mut pass);
-        let draws = [&pipelines.lit, &pipelines.shadowed];
+        let draws = [&self.pipelines.lit, &self.pipelines.shadowed];
         for pipeline in draws.iter().take(if skip_shadowed { 1 } else { 2 }) {
             pass.set_pipeline(pipeline);
             self.scene.draw_all(&mut pass, false);
         }
     }
+
+    /// Begins a pass that shades into the frame's colour and a light's `mask`, timed as the
+    /// main part.
+    fn begin_shading<'e>(
+        &self,
+        shading: Shading,
+        mask: &wgpu::TextureView,
+        clock: &'e mut FrameClock,
+        timer: &mut Option<Timer>,
+    ) -> wgpu::RenderPass<'e> {
+        let timestamps = clock.timestamps(timer, Part::Main);
+        let clear = shading.clear_depth_stencil;
+        clock
+            .encoder()
+            .begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(shading.label),
+                color_attachments: &[
+                    color_target(self.color_view, shading.clears.0),
+                    color_target(mask, shading.clears.1),
+                ],
+                depth_stencil_attachment: Some(depth_stencil(
+                    &self.targets.depth_view,
+                    clear,
+                    clear,
+                )),
+                timestamp_writes: timestamps,
+                ..Default::default()
+            })
+    }
+}
+
+/// How a shading pass of the volumes begins: its label, the clears of the colour and the mask
+/// (or loads), and whether depth and stencil are cleared.
+struct Shading {
+    label: &'static str,
+    clears: (Option<wgpu::Color>, Option<wgpu::Color>),
+    clear_depth_stencil: bool,
 }
 
 /// The depth-stencil attachment of the volume passes: depth cleared to 0 (reversed Z: the
