@@ -375,11 +375,6 @@ impl Renderer {
         };
     }
 
-    /// The dynamic offset of slot `k` (map k for depth passes, light k for volume passes).
-    pub(crate) fn slot(&self, k: u32) -> u32 {
-        k * self.uniforms.slot_stride
-    }
-
     /// Whether paraboloid maps are drawn exactly (each texel's ray cast at each triangle: see
     /// the depth pass in passes.wgsl), which needs storage buffers in vertex shaders; where the
     /// device lacks them, and for a caller's casters ([`Renderer::encode_shadow_maps_of`]),
@@ -413,9 +408,7 @@ impl Renderer {
             atlas: &self.atlas,
             scene: &self.scene,
             pipelines: &self.pipelines,
-            frame_group: &self.uniforms.frame_group,
-            records_group: &self.uniforms.records_group,
-            slot_stride: self.uniforms.slot_stride,
+            bindings: FrameBindings::for_depth(&self.uniforms),
             ids,
             cut,
         };
@@ -441,6 +434,7 @@ impl Renderer {
         let ids = self.main_spec.read != 0;
         self.pipelines
             .depth(&self.gpu.device, casters.vertex_stride, ids, false);
+        let bindings = FrameBindings::for_depth(&self.uniforms);
         for (k, map) in self.maps.iter().enumerate() {
             let mut pass = begin_depth_pass(encoder, &self.atlas, map, ids, None);
             pass.set_pipeline(
@@ -448,8 +442,7 @@ impl Renderer {
                     .depth_for(casters.vertex_stride, ids, false)
                     .expect("made above"),
             );
-            pass.set_bind_group(0, &self.uniforms.frame_group, &[self.slot(k as u32)]);
-            pass.set_bind_group(1, &self.uniforms.records_group, &[]);
+            bindings.bind(&mut pass, k as u32);
             casters.draw(&mut pass, &map.planes);
         }
     }

@@ -674,10 +674,11 @@ fn maps_read(setup: &ShadowSetup, r: DVec3) -> Vec<usize> {
     if depth >= c.shadow_distance() {
         return Vec::new();
     }
-    if c.by_coverage && k < c.slice_of(depth) {
+    let slice = c.slice_of(depth);
+    if c.by_coverage && k < slice {
         // Picked by coverage: the band is the outer `blend` of the map's square, toward the
         // next map where that is the slice's or holds the point (as the lookup reads it).
-        let next = k + 1 == c.slice_of(depth) || CascadeSlices::covers(&setup.maps[k + 1], r);
+        let next = k + 1 == slice || CascadeSlices::covers(&setup.maps[k + 1], r);
         return if c.blend > 0.0 && next && cover_extent(&setup.maps[k], r) > 1.0 - c.blend {
             vec![k, k + 1]
         } else {

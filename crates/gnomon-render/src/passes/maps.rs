@@ -5,7 +5,7 @@ use glam::DVec4;
 use gnomon::ShadowMap;
 
 use crate::atlas::ShadowAtlas;
-use crate::passes::clip_side_planes;
+use crate::passes::{FrameBindings, clip_side_planes};
 use crate::pipelines::Pipelines;
 use crate::scene::GpuScene;
 
@@ -97,10 +97,7 @@ pub(crate) struct SceneDepth<'a> {
     pub scene: &'a GpuScene,
     /// Made for `ids` and `cut` (and the scene's vertex stride) by the caller.
     pub pipelines: &'a Pipelines,
-    pub frame_group: &'a wgpu::BindGroup,
-    pub records_group: &'a wgpu::BindGroup,
-    /// The bytes between two slots of the frame group.
-    pub slot_stride: u32,
+    pub bindings: FrameBindings<'a>,
     /// Whether the maps hold object IDs beside depth.
     pub ids: bool,
     /// Whether alpha-masked instances cut holes.
@@ -119,8 +116,7 @@ impl SceneDepth<'_> {
     ) {
         let (ids, cut) = (self.ids, self.cut);
         let mut pass = begin_depth_pass(encoder, self.atlas, map, ids, timestamps);
-        pass.set_bind_group(0, self.frame_group, &[k * self.slot_stride]);
-        pass.set_bind_group(1, self.records_group, &[]);
+        self.bindings.bind(&mut pass, k);
         let exact = self.pipelines.paraboloid_for(ids, cut);
         if let Some(pipeline) = exact.filter(|_| map.paraboloid) {
             pass.set_pipeline(pipeline);

@@ -15,30 +15,41 @@ use gnomon::Aabb;
 use crate::atlas::ShadowAtlas;
 use crate::uniforms::FrameUniforms;
 
-/// The frame's bind groups as the passes that shade bind them: group 0 (the frame's records,
-/// at a slot's dynamic offset) and group 1 (the maps and the samplers that read them).
+/// The frame's bind groups as a pass binds them: group 0 (the frame's records, at a slot's
+/// dynamic offset) and group 1 (for the passes that shade, the maps and the samplers that read
+/// them; for the depth passes, the records alone).
 #[derive(Clone, Copy)]
 pub(crate) struct FrameBindings<'a> {
     pub frame_group: &'a wgpu::BindGroup,
-    pub lookup_group: &'a wgpu::BindGroup,
+    pub second_group: &'a wgpu::BindGroup,
     /// The bytes between two slots of group 0.
     pub slot_stride: u32,
 }
 
 impl<'a> FrameBindings<'a> {
-    /// The frame's groups: its records' and the atlas's lookup.
+    /// The groups of the passes that shade: the frame's records and the atlas's lookup.
     pub fn of(uniforms: &'a FrameUniforms, atlas: &'a ShadowAtlas) -> Self {
         Self {
             frame_group: &uniforms.frame_group,
-            lookup_group: &atlas.bind_group,
+            second_group: &atlas.bind_group,
             slot_stride: uniforms.slot_stride,
         }
     }
 
-    /// Binds both groups, group 0 at `slot` (light k for the volume passes).
+    /// The groups of the depth passes, which read the records but no map.
+    pub fn for_depth(uniforms: &'a FrameUniforms) -> Self {
+        Self {
+            frame_group: &uniforms.frame_group,
+            second_group: &uniforms.records_group,
+            slot_stride: uniforms.slot_stride,
+        }
+    }
+
+    /// Binds both groups, group 0 at `slot` (map k for the depth passes, light k for the
+    /// volume passes).
     pub fn bind(&self, pass: &mut wgpu::RenderPass<'_>, slot: u32) {
         pass.set_bind_group(0, self.frame_group, &[slot * self.slot_stride]);
-        pass.set_bind_group(1, self.lookup_group, &[]);
+        pass.set_bind_group(1, self.second_group, &[]);
     }
 }
 

@@ -66,9 +66,7 @@ impl Probes {
             ),
         }
     }
-}
 
-impl Probes {
     /// Records the first `count` points of the buffer drawn into the target (cleared).
     pub fn encode(
         &self,

@@ -37,9 +37,7 @@ impl SampleTargets {
                 .1,
         });
     }
-}
 
-impl SampleTargets {
     /// Records the scene drawn by the samples `pipeline` into the targets (cleared).
     pub fn encode(
         &self,
