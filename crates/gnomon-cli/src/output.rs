@@ -40,19 +40,37 @@ pub fn check_output(option: &str, path: &Path, extensions: &[&str]) -> Result<()
             folder.display()
         )));
     }
-    let writable = if path.exists() {
-        std::fs::OpenOptions::new()
-            .append(true)
-            .open(path)
-            .map(|_| ())
-    } else {
-        std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(path)
-            .and_then(|_| std::fs::remove_file(path))
-    };
-    writable.map_err(|e| CliError::usage(format!("{option} {shown} cannot be written: {e}")))
+    writable(path).map_err(|e| CliError::usage(format!("{option} {shown} cannot be written: {e}")))
+}
+
+/// Opens `path` for appending if it exists, else makes it and removes it again. Another
+/// command checking the same path at the same moment (two renders to the default
+/// `frame.png`) can make or remove it between the steps: either outcome shows the folder
+/// takes the file, so neither is an error.
+fn writable(path: &Path) -> std::io::Result<()> {
+    use std::io::ErrorKind::{AlreadyExists, NotFound};
+    let append = || std::fs::OpenOptions::new().append(true).open(path);
+    if path.exists() {
+        match append() {
+            Err(e) if e.kind() != NotFound => return Err(e),
+            _ => return Ok(()),
+        }
+    }
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(path)
+    {
+        Ok(_) => match std::fs::remove_file(path) {
+            Err(e) if e.kind() != NotFound => Err(e),
+            _ => Ok(()),
+        },
+        Err(e) if e.kind() == AlreadyExists => match append() {
+            Err(e) if e.kind() != NotFound => Err(e),
+            _ => Ok(()),
+        },
+        Err(e) => Err(e),
+    }
 }
 
 /// Checks every output of a command (option, path, formats) and that no two are the same
@@ -88,4 +106,34 @@ pub fn print(text: &str) {
 macro_rules! say {
     () => { $crate::output::print("\n") };
     ($($arg:tt)*) => { $crate::output::print(&format!("{}\n", format_args!($($arg)*))) };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Commands that check the same default output at once (the CLI tests run `render`
+    /// without `--out` in parallel) each find it writable, and none leaves a file behind.
+    #[test]
+    fn checks_of_one_path_at_once_all_pass() {
+        let dir = std::env::temp_dir().join(format!("gnomon-check-output-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("frame.png");
+        std::thread::scope(|s| {
+            for _ in 0..4 {
+                s.spawn(|| {
+                    for _ in 0..500 {
+                        check_output("--out", &path, &["png"]).unwrap();
+                    }
+                });
+            }
+        });
+        assert!(!path.exists());
+        let folder = dir.join("folder.png");
+        std::fs::create_dir(&folder).unwrap();
+        assert!(check_output("--out", &folder, &["png"]).is_err());
+        assert!(check_output("--out", &dir.join("frame.jpg"), &["png"]).is_err());
+        assert!(check_output("--out", &dir.join("none/frame.png"), &["png"]).is_err());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }
