@@ -8,7 +8,7 @@
 //! wholly inside has every box inside, and a node's extents under a light's projector hold
 //! every box's. Traversals use this twice: classification stops at the nodes that lie wholly
 //! inside or outside (only boxes near a plane are tested one by one), and extents stop at the
-//! nodes whose image lies inside what has been gathered so far (see `focus.rs`).
+//! nodes whose image lies inside what has been gathered so far (see `focus/casters.rs`).
 
 use glam::{DVec3, DVec4};
 
