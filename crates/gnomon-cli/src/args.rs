@@ -259,36 +259,11 @@ impl ViewListArgs {
 }
 
 /// The `gnomon render` command that draws named view `view` of the scene given by
-/// `scene_options` ([`LoadedScene::options`]) as a report's cell: `technique` a map technique
-/// (`None`: the exact volumes) with those of `params` it reads, the rest as the report drew it.
-/// Every figure can be reproduced from its report.
+/// `scene_options` ([`LoadedScene::options`]) as a report's cell: `technique.1` names it
+/// (`--technique`), `technique.0` the map technique whose map size and those of `params` it
+/// reads (`None` for what draws no map: the volumes, planar shadows), the rest as the report
+/// drew it. Every figure can be reproduced from its report.
 pub fn render_command(
-    scene_options: &str,
-    view: &NamedView,
-    technique: Option<&Technique>,
-    params: &TechniqueParams,
-    shadow_map: u32,
-    size: (u32, u32),
-    extra: &str,
-) -> String {
-    render_command_of(
-        scene_options,
-        view,
-        (
-            technique,
-            technique.map_or("volumes", gnomon::ShadowTechnique::name),
-        ),
-        params,
-        shadow_map,
-        size,
-        extra,
-    )
-}
-
-/// [`render_command`] of what `technique.1` names (`--technique`): `technique.0` the map
-/// technique whose map size and parameters it reads (`None` for what draws no map: the
-/// volumes, planar shadows).
-pub fn render_command_of(
     scene_options: &str,
     view: &NamedView,
     (technique, name): (Option<&Technique>, &str),

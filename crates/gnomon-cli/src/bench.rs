@@ -212,22 +212,21 @@ fn view_results(
         if let Entry::Map(row) = entry
             && let Some(why) = row.refuses(lights)
         {
-            results.push(json!({ "view": view, "technique": entry.name(), "skipped": why }));
+            results.push(crate::report::skipped_record(Some(view), entry.name(), why));
             continue;
         }
         let total: Vec<f64> = samples.iter().map(|t| t.0).collect();
         let shadow: Vec<f64> = samples.iter().map(|t| t.1.shadow_pass_ms).collect();
         let main: Vec<f64> = samples.iter().map(|t| t.1.main_pass_ms).collect();
         let (mean, sd) = mean_sd(&total);
-        results.push(json!({
-            "view": view,
-            "technique": entry.name(),
+        let figures = json!({
             "frame_ms": mean,
             "frame_ms_sd": sd,
             "shadow_pass_ms": mean_sd(&shadow).0,
             "main_pass_ms": mean_sd(&main).0,
             "vs_baseline": mean / baseline_ms,
-        }));
+        });
+        results.push(crate::report::row_record(Some(view), entry.name(), figures));
     }
     results
 }

@@ -407,11 +407,7 @@ impl<'a> SceneRun<'a> {
             ..RenderSettings::default()
         };
         let rows = techniques.len() + usize::from(compared.planar) + 1;
-        let progress = indicatif::ProgressBar::new((views * rows) as u64);
-        progress.set_style(
-            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
-                .expect("a valid template"),
-        );
+        let progress = crate::output::progress_bar(views * rows);
         Ok(Self {
             args,
             techniques,
@@ -581,7 +577,7 @@ impl<'a> SceneRun<'a> {
                 .set_message(format!("{}: {}", view.name, entry.label));
             if let Some(why) = entry.refuses(&lights) {
                 // Its grid row stays empty; the summary leaves this view out for it.
-                rows.push(json!({ "technique": entry.label, "skipped": why }));
+                rows.push(crate::report::skipped_record(None, &entry.label, why));
                 self.progress.inc(1);
                 continue;
             }
@@ -620,7 +616,7 @@ impl<'a> SceneRun<'a> {
                     let drawn = (&exact, &mut grid, &mut summary[k]);
                     self.planar_row(view, &receiver, lit, view_n_dot_l, drawn)?
                 }
-                Err(why) => json!({ "technique": crate::names::PLANAR, "skipped": why }),
+                Err(why) => crate::report::skipped_record(None, crate::names::PLANAR, &why),
             });
             self.progress.inc(1);
         }
@@ -630,7 +626,7 @@ impl<'a> SceneRun<'a> {
             grid,
             rows,
             exact_ms: t.shadow_pass_ms + t.main_pass_ms,
-            volumes_command: self.command(
+            volumes_command: (self.commands()).render(
                 view,
                 None,
                 "volumes",
@@ -693,7 +689,7 @@ impl<'a> SceneRun<'a> {
                 )
             });
         // sppsm-same-texels is sppsm at its own map size.
-        let command = self.command(
+        let command = self.commands().render(
             view,
             Some(entry),
             entry.technique_name(),
@@ -703,7 +699,6 @@ impl<'a> SceneRun<'a> {
             ),
         );
         let json = json!({
-            "technique": entry.label,
             "command": command,
             "shadow_map": entry.resolution,
             "maps": setup.maps.len(),
@@ -719,6 +714,7 @@ impl<'a> SceneRun<'a> {
             "setup_us": setup_us,
             "frame_ms": frame_ms,
         });
+        let json = crate::report::row_record(None, &entry.label, json);
         let error_map = heatmap::draw(metrics, width, height);
         // The frame's colour and N.L become the row's cells and the view's N.L, not copies.
         let mut frame = drawn.frame;
@@ -766,9 +762,14 @@ impl<'a> SceneRun<'a> {
         grid.paste(&frame.color, 0, k);
         grid.paste(&error_image, 1, k);
         summary.add(errors.wrong_percent(), f64::NAN, 0.0, frame_ms);
-        Ok(json!({
-            "technique": crate::names::PLANAR,
-            "command": self.command(view, None, crate::names::PLANAR, " --out frame.png --mask mask.png"),
+        let command = (self.commands()).render(
+            view,
+            None,
+            crate::names::PLANAR,
+            " --out frame.png --mask mask.png",
+        );
+        let figures = json!({
+            "command": command,
             "maps": 0,
             "wrong_percent": errors.wrong_percent(),
             "false_shadow_percent": errors.false_shadow_percent(),
@@ -776,31 +777,22 @@ impl<'a> SceneRun<'a> {
             "compared_pixels": errors.compared,
             "setup_us": 0.0,
             "frame_ms": frame_ms,
-        }))
+        });
+        Ok(crate::report::row_record(
+            None,
+            crate::names::PLANAR,
+            figures,
+        ))
     }
 
-    /// The `gnomon render` command that draws `name` in `view`: a map row's with its
-    /// technique, parameters and map size, else with the run's; `extra` its output options.
-    fn command(
-        &self,
-        view: &gnomon_scene::NamedView,
-        row: Option<&crate::rows::Row>,
-        name: &str,
-        extra: &str,
-    ) -> String {
-        let (technique, params, resolution) = match row {
-            Some(r) => (Some(&r.technique), &r.params, r.resolution),
-            None => (None, &self.args.params, self.args.shadow_map),
-        };
-        crate::args::render_command_of(
-            &self.loaded.options,
-            view,
-            (technique, name),
-            params,
-            resolution,
-            self.args.size,
-            extra,
-        )
+    /// What the rows' reproduce commands share.
+    fn commands(&self) -> crate::rows::Commands<'_> {
+        crate::rows::Commands {
+            scene_options: &self.loaded.options,
+            params: &self.args.params,
+            shadow_map: self.args.shadow_map,
+            size: self.args.size,
+        }
     }
 
     /// The command that draws the soft shadows of the view's area light (the volumes of its
@@ -808,15 +800,11 @@ impl<'a> SceneRun<'a> {
     fn soft_command(&self, view: &gnomon_scene::NamedView) -> String {
         let mut flags = self.args.soft.clone();
         flags.pcf = crate::render::PcfArg::Hardware2x2;
-        self.command(
-            view,
-            None,
-            "volumes",
-            &format!(
-                "{} --out soft.png --mask soft-factor.png",
-                flags.non_default_flags()
-            ),
-        )
+        let extra = format!(
+            "{} --out soft.png --mask soft-factor.png",
+            flags.non_default_flags()
+        );
+        self.commands().render(view, None, "volumes", &extra)
     }
 }
 

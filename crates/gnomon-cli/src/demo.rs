@@ -6,16 +6,16 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
-use gnomon_render::{Frame, RenderSettings, Renderer, StencilMode};
+use gnomon_render::{RenderSettings, Renderer, StencilMode};
 use gnomon_scene::NamedView;
-use serde_json::{Value, json};
+use serde_json::json;
 
 use crate::CliError;
 use crate::args::{SceneArgs, TechniqueParams, ViewListArgs};
-use crate::args::{render_command, render_command_of};
-use crate::gallery::{Cell, Kind, ViewCells};
+use crate::gallery::{Cell, CellWriter, Kind, ViewCells};
 use crate::render::{SoftArgs, open_renderer};
-use crate::rows::{Row, RowScene};
+use crate::report::row_record;
+use crate::rows::{Commands, Row, RowScene};
 
 /// `gnomon demo`.
 #[derive(Debug, Clone, Args)]
@@ -66,8 +66,7 @@ struct Demo<'a> {
     row_scene: RowScene,
     planar: Option<gnomon::planar::PlanarReceiver>,
     pcss_row: Row,
-    progress: indicatif::ProgressBar,
-    json: Vec<Value>,
+    cells: CellWriter,
 }
 
 /// Runs `gnomon demo`: load, draw every view, write the pages.
@@ -82,7 +81,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     for view in &views {
         drawn.push(demo.draw_view(view)?);
     }
-    demo.progress.set_message("writing the pages");
+    demo.cells.progress.set_message("writing the pages");
     let page = crate::gallery::Page {
         scene: &loaded.name,
         size: demo.size(),
@@ -92,14 +91,14 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     crate::gallery::write(&args.out, &page, &drawn)?;
     crate::render::write_text(
         &args.out.join("setups.json"),
-        &serde_json::to_string_pretty(&demo.json).expect("JSON of plain values"),
+        &serde_json::to_string_pretty(demo.cells.records()).expect("JSON of plain values"),
     )?;
-    demo.progress.inc(1);
-    demo.progress.finish_and_clear();
+    demo.cells.progress.inc(1);
+    demo.cells.progress.finish_and_clear();
     eprintln!(
         "gnomon demo: {} views, {} frames on {} in {:.1} s",
         views.len(),
-        demo.progress.length().unwrap_or(0) - 1,
+        demo.cells.progress.length().unwrap_or(0) - 1,
         demo.renderer.gpu().describe(),
         started.elapsed().as_secs_f64()
     );
@@ -128,11 +127,7 @@ impl<'a> Demo<'a> {
         let pcss_row = crate::rows::row(PCSS_TECHNIQUE, &args.params, args.shadow_map)?;
         // Every map row, planar, the volumes, the soft reference and PCSS per view; the pages.
         let per_view = rows.len() + 3 + usize::from(planar.is_some());
-        let progress = indicatif::ProgressBar::new((views * per_view + 1) as u64);
-        progress.set_style(
-            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
-                .expect("a valid template"),
-        );
+        let cells = CellWriter::new(&args.out, views * per_view + 1);
         Ok(Self {
             args,
             options: loaded.options.clone(),
@@ -149,8 +144,7 @@ impl<'a> Demo<'a> {
             row_scene,
             planar,
             pcss_row,
-            progress,
-            json: Vec::new(),
+            cells,
         })
     }
 
@@ -191,21 +185,14 @@ impl<'a> Demo<'a> {
         Ok(drawn)
     }
 
-    /// Renders `frame`'s images into the gallery folder and advances the progress bar.
-    fn write_cell(&self, cell: &Cell, frame: &Frame) -> Result<(), CliError> {
-        let light = cell
-            .light_view
-            .then(|| self.args.out.join(format!("{}_light.png", cell.stem)));
-        crate::render::write_frame(
-            frame,
-            &self.args.out.join(format!("{}.png", cell.stem)),
-            None,
-            light.as_deref(),
-        )?;
-        self.progress
-            .set_message(format!("{} {}", cell.view, cell.label));
-        self.progress.inc(1);
-        Ok(())
+    /// What the cells' reproduce commands share.
+    fn commands(&self) -> Commands<'_> {
+        Commands {
+            scene_options: &self.options,
+            params: &self.args.params,
+            shadow_map: self.args.shadow_map,
+            size: self.size(),
+        }
     }
 
     /// Row `i` (a shadow-map technique) on `view`, or a cell that says why it is not drawn.
@@ -220,22 +207,17 @@ impl<'a> Demo<'a> {
         let row = &self.rows[i];
         let stem = format!("{}_{}", view.name, row.label);
         if let Some(why) = row.refuses(lights) {
-            self.progress.inc(1);
-            self.json
-                .push(json!({ "view": view.name, "technique": row.label, "skipped": why }));
-            return Ok(Cell::skipped(&view.name, &row.label, why));
+            let label = row.label.clone();
+            return Ok(self.cells.skipped(&view.name, &label, why, true));
         }
         let lit = (camera, lights, samples);
         let drawn = (self.row_scene).draw(&mut self.renderer, row, lit, &self.settings)?;
         let (setups, setup_us, frame) = (drawn.setups, drawn.setup_us, drawn.frame);
         let t = frame.timings;
-        let command = render_command_of(
-            &self.options,
+        let command = self.commands().render(
             view,
-            (Some(&row.technique), row.technique_name()),
-            &row.params,
-            row.resolution,
-            self.size(),
+            Some(row),
+            row.technique_name(),
             &format!(" --out {stem}.png --light-view {stem}_light.png"),
         );
         let cell = Cell {
@@ -247,16 +229,14 @@ impl<'a> Demo<'a> {
             light_view: true,
             ..Cell::drawn(&view.name, &row.label, stem, command, Kind::Map, &frame)
         };
-        self.write_cell(&cell, &frame)?;
-        self.json.push(json!({
-            "view": view.name,
-            "technique": row.label,
+        let record = json!({
             "setup_us": setup_us,
             "shadow_pass_ms": t.shadow_pass_ms,
             "main_pass_ms": t.main_pass_ms,
             "setup": gnomon_tools::setup_json(&setups[0]),
-        }));
-        Ok(cell)
+        });
+        let record = row_record(Some(&view.name), &row.label, record);
+        self.cells.write(cell, &frame, record)
     }
 
     /// Planar projected shadows on the ground (nothing else receives: the limit).
@@ -272,13 +252,10 @@ impl<'a> Demo<'a> {
             .render_planar_lit_by(camera, lights, receiver, &self.settings)?;
         let stem = format!("{}_planar", view.name);
         let t = drawn.frame.timings;
-        let command = render_command_of(
-            &self.options,
+        let command = (self.commands()).render(
             view,
-            (None, crate::names::PLANAR),
-            &self.args.params,
-            self.args.shadow_map,
-            self.size(),
+            None,
+            crate::names::PLANAR,
             &format!(" --out {stem}.png"),
         );
         let cell = Cell {
@@ -295,15 +272,13 @@ impl<'a> Demo<'a> {
                 &drawn.frame,
             )
         };
-        self.write_cell(&cell, &drawn.frame)?;
-        self.json.push(json!({
-            "view": view.name,
-            "technique": crate::names::PLANAR,
+        let record = json!({
             "flattened_triangles": drawn.stats.triangles,
             "flattening_and_stencil_ms": t.shadow_pass_ms,
             "shading_ms": t.main_pass_ms,
-        }));
-        Ok(cell)
+        });
+        let record = row_record(Some(&view.name), crate::names::PLANAR, record);
+        self.cells.write(cell, &drawn.frame, record)
     }
 
     /// Exact shadows: stenciled shadow volumes, z-pass or z-fail chosen per caster.
@@ -321,13 +296,10 @@ impl<'a> Demo<'a> {
         )?;
         let stem = format!("{}_volumes", view.name);
         let (t, stats) = (drawn.frame.timings, drawn.stats);
-        let command = render_command(
-            &self.options,
+        let command = self.commands().render(
             view,
             None,
-            &self.args.params,
-            self.args.shadow_map,
-            self.size(),
+            "volumes",
             &format!(" --stencil per-caster --out {stem}.png"),
         );
         let cell = Cell {
@@ -349,16 +321,14 @@ impl<'a> Demo<'a> {
                 &drawn.frame,
             )
         };
-        self.write_cell(&cell, &drawn.frame)?;
-        self.json.push(json!({
-            "view": view.name,
-            "technique": "volumes",
+        let record = json!({
             "stencil": "per-caster",
             "volume_triangles": stats.triangles,
             "extrusion_and_stencil_ms": t.shadow_pass_ms,
             "shading_ms": t.main_pass_ms,
-        }));
-        Ok(cell)
+        });
+        let record = row_record(Some(&view.name), "volumes", record);
+        self.cells.write(cell, &drawn.frame, record)
     }
 
     /// The soft args of the view's main light as an area light.
@@ -390,15 +360,8 @@ impl<'a> Demo<'a> {
         )?;
         let stem = format!("{}_soft", view.name);
         let t = reference.frame.timings;
-        let command = render_command(
-            &self.options,
-            view,
-            None,
-            &self.args.params,
-            self.args.shadow_map,
-            self.size(),
-            &format!("{} --out {stem}.png", soft.non_default_flags()),
-        );
+        let extra = format!("{} --out {stem}.png", soft.non_default_flags());
+        let command = self.commands().render(view, None, "volumes", &extra);
         let cell = Cell {
             figures: format!(
                 "{SOFT_SAMPLES} hard lights with exact volumes · {:.1} ms",
@@ -413,14 +376,13 @@ impl<'a> Demo<'a> {
                 &reference.frame,
             )
         };
-        self.write_cell(&cell, &reference.frame)?;
-        self.json.push(json!({
-            "view": view.name,
-            "technique": "soft-volumes",
+        let record = json!({
             "area_light": soft.area_light,
             "area_samples": SOFT_SAMPLES,
             "ms": t.shadow_pass_ms + t.main_pass_ms,
-        }));
+        });
+        let record = row_record(Some(&view.name), "soft-volumes", record);
+        let cell = self.cells.write(cell, &reference.frame, record)?;
         Ok((cell, reference.factor))
     }
 
@@ -436,8 +398,7 @@ impl<'a> Demo<'a> {
     ) -> Result<Cell, CliError> {
         let label = format!("pcss ({PCSS_TECHNIQUE})");
         if let Some(why) = self.pcss_row.refuses(lights) {
-            self.progress.inc(1);
-            return Ok(Cell::skipped(&view.name, &label, why));
+            return Ok(self.cells.skipped(&view.name, &label, why, false));
         }
         let pcss = Self::soft_args(lights, crate::render::PcfArg::Pcss);
         let settings = RenderSettings {
@@ -456,18 +417,9 @@ impl<'a> Demo<'a> {
         );
         let stem = format!("{}_pcss", view.name);
         let t = frame.timings;
-        let command = render_command_of(
-            &self.options,
-            view,
-            (
-                Some(&self.pcss_row.technique),
-                self.pcss_row.technique_name(),
-            ),
-            &self.pcss_row.params,
-            self.pcss_row.resolution,
-            self.size(),
-            &format!("{} --out {stem}.png", pcss.non_default_flags()),
-        );
+        let extra = format!("{} --out {stem}.png", pcss.non_default_flags());
+        let row = Some(&self.pcss_row);
+        let command = (self.commands()).render(view, row, self.pcss_row.technique_name(), &extra);
         let cell = Cell {
             figures: format!(
                 "penumbra error {:.3} against the reference over {} pixels · shadow pass {:.1} \
@@ -476,10 +428,7 @@ impl<'a> Demo<'a> {
             ),
             ..Cell::drawn(&view.name, &label, stem, command, Kind::Soft, &frame)
         };
-        self.write_cell(&cell, &frame)?;
-        self.json.push(json!({
-            "view": view.name,
-            "technique": "pcss",
+        let record = json!({
             "map_technique": PCSS_TECHNIQUE,
             "area_light": pcss.area_light,
             "penumbra_error": error.mean,
@@ -487,7 +436,8 @@ impl<'a> Demo<'a> {
             "setup_us": setup_us,
             "shadow_pass_ms": t.shadow_pass_ms,
             "main_pass_ms": t.main_pass_ms,
-        }));
-        Ok(cell)
+        });
+        let record = row_record(Some(&view.name), "pcss", record);
+        self.cells.write(cell, &frame, record)
     }
 }

@@ -351,11 +351,7 @@ fn measure(
         height: args.size.1,
         ..RenderSettings::default()
     };
-    let progress = indicatif::ProgressBar::new((args.frames * rows.len()) as u64);
-    progress.set_style(
-        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
-            .expect("a valid template"),
-    );
+    let progress = crate::output::progress_bar(args.frames * rows.len());
     let mut tallies: Vec<Tally> = rows.iter().map(|_| Tally::default()).collect();
     let mut previous: Vec<Option<Vec<bool>>> = vec![None; rows.len()];
     // Each row's technique for the next frame (adaptive cascades learn the count kept).
@@ -478,15 +474,15 @@ fn result(
             command += &format!(" {flag}");
         }
     }
-    json!({
-        "technique": row.label,
+    let figures = json!({
         "command": command,
         "false_flicker": false_flicker,
         "edge_swim_px": swim,
         "judged": tally.judged,
         "false_changes": tally.false_changes,
         "setup_technique": row.technique.name(),
-    })
+    });
+    crate::report::row_record(None, &row.label, figures)
 }
 
 /// Prints the rows as JSON or as a table.

@@ -3,11 +3,12 @@
 //! soft shadows) with zoomed crops where shadow edges differ, and every cell on a second page.
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use gnomon::{MapSelection, ShadowSetup};
 use gnomon_render::{Frame, MASK_EMPTY};
 use gnomon_scene::NamedView;
+use serde_json::Value;
 
 use crate::CliError;
 use crate::render::{write_png, write_text};
@@ -99,6 +100,57 @@ impl Cell {
     /// Wrong pixels against the exact volumes, in percent, where judged.
     pub fn wrong_percent(&self) -> Option<f64> {
         self.wrong.as_ref().map(|w| w.0)
+    }
+}
+
+/// The one writer of gallery cells: each drawn cell's images go into the gallery folder as
+/// they are drawn, its record into `setups.json`, and each cell, drawn or refused, is a step
+/// of the progress bar.
+pub struct CellWriter {
+    folder: PathBuf,
+    pub progress: indicatif::ProgressBar,
+    records: Vec<Value>,
+}
+
+impl CellWriter {
+    /// A writer into `folder` (made by the caller) over `steps` steps.
+    pub fn new(folder: &Path, steps: usize) -> Self {
+        Self {
+            folder: folder.to_path_buf(),
+            progress: crate::output::progress_bar(steps),
+            records: Vec::new(),
+        }
+    }
+
+    /// A row the view's lights refuse: a step, its record where `recorded`, and its cell.
+    pub fn skipped(&mut self, view: &str, label: &str, why: &str, recorded: bool) -> Cell {
+        self.progress.inc(1);
+        if recorded {
+            (self.records).push(crate::report::skipped_record(Some(view), label, why));
+        }
+        Cell::skipped(view, label, why)
+    }
+
+    /// Writes `frame`'s images as `cell`'s (its light view where the cell says so), keeps
+    /// `record` and steps the progress bar.
+    pub fn write(&mut self, cell: Cell, frame: &Frame, record: Value) -> Result<Cell, CliError> {
+        let light = (cell.light_view).then(|| self.folder.join(format!("{}_light.png", cell.stem)));
+        crate::render::write_frame(
+            frame,
+            &self.folder.join(format!("{}.png", cell.stem)),
+            None,
+            light.as_deref(),
+        )?;
+        self.records.push(record);
+        self.progress
+            .set_message(format!("{} {}", cell.view, cell.label));
+        self.progress.inc(1);
+        Ok(cell)
+    }
+
+    /// Every record kept, in the order of the cells.
+    pub fn records(&self) -> &[Value] {
+        &self.records
     }
 }
 

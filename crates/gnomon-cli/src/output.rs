@@ -88,6 +88,17 @@ pub fn check_outputs(outputs: &[(&str, &Path, &[&str])]) -> Result<(), CliError>
     Ok(())
 }
 
+/// The progress bar of a long command: `steps` frames or rows, the current one named in its
+/// message, on standard error.
+pub fn progress_bar(steps: usize) -> indicatif::ProgressBar {
+    let progress = indicatif::ProgressBar::new(steps as u64);
+    progress.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})")
+            .expect("a valid template"),
+    );
+    progress
+}
+
 /// Writes `text` to standard output. When the reader has gone (`gnomon analyze | head`), the
 /// program ends quietly with success, as command-line tools do.
 pub fn print(text: &str) {

@@ -1,4 +1,4 @@
-//! Setups as JSON and as text.
+//! Setups as JSON and as text, and the record every command writes of one row in one view.
 
 use gnomon::{MapSelection, ShadowSetup};
 use serde_json::{Value, json};
@@ -167,4 +167,24 @@ pub fn view_light_json(light: &gnomon_scene::ViewLight) -> Value {
             "range": range,
         }}),
     }
+}
+
+/// One row's record in one view, as compare, demo, bench and flicker write it: the view where
+/// the record stands alone (not nested in its view's), the row's name, then its own figures
+/// (a JSON object) in their order.
+pub fn row_record(view: Option<&str>, technique: &str, figures: Value) -> Value {
+    let mut record = serde_json::Map::new();
+    if let Some(view) = view {
+        record.insert("view".into(), json!(view));
+    }
+    record.insert("technique".into(), json!(technique));
+    if let Value::Object(figures) = figures {
+        record.extend(figures);
+    }
+    Value::Object(record)
+}
+
+/// The record of a row that the view's lights refuse, and why.
+pub fn skipped_record(view: Option<&str>, technique: &str, why: &str) -> Value {
+    row_record(view, technique, json!({ "skipped": why }))
 }

@@ -201,6 +201,42 @@ pub fn rows(
     Ok(expanded)
 }
 
+/// What the reproduce commands of one run share: the scene's options, the run's technique
+/// parameters and map size (for what draws no row of its own), the image size.
+pub struct Commands<'a> {
+    pub scene_options: &'a str,
+    pub params: &'a TechniqueParams,
+    pub shadow_map: u32,
+    pub size: (u32, u32),
+}
+
+impl Commands<'_> {
+    /// The `gnomon render` command that draws `name` in `view`: a map row's with its
+    /// technique, parameters and map size, else (the volumes, planar shadows) with the run's;
+    /// `extra` its output options.
+    pub fn render(
+        &self,
+        view: &gnomon_scene::NamedView,
+        row: Option<&Row>,
+        name: &str,
+        extra: &str,
+    ) -> String {
+        let (technique, params, resolution) = match row {
+            Some(r) => (Some(&r.technique), &r.params, r.resolution),
+            None => (None, self.params, self.shadow_map),
+        };
+        crate::args::render_command(
+            self.scene_options,
+            view,
+            (technique, name),
+            params,
+            resolution,
+            self.size,
+            extra,
+        )
+    }
+}
+
 /// A scene's bounds as each thing drawn needs them: as drawn, and with the ground a receiver
 /// only (what projective shadows draw: a casting ground would cover the whole light map),
 /// with the ground's instances, so that a renderer shared by several techniques draws each

@@ -995,7 +995,7 @@ impl Model for ViewModel {
         {
             extra += &format!(" --stencil {name}");
         }
-        crate::args::render_command_of(
+        crate::args::render_command(
             &self.loaded.options,
             &view,
             (technique.as_ref(), self.draw.technique.name()),
