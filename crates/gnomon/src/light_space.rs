@@ -179,16 +179,21 @@ impl PlaneMap {
         DVec3::new(self.rows[0].dot(h) * r, self.rows[1].dot(h) * r, 0.0)
     }
 
-    /// The (x, y) extents of a box whose corners all have w > 0: each row's value at a
-    /// corner is its value at the centre plus or minus its products with the half extents.
+    /// The (x, y) extents of a box whose corners all have w > 0, else `None`: each row's value
+    /// at a corner is its value at the centre plus or minus its products with the half
+    /// extents, and one pass over the corners both tests and projects them.
     #[inline(always)]
-    pub fn box_extents(&self, aabb: &Aabb) -> Extents {
+    pub fn box_extents_ahead(&self, aabb: &Aabb) -> Option<Extents> {
+        let corners = corner_values(&self.rows, aabb);
+        if corners.iter().any(|[_, _, w]| *w <= 0.0) {
+            return None;
+        }
         let mut ext = Extents::EMPTY;
-        for [x, y, w] in corner_values(&self.rows, aabb) {
+        for [x, y, w] in corners {
             let r = 1.0 / w;
             ext.add(DVec3::new(x * r, y * r, 0.0));
         }
-        ext
+        Some(ext)
     }
 }
 
@@ -575,7 +580,7 @@ mod tests {
         #![proptest_config(ProptestConfig { cases: 1000, failure_persistence: None, ..ProptestConfig::default() })]
 
         /// The centre-plus-signed-half-extents corners give the same extents as projecting
-        /// the eight corners one by one.
+        /// the eight corners one by one, and none where a corner lies behind the map's centre.
         #[test]
         fn plane_map_box_extents_match_the_corners(
             lo in prop::array::uniform3(-10.0f64..10.0),
@@ -592,7 +597,10 @@ mod tests {
             let map = PlaneMap::new(&projector, source_from_world);
             let lo = DVec3::from_array(lo);
             let aabb = Aabb::new(lo, lo + DVec3::from_array(size) + 1e-3).unwrap();
-            let fast = map.box_extents(&aabb);
+            let fast = map.box_extents_ahead(&aabb).expect("every box lies below the light");
+            // A box above the light has corners behind the map's centre: no bounded image.
+            let above = Aabb::new(lo + 80.0 * DVec3::Y, lo + 80.0 * DVec3::Y + 1.0).unwrap();
+            prop_assert!(map.box_extents_ahead(&above).is_none());
             let mut slow = Extents::EMPTY;
             for c in aabb.corners() {
                 let h = source_from_world * c.extend(1.0);

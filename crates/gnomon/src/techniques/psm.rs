@@ -354,15 +354,13 @@ fn walk_map_casters(
     let linear_row = input.light.linear_depth_row();
     let linear = |p: DVec3| linear_row.dot(p.extend(1.0));
     let on_map = |p: DVec3| plane_map.project(p).with_z(linear(p));
-    let map_w = plane_map.rows()[2];
     let row = linear_row.truncate().abs();
     let box_on_map = |b: &Aabb| {
         // The corners' images bound the box's where the map's w is positive on all of it
         // (in front of the virtual camera and of l); else the walk must open or cut it.
-        if corner_values(&[map_w], b).iter().any(|[w]| *w <= 0.0) {
+        let Some(e) = plane_map.box_extents_ahead(b) else {
             return Extents::ALL;
-        }
-        let e = plane_map.box_extents(b);
+        };
         let (c, r) = (linear(b.center()), row.dot(b.half_extents()));
         Extents {
             min: e.min.with_z(c - r),
