@@ -208,7 +208,7 @@ impl<'a> Demo<'a> {
         let stem = format!("{}_{}", view.name, row.label);
         if let Some(why) = row.refuses(lights) {
             let label = row.label.clone();
-            return Ok(self.cells.skipped(&view.name, &label, why, true));
+            return Ok(self.cells.skipped(&view.name, &label, why));
         }
         let lit = (camera, lights, samples);
         let drawn = (self.row_scene).draw(&mut self.renderer, row, lit, &self.settings)?;
@@ -398,7 +398,7 @@ impl<'a> Demo<'a> {
     ) -> Result<Cell, CliError> {
         let label = format!("pcss ({PCSS_TECHNIQUE})");
         if let Some(why) = self.pcss_row.refuses(lights) {
-            return Ok(self.cells.skipped(&view.name, &label, why, false));
+            return Ok(self.cells.skipped(&view.name, &label, why));
         }
         let pcss = Self::soft_args(lights, crate::render::PcfArg::Pcss);
         let settings = RenderSettings {

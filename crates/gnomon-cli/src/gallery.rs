@@ -122,12 +122,10 @@ impl CellWriter {
         }
     }
 
-    /// A row the view's lights refuse: a step, its record where `recorded`, and its cell.
-    pub fn skipped(&mut self, view: &str, label: &str, why: &str, recorded: bool) -> Cell {
+    /// A row the view's lights refuse: a step, its record and its cell.
+    pub fn skipped(&mut self, view: &str, label: &str, why: &str) -> Cell {
         self.progress.inc(1);
-        if recorded {
-            (self.records).push(crate::report::skipped_record(Some(view), label, why));
-        }
+        (self.records).push(crate::report::skipped_record(Some(view), label, why));
         Cell::skipped(view, label, why)
     }
 
