@@ -49,26 +49,24 @@ pub fn check_output(option: &str, path: &Path, extensions: &[&str]) -> Result<()
 /// takes the file, so neither is an error.
 fn writable(path: &Path) -> std::io::Result<()> {
     use std::io::ErrorKind::{AlreadyExists, NotFound};
-    let append = || std::fs::OpenOptions::new().append(true).open(path);
+    let gone_is_fine = |done: std::io::Result<()>| match done {
+        Err(e) if e.kind() == NotFound => Ok(()),
+        done => done,
+    };
+    let append = || {
+        let opened = std::fs::OpenOptions::new().append(true).open(path);
+        gone_is_fine(opened.map(|_| ()))
+    };
     if path.exists() {
-        match append() {
-            Err(e) if e.kind() != NotFound => return Err(e),
-            _ => return Ok(()),
-        }
+        return append();
     }
     match std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)
         .open(path)
     {
-        Ok(_) => match std::fs::remove_file(path) {
-            Err(e) if e.kind() != NotFound => Err(e),
-            _ => Ok(()),
-        },
-        Err(e) if e.kind() == AlreadyExists => match append() {
-            Err(e) if e.kind() != NotFound => Err(e),
-            _ => Ok(()),
-        },
+        Ok(_) => gone_is_fine(std::fs::remove_file(path)),
+        Err(e) if e.kind() == AlreadyExists => append(),
         Err(e) => Err(e),
     }
 }
