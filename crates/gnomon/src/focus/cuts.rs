@@ -123,33 +123,40 @@ pub(crate) fn box_cut_vertices(
 /// [`box_cut_vertices`] for one cutting plane (most cut boxes): the corners inside it and
 /// where the box's edges cross it.
 pub(super) fn cut_by_one(aabb: &Aabb, plane: &Plane, tolerance: f64, out: &mut Vec<DVec3>) -> bool {
-    let start = out.len();
     let corners = aabb.corners();
     let dist = corners.map(|c| plane.distance(c));
-    for (c, d) in corners.iter().zip(&dist) {
-        if *d >= -tolerance {
-            out.push(*c);
-        }
+    let inside = corner_bits(&dist, |d| d >= -tolerance);
+    // An edge that crosses the plane has an end inside it, so nothing is left without one.
+    if inside == 0 {
+        return false;
     }
+    // At most the eight corners and the box's twelve edges.
+    out.reserve(20);
+    for_each_bit(inside, |c| out.push(corners[c]));
     let crossing = crossing_edges(&dist);
-    for_each_edge(crossing.iter().fold(0, |m, x| m | x), |a, axis| {
-        if crossing[axis] >> a & 1 != 0 {
+    for (axis, edges) in crossing.into_iter().enumerate() {
+        for_each_bit(edges, |a| {
             let b = a | 1 << axis;
             let (da, db) = (dist[a], dist[b]);
             out.push(corners[a] + (corners[b] - corners[a]) * (da / (da - db)));
-        }
-    });
-    out.len() > start
+        });
+    }
+    true
+}
+
+/// The corners (bit `c` for corner `c`) whose distances pass `test`.
+#[inline(always)]
+fn corner_bits(dist: &[f64; 8], test: impl Fn(f64) -> bool) -> u8 {
+    dist.iter()
+        .enumerate()
+        .fold(0u8, |m, (c, d)| m | u8::from(test(*d)) << c)
 }
 
 /// The box's edges that cross a plane, from its corners' signed distances (corner `c` at
 /// bit `c`, as [`Aabb::corners`] orders them): for each axis, bit `a` set where the edge from
 /// corner `a` to corner `a` + that axis's bit has one end below 0 and the other not.
 fn crossing_edges(dist: &[f64; 8]) -> [u8; 3] {
-    let below = dist
-        .iter()
-        .enumerate()
-        .fold(0u8, |m, (c, d)| m | u8::from(*d < 0.0) << c);
+    let below = corner_bits(dist, |d| d < 0.0);
     // The corners without the axis's bit: x 0, 2, 4, 6; y 0, 1, 4, 5; z 0, 1, 2, 3.
     [
         (below ^ below >> 1) & 0b0101_0101,
