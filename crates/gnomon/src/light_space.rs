@@ -197,6 +197,50 @@ impl PlaneMap {
     }
 }
 
+/// A region of a [`PlaneMap`] (x and y, with a linear depth z along the light) as affine rows
+/// on world points, to find the boxes wholly outside it without projecting their corners:
+/// such a box lies where w > 0 and one of the region's bounding rows is negative.
+pub(crate) struct RegionRows {
+    /// w, then x - x0 w, x1 w - x, y - y0 w, y1 w - y and z1 - z: each negative beyond one
+    /// side of the region.
+    rows: [DVec4; 6],
+    abs: [DVec3; 6],
+}
+
+impl RegionRows {
+    /// The rows of `region`'s x, y and far z under `map` and `depth_row`; `None` where they
+    /// are not finite.
+    pub fn new(map: &PlaneMap, depth_row: DVec4, region: &Extents) -> Option<Self> {
+        let [x, y, w] = map.rows;
+        let (lo, hi) = (region.min, region.max);
+        let rows = [
+            w,
+            x - w * lo.x,
+            w * hi.x - x,
+            y - w * lo.y,
+            w * hi.y - y,
+            DVec4::W * hi.z - depth_row,
+        ];
+        rows.iter().all(|r| r.is_finite()).then(|| Self {
+            rows,
+            abs: rows.map(|r| r.truncate().abs()),
+        })
+    }
+
+    /// Whether the box of centre `c` and half extents `h` lies wholly outside the region,
+    /// where w > 0 on all of it; `None` where w may reach 0. The same as testing its
+    /// corners' images, but for rounding.
+    #[inline(always)]
+    pub fn box_outside(&self, c: DVec3, h: DVec3) -> Option<bool> {
+        let c = c.extend(1.0);
+        let (rows, abs) = (&self.rows, &self.abs);
+        if rows[0].dot(c) - abs[0].dot(h) <= 0.0 {
+            return None;
+        }
+        Some((1..6).any(|k| rows[k].dot(c) + abs[k].dot(h) < 0.0))
+    }
+}
+
 /// The values of `rows` (affine functions of world points, coefficients on (p, 1)) at a box's
 /// eight corners: each its value at the centre plus or minus its products with the half
 /// extents, with no product of a matrix per corner.
@@ -608,6 +652,60 @@ mod tests {
             }
             prop_assert!((fast.min - slow.min).abs().max_element() < 1e-9, "{fast:?} vs {slow:?}");
             prop_assert!((fast.max - slow.max).abs().max_element() < 1e-9, "{fast:?} vs {slow:?}");
+        }
+
+        /// A region's rows find the boxes whose corners' images (x and y under the map, z
+        /// along a depth row) lie wholly beside it or behind its far side, with none where a
+        /// corner lies behind the map's centre; regions are drawn around the box's image so
+        /// that it lies inside, across a side or beyond it, and only images within rounding
+        /// of a side are left out.
+        #[test]
+        fn region_rows_find_the_boxes_outside_as_their_corners_do(
+            lo in prop::array::uniform3(-10.0f64..10.0),
+            size in prop::array::uniform3(0.0f64..5.0),
+            up in 0.0f64..60.0,
+            shift in prop::array::uniform3(-1.5f64..1.5),
+            grow in 0.05f64..1.0,
+        ) {
+            let map = PlaneMap::new(
+                &Projector::Point {
+                    frame: LightFrame::fixed(DVec3::new(0.2, -1.0, 0.3).normalize()),
+                    position: DVec3::new(0.0, 40.0, 0.0),
+                },
+                DMat4::from_cols_array(&[
+                    1.0, 0.1, 0.0, 0.0, 0.0, 1.0, 0.2, 0.0, 0.1, 0.0, 1.0, 0.01, 0.0, 0.0, 0.0, 1.0,
+                ]),
+            );
+            let depth_row = DVec4::new(0.2, -1.0, 0.3, 5.0);
+            let lo = DVec3::from_array(lo) + up * DVec3::Y;
+            let aabb = Aabb::new(lo, lo + DVec3::from_array(size) + 1e-3).unwrap();
+            let (c, h) = (aabb.center(), aabb.half_extents());
+            let (z, dz) = (depth_row.dot(c.extend(1.0)), depth_row.truncate().abs().dot(h));
+            // A region of the image's size, moved by `shift` of it and scaled by `grow`.
+            let image = map.box_extents_ahead(&aabb).map(|e| Extents {
+                min: e.min.with_z(z - dz),
+                max: e.max.with_z(z + dz),
+            });
+            let reference = image.unwrap_or(Extents { min: DVec3::splat(-1.0), max: DVec3::ONE });
+            let span = reference.max - reference.min;
+            let middle = (reference.min + reference.max) / 2.0 + DVec3::from_array(shift) * span;
+            let region = Extents { min: middle - span * grow, max: middle + span * grow };
+            let rows = RegionRows::new(&map, depth_row, &region).expect("finite");
+            let got = rows.box_outside(c, h);
+            let Some(image) = image else {
+                prop_assert_eq!(got, None);
+                return Ok(());
+            };
+            let gaps = [
+                image.max.x - region.min.x,
+                region.max.x - image.min.x,
+                image.max.y - region.min.y,
+                region.max.y - image.min.y,
+                region.max.z - image.min.z,
+            ];
+            let scale = image.min.abs().max(image.max.abs()).max(region.max.abs()).max_element();
+            prop_assume!(gaps.iter().all(|g| g.abs() > 1e-9 * (scale + 1.0)));
+            prop_assert_eq!(got, Some(gaps.iter().any(|g| *g < 0.0)));
         }
 
         /// Under a cube face's frame (world axes) a box's extents are its corners' images,

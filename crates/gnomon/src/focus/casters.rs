@@ -61,7 +61,7 @@ pub(crate) fn caster_extents(
                 node: |n: usize| projector.box_extents(&tree.node_box(n)),
                 caster: |i: usize| projector.box_extents(&scene.casters()[i]),
                 point: |p: DVec3| projector.project(p),
-                holds_cut_parts: false,
+                cut_node_outside: |_, _: &Extents| None,
             };
             walk_casters(
                 scene,
@@ -103,12 +103,13 @@ pub(crate) trait CasterImages {
     fn clips_near(&self, _i: usize) -> bool {
         false
     }
-    /// Whether [`CasterImages::node`] and [`CasterImages::caster`] hold the image of every part
-    /// of a box, cut or not ([`Extents::ALL`] where the map has none for part of it). A
-    /// subtree beside the receivers is then culled before it is opened. That keeps the walk
-    /// to the boxes near the view when the cutting planes run across the whole scene.
-    fn holds_cut_parts(&self) -> bool {
-        Self::AFFINE || Self::EXACT
+    /// Whether node `n`, which cutting planes cross, lies wholly outside `over` (beside or
+    /// behind the receivers: see [`outside`]), every part of its boxes, cut or not; `None`
+    /// where the map cannot tell. A subtree outside is culled before it is opened, which keeps
+    /// the walk to the boxes near the view when the cutting planes run across the whole scene.
+    /// Only a cull can follow, so a map may answer with less work than the node's image.
+    fn cut_node_outside(&self, n: usize, over: &Extents) -> Option<bool> {
+        (Self::AFFINE || Self::EXACT).then(|| outside(&self.node(n), over))
     }
 }
 
@@ -135,21 +136,21 @@ impl CasterImages for ParallelImages<'_> {
     }
 }
 
-/// A projective map given by its images of nodes, casters and points.
-pub(crate) struct MapImages<N, C, P> {
+/// A projective map given by its images of nodes, casters and points, and its test of
+/// nodes that cutting planes cross ([`CasterImages::cut_node_outside`]).
+pub(crate) struct MapImages<N, C, P, K> {
     pub node: N,
     pub caster: C,
     pub point: P,
-    /// Whether `node` and `caster` give [`Extents::ALL`] for a box the map has no image of
-    /// in part (see [`CasterImages::holds_cut_parts`]).
-    pub holds_cut_parts: bool,
+    pub cut_node_outside: K,
 }
 
-impl<N, C, P> CasterImages for MapImages<N, C, P>
+impl<N, C, P, K> CasterImages for MapImages<N, C, P, K>
 where
     N: Fn(usize) -> Extents,
     C: Fn(usize) -> Extents,
     P: Fn(DVec3) -> DVec3,
+    K: Fn(usize, &Extents) -> Option<bool>,
 {
     const AFFINE: bool = false;
     fn node(&self, n: usize) -> Extents {
@@ -161,8 +162,8 @@ where
     fn point(&self, p: DVec3) -> DVec3 {
         (self.point)(p)
     }
-    fn holds_cut_parts(&self) -> bool {
-        self.holds_cut_parts
+    fn cut_node_outside(&self, n: usize, over: &Extents) -> Option<bool> {
+        (self.cut_node_outside)(n, over)
     }
 }
 
@@ -193,7 +194,7 @@ pub(crate) fn walk_casters<I: CasterImages>(
     tolerance: f64,
 ) -> WalkedCasters {
     let (tree, arrays) = (scene.caster_tree(), scene.caster_arrays());
-    let (xy_slack, over, mut ext) = walk_bounds(receivers);
+    let (over, mut ext) = walk_bounds(receivers);
     let mut relevant = 0;
     let mut near_clipped = 0;
     let mut cuts = BoxCuts {
@@ -213,18 +214,21 @@ pub(crate) fn walk_casters<I: CasterImages>(
     // Subtrees counted whole while the extents did not yet hold them in x and y (early in the
     // walk they are small), to be opened at the end if they still do not.
     let mut put_off = PutOff::new(&over);
-    let whole = images.holds_cut_parts();
-    let beside = |e: &Extents| !receivers.xy_overlaps(e, xy_slack) || e.min.z > receivers.max.z;
+    let beside = |e: &Extents| outside(e, &over);
     loop {
         while let Some((node, active, open)) = stack.pop() {
             let Some(active) = cuts.crossed(&tree.nodes, node, active) else {
                 continue;
             };
-            // A node's image holds its boxes' (for a point light, where the node lies in
-            // front of it: inside every plane of its frustum, or where the images are of the
-            // parts inside it).
-            if !open && (active == 0 || whole) {
-                match node_step(images.node(node), active == 0, beside, &ext, &over) {
+            // A node that cutting planes cross can only be culled whole (the map may tell
+            // whether its boxes' parts all lie outside); one that none crosses is culled,
+            // counted, put off or opened from its image, which holds its boxes'.
+            if !open && active != 0 {
+                if images.cut_node_outside(node, &over) == Some(true) {
+                    continue;
+                }
+            } else if !open {
+                match node_step(images.node(node), beside, &ext, &over) {
                     NodeStep::Open => {}
                     NodeStep::Cull => continue,
                     NodeStep::Count => {
@@ -284,12 +288,12 @@ pub(crate) fn walk_casters<I: CasterImages>(
     }
 }
 
-/// A caster walk's bounds from the receivers' extents: the slack of its x and y tests, what
-/// matters of a caster (its part over the receivers' columns, nearer than their far), and the
-/// empty extents it gathers into. Their far depth is the receivers', since what lies farther
-/// does not matter, so that a node's far side never keeps it open.
+/// A caster walk's bounds from the receivers' extents: what matters of a caster (its part
+/// over the receivers' columns, grown by a slack for rounding, nearer than their far), and
+/// the empty extents it gathers into. Their far depth is the receivers', since what lies
+/// farther does not matter, so that a node's far side never keeps it open.
 #[inline(always)]
-fn walk_bounds(receivers: &Extents) -> (f64, Extents, Extents) {
+fn walk_bounds(receivers: &Extents) -> (Extents, Extents) {
     let xy_slack = 1e-9 * (receivers.max - receivers.min).truncate().max_element();
     let over = Extents {
         min: (receivers.min.truncate() - xy_slack).extend(f64::NEG_INFINITY),
@@ -299,7 +303,18 @@ fn walk_bounds(receivers: &Extents) -> (f64, Extents, Extents) {
         min: DVec3::INFINITY,
         max: DVec3::NEG_INFINITY.with_z(over.max.z),
     };
-    (xy_slack, over, gathered)
+    (over, gathered)
+}
+
+/// Whether an image lies wholly outside what matters of a caster (`over`, see
+/// [`walk_bounds`]): beside the receivers' columns or behind their far.
+#[inline(always)]
+fn outside(image: &Extents, over: &Extents) -> bool {
+    !(over.min.x <= image.max.x
+        && image.min.x <= over.max.x
+        && over.min.y <= image.max.y
+        && image.min.y <= over.max.y)
+        || image.min.z > over.max.z
 }
 
 /// What a caster walk does with a node, from its image.
@@ -314,21 +329,20 @@ enum NodeStep {
     Open,
 }
 
-/// The step for a node whose `image` holds its boxes' (`uncut`: no cutting plane crosses
-/// it), against what is gathered so far (`ext`) and what matters of a caster (`over`).
+/// The step for a node that no cutting plane crosses, from its `image`, against what is
+/// gathered so far (`ext`) and what matters of a caster (`over`).
 #[inline(always)]
 fn node_step(
     image: Extents,
-    uncut: bool,
     beside: impl Fn(&Extents) -> bool,
     ext: &Extents,
     over: &Extents,
 ) -> NodeStep {
     if beside(&image) {
         NodeStep::Cull
-    } else if uncut && ext.contains(&image.clamped_to(over)) {
+    } else if ext.contains(&image.clamped_to(over)) {
         NodeStep::Count
-    } else if uncut && over.contains(&image) && image.min.z >= ext.min.z {
+    } else if over.contains(&image) && image.min.z >= ext.min.z {
         // Wholly over the receivers (so not held: the test above took it), no nearer than
         // what is gathered: only its x and y may add, which the extents may hold once they
         // have grown.

@@ -43,6 +43,8 @@
 //! Degenerate cases: a flat B falls back to the focused map; nothing visible (or a spot
 //! light that cannot see the view) gives the uniform map; each is named in the diagnostics.
 
+use std::cell::OnceCell;
+
 use glam::{DMat4, DVec3, DVec4};
 
 use crate::bounds::SceneBounds;
@@ -55,7 +57,9 @@ use crate::focus::{
 };
 use crate::geometry::Plane;
 use crate::light::Light;
-use crate::light_space::{Extents, LightFrame, PlaneMap, Projector, corner_values, pad};
+use crate::light_space::{
+    Extents, LightFrame, PlaneMap, Projector, RegionRows, corner_values, pad,
+};
 use crate::map::{MapProjection, MapSelection, ShadowMap, ShadowSetup};
 use crate::technique::{SetupInput, ShadowTechnique};
 use crate::techniques::basis::FocusBasis;
@@ -368,11 +372,18 @@ fn walk_map_casters(
         }
     };
     let tree = scene.caster_tree();
+    // A node the slab crosses can only be culled: tested against the receivers' region as
+    // world rows, made once for the walk, rather than by its corners' images.
+    let region = OnceCell::new();
     let images = MapImages {
         node: |n: usize| box_on_map(&tree.node_box(n)),
         caster: |i: usize| box_on_map(&scene.casters()[i]),
         point: on_map,
-        holds_cut_parts: true,
+        cut_node_outside: |n: usize, over: &Extents| {
+            let region = region.get_or_init(|| RegionRows::new(plane_map, linear_row, over));
+            let (c, h) = tree.nodes.center_half(n);
+            region.as_ref()?.box_outside(c, h)
+        },
     };
     walk_casters(
         scene,
