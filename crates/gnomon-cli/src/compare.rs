@@ -8,7 +8,9 @@ use std::time::Instant;
 
 use clap::Args;
 
-use gnomon_render::{Filter, Frame, MaskErrors, PixelVerdict, RenderSettings, StencilMode};
+use gnomon_render::{
+    Filter, Frame, MaskErrors, PixelVerdict, RenderSettings, StencilMode, SureErrors,
+};
 use serde_json::{Value, json};
 
 use crate::args::{SceneArgs, SuiteArgs, TechniqueParams, ViewListArgs};
@@ -674,6 +676,15 @@ impl<'a> SceneRun<'a> {
         let (setup, setup_us, frame) = (&drawn.setups[0], drawn.setup_us, &drawn.frame);
         let metrics = frame.metrics.as_ref().expect("metrics asked for");
         let (errors, error_image) = mask_errors(frame, &metrics.n_dot_l, &exact.frame);
+        // The lookup's classification is the first light's, of maps read by depth.
+        let sure = (lights.len() == 1 && entry.read == gnomon_render::MapRead::Depth).then(|| {
+            SureErrors::of(
+                &frame.mask,
+                &exact.frame.mask,
+                &metrics.n_dot_l,
+                &metrics.unsure,
+            )
+        });
         let t = frame.timings;
         let frame_ms = setup_us / 1e3 + t.shadow_pass_ms + t.main_pass_ms;
         let undersampling = heatmap::percentiles(metrics, &metrics.undersampling);
@@ -707,6 +718,8 @@ impl<'a> SceneRun<'a> {
             "false_shadow_percent": errors.false_shadow_percent(),
             "missed_shadow_percent": errors.missed_shadow_percent(),
             "compared_pixels": errors.compared,
+            "unsure_percent": sure.map(|s| s.unsure_percent()),
+            "sure_wrong_percent": sure.map(|s| s.sure_wrong_percent()),
             "undersampling": undersampling,
             "area_undersampling": heatmap::percentiles(metrics, &metrics.area),
             "penumbra_error": penumbra.map(|p| p.mean),

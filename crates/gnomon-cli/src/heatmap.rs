@@ -216,6 +216,7 @@ mod tests {
                 .collect(),
             area: vec![1.0; n],
             n_dot_l: vec![1.0; n],
+            unsure: vec![false; n],
         };
         let p = percentiles(&metrics, &metrics.undersampling);
         assert_eq!(p["pixels"], 100);
@@ -230,6 +231,7 @@ mod tests {
             undersampling: vec![1.0; 200 * 100],
             area: vec![1.0; 200 * 100],
             n_dot_l: vec![1.0; 200 * 100],
+            unsure: vec![false; 200 * 100],
         };
         let image = draw(&big, 200, 100);
         assert_eq!(image.len(), 200 * 100 * 4);

@@ -2,7 +2,7 @@
 //! a row of `gnomon compare --json` each.
 
 use gnomon::Technique;
-use gnomon_render::{MaskErrors, Percentiles, PixelMetrics};
+use gnomon_render::{MaskErrors, Percentiles, PixelMetrics, SureErrors};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde_json::{Value, json};
@@ -21,7 +21,8 @@ const DEFAULT_TECHNIQUES: [&str; 4] = ["focused", "lispsm", "sppsm", "cascades"]
 /// pixels that face the light: one dict per technique with the keys of
 /// `gnomon compare --json`'s rows (`technique`, `shadow_map`, `maps`, `fallback`,
 /// `wrong_percent`, `false_shadow_percent`, `missed_shadow_percent`, `compared_pixels`,
-/// `undersampling` and `area_undersampling` percentiles, `setup_us`, `frame_ms`). Keyword
+/// `unsure_percent`, `sure_wrong_percent`, `undersampling` and `area_undersampling`
+/// percentiles, `setup_us`, `frame_ms`). Keyword
 /// arguments are technique parameters, each read by at least one of the techniques.
 #[pyfunction]
 #[pyo3(signature = (scene, camera, light, techniques = None, size = (640, 360), resolution = 2048, **params))]
@@ -94,6 +95,7 @@ fn row(
 ) -> Value {
     let metrics = frame.metrics.as_ref().expect("metrics asked for");
     let errors = MaskErrors::of(&frame.mask, exact_mask, &metrics.n_dot_l);
+    let sure = SureErrors::of(&frame.mask, exact_mask, &metrics.n_dot_l, &metrics.unsure);
     let t = frame.timings;
     json!({
         "technique": name,
@@ -104,6 +106,8 @@ fn row(
         "false_shadow_percent": errors.false_shadow_percent(),
         "missed_shadow_percent": errors.missed_shadow_percent(),
         "compared_pixels": errors.compared,
+        "unsure_percent": sure.unsure_percent(),
+        "sure_wrong_percent": sure.sure_wrong_percent(),
         "undersampling": percentiles(metrics, &metrics.undersampling),
         "area_undersampling": percentiles(metrics, &metrics.area),
         "setup_us": setup_us,

@@ -331,7 +331,8 @@ def test_compare_rows_equal_the_command_lines_report(tmp_path):
     for row in rows:
         expected = theirs[row["technique"]]
         for key in ("maps", "fallback", "wrong_percent", "false_shadow_percent", "missed_shadow_percent",
-                    "compared_pixels", "undersampling", "area_undersampling", "shadow_map"):
+                    "compared_pixels", "unsure_percent", "sure_wrong_percent", "undersampling",
+                    "area_undersampling", "shadow_map"):
             assert row[key] == expected[key], key
         assert row["setup_us"] > 0 and row["frame_ms"] > 0
     assert rows[0]["wrong_percent"] > rows[2]["wrong_percent"]

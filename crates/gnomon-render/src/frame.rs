@@ -88,11 +88,15 @@ pub struct PixelMetrics {
     pub area: Vec<f32>,
     /// N.L with the geometric normal turned toward the camera (0 where no geometry).
     pub n_dot_l: Vec<f32>,
+    /// Whether the first light's one-tap lookup may be wrong: the texels around the point
+    /// disagree, or one holds a depth within the bias's reach of the point's, or the point
+    /// lies near the map's border (false where no geometry).
+    pub unsure: Vec<bool>,
 }
 
 impl PixelMetrics {
     /// From the metrics image (four 32-bit floats as their bits: undersampling, area, N.L,
-    /// coverage).
+    /// coverage: 1, or 2 where the lookup is unsure).
     pub(crate) fn from_rgba(bytes: &[u8]) -> Self {
         let mut m = Self::default();
         for texel in bytes.chunks_exact(16) {
@@ -108,6 +112,7 @@ impl PixelMetrics {
             m.undersampling.push(if covered { f(0) } else { 0.0 });
             m.area.push(if covered { f(1) } else { 0.0 });
             m.n_dot_l.push(if covered { f(2) } else { 0.0 });
+            m.unsure.push(f(3) > 1.5);
         }
         m
     }

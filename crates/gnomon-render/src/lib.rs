@@ -47,7 +47,7 @@ mod volumes;
 pub use error::{InvalidInput, RenderError};
 pub use frame::{Frame, LightView, PixelMetrics, SKY};
 pub use gpu::{Gpu, OPTIONAL_FEATURES};
-pub use measure::{JUDGED_N_DOT_L, MaskErrors, Percentiles, PixelVerdict};
+pub use measure::{JUDGED_N_DOT_L, MaskErrors, Percentiles, PixelVerdict, SureErrors};
 pub use passes::casters::{CasterBuffers, CasterDraw, CasterSet};
 pub use passes::volumes::{StencilMode, VolumeFrame, VolumeStats};
 pub use pipelines::COLOR_FORMAT;

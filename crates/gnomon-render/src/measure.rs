@@ -89,6 +89,48 @@ impl MaskErrors {
     }
 }
 
+/// How a map lookup's classification ([`PixelMetrics::unsure`]) holds against the exact
+/// mask: of the judged pixels, those whose lookup is unsure, and the sure ones that are
+/// wrong. Where the unsure pixels are decided exactly, the sure ones' errors are what is
+/// left.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SureErrors {
+    /// Pixels judged ([`PixelVerdict::of`]).
+    pub compared: usize,
+    /// Of those, the pixels whose lookup is unsure.
+    pub unsure: usize,
+    /// Of those, the pixels whose lookup is sure and wrong.
+    pub sure_wrong: usize,
+}
+
+impl SureErrors {
+    /// The classification of a whole mask (`map`, `exact`, `n_dot_l` and `unsure` per
+    /// pixel, in one order).
+    pub fn of(map: &[u8], exact: &[u8], n_dot_l: &[f32], unsure: &[bool]) -> Self {
+        let mut errors = Self::default();
+        for (((&m, &e), &n), &unsure) in map.iter().zip(exact).zip(n_dot_l).zip(unsure) {
+            let verdict = PixelVerdict::of(m, e, n);
+            if verdict == PixelVerdict::NotJudged {
+                continue;
+            }
+            errors.compared += 1;
+            errors.unsure += usize::from(unsure);
+            errors.sure_wrong += usize::from(!unsure && verdict != PixelVerdict::Agrees);
+        }
+        errors
+    }
+
+    /// The share of judged pixels whose lookup is unsure, in percent.
+    pub fn unsure_percent(&self) -> f64 {
+        100.0 * self.unsure as f64 / self.compared.max(1) as f64
+    }
+
+    /// The share of judged pixels whose lookup is sure and wrong, in percent.
+    pub fn sure_wrong_percent(&self) -> f64 {
+        100.0 * self.sure_wrong as f64 / self.compared.max(1) as f64
+    }
+}
+
 /// Percentiles of a per-pixel measure over the pixels where the map's sampling shows
 /// ([`PixelMetrics::lit_facing`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -155,5 +197,18 @@ mod tests {
         assert_eq!(errors.wrong_percent(), 50.0);
         assert_eq!(errors.false_shadow_percent(), 25.0);
         assert_eq!(MaskErrors::default().wrong_percent(), 0.0);
+        // The second and third pixels are wrong; the second is unsure.
+        let unsure = [false, true, false, true, true, false];
+        let sure = SureErrors::of(&map, &exact, &n_dot_l, &unsure);
+        assert_eq!(
+            sure,
+            SureErrors {
+                compared: 4,
+                unsure: 2,
+                sure_wrong: 1
+            }
+        );
+        assert_eq!(sure.unsure_percent(), 50.0);
+        assert_eq!(sure.sure_wrong_percent(), 25.0);
     }
 }

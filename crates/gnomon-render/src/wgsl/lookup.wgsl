@@ -309,6 +309,8 @@ struct GnomonMapView {
     layer: i32,
     resolution: f32,
     normal_offset: f32,
+    // The constant depth bias (depth units).
+    constant_bias: f32,
     // A paraboloid hemisphere, and its scale into the inset square.
     paraboloid: bool,
     paraboloid_scale: f32,
@@ -323,6 +325,7 @@ fn gnomon_map_view(map: u32) -> GnomonMapView {
         i32(info.x),
         f32(info.z),
         gnomon_shadows.maps[map].bias.w,
+        gnomon_shadows.maps[map].bias.x,
         (info.y & GNOMON_MAP_PARABOLOID) != 0u,
         gnomon_paraboloid_scale(info),
     );
@@ -436,6 +439,33 @@ fn gnomon_lookup_view(view: GnomonMapView, p: vec3<f32>, filter_mode: u32) -> f3
         return sum / 25.0;
     }
     return gnomon_tap(view, uv, reference);
+}
+
+// Whether the one-tap lookup of `view` at p is sure to be right: p lands inside the map, two
+// texels or more from its border, and the 3x3 texels around it give the same answer, each
+// with its stored depth farther than the constant bias from p's (nearer, a caster or the
+// surface itself lies within the bias's reach, where acne and peter-panning live).
+fn gnomon_lookup_sure(view: GnomonMapView, p: vec3<f32>) -> bool {
+    let at = gnomon_map_point(view, p);
+    let uv = vec2<f32>(0.5 + 0.5 * at.ndc.x, 0.5 - 0.5 * at.ndc.y);
+    let texel = 1.0 / view.resolution;
+    if (!at.inside || any(uv < vec2<f32>(2.0 * texel)) || any(uv > vec2<f32>(1.0 - 2.0 * texel))) {
+        return false;
+    }
+    var lit = 0;
+    for (var y = -1; y <= 1; y++) {
+        for (var x = -1; x <= 1; x++) {
+            let stored = textureSampleLevel(
+                gnomon_raw, gnomon_nearest,
+                gnomon_layer_uv(view, uv + vec2<f32>(f32(x), f32(y)) * texel), view.layer, 0.0).r;
+            let margin = stored - at.reference;
+            if (abs(margin) < view.constant_bias) {
+                return false;
+            }
+            lit += select(0, 1, margin >= 0.0);
+        }
+    }
+    return lit == 0 || lit == 9;
 }
 
 // One texel of the object-ID map read by the object `object` at `reference` (`texel`: the

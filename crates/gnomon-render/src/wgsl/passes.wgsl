@@ -645,6 +645,8 @@ struct Shaded {
     n_dot_l: f32,
     // Light 0's filtered shadow factor (1 lit; 1 where the surface receives none).
     shadow: f32,
+    // Whether light 0's one-tap lookup may be wrong (measured frames only).
+    unsure: bool,
 };
 
 fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
@@ -654,6 +656,7 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
     out.lit_bits = 0u;
     out.n_dot_l = 0.0;
     out.shadow = 1.0;
+    out.unsure = false;
     for (var light = 0u; light < LIGHT_COUNT; light++) {
         let incidence = gnomon_incidence(light, s.p);
         let n_dot_l_geo = dot(s.n_geo, incidence.to_light);
@@ -679,6 +682,9 @@ fn shade(s: Surface, albedo: vec3<f32>) -> Shaded {
             let at = gnomon_read_at(light, map, s.p, s.n_geo, n_dot_l_geo);
             if (at.covered && MAP_READ == GNOMON_READ_DEPTH) {
                 one_tap = gnomon_lookup_view(at.view, at.point, GNOMON_FILTER_ONE_TAP);
+                if (METRICS && light == 0u) {
+                    out.unsure = !gnomon_lookup_sure(at.view, at.point);
+                }
                 if (gnomon_shadows.info.y == GNOMON_FILTER_PCSS) {
                     shadow = gnomon_lookup_pcss(light, at.view, at.point, s.n_geo);
                 } else {
@@ -764,7 +770,8 @@ struct Measured {
     @location(1) lit: vec4<u32>,
     // The bits of four floats (integer targets render on every backend): x: pixels per
     // texel along the worst direction, y: in area (-1 where the map does not see the point),
-    // z: N.L of light 0 (geometric normal toward the camera), w: 1.
+    // z: N.L of light 0 (geometric normal toward the camera), w: 1, or 2 where light 0's
+    // one-tap lookup may be wrong (gnomon_lookup_sure).
     @location(2) metrics: vec4<u32>,
 };
 
@@ -806,7 +813,7 @@ fn measured(in: MainOut) -> Measured {
     if (METRICS) {
         sampling = sampling_metrics(s.p, dp_dx, dp_dy);
     }
-    out.metrics = bitcast<vec4<u32>>(vec4<f32>(sampling, shaded.n_dot_l, 1.0));
+    out.metrics = bitcast<vec4<u32>>(vec4<f32>(sampling, shaded.n_dot_l, select(1.0, 2.0, shaded.unsure)));
     return out;
 }
 
