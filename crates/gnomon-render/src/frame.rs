@@ -90,7 +90,8 @@ pub struct PixelMetrics {
     pub n_dot_l: Vec<f32>,
     /// Whether the first light's one-tap lookup may be wrong: the texels around the point
     /// disagree, or one holds a depth within the bias's reach of the point's, or the point
-    /// lies near the map's border (false where no geometry).
+    /// lies outside the map or near its border where the border holds a caster (false where
+    /// no geometry).
     pub unsure: Vec<bool>,
 }
 

@@ -441,31 +441,40 @@ fn gnomon_lookup_view(view: GnomonMapView, p: vec3<f32>, filter_mode: u32) -> f3
     return gnomon_tap(view, uv, reference);
 }
 
-// Whether the one-tap lookup of `view` at p is sure to be right: p lands inside the map, two
-// texels or more from its border, and the 3x3 texels around it give the same answer, each
-// with its stored depth farther than the constant bias from p's (nearer, a caster or the
-// surface itself lies within the bias's reach, where acne and peter-panning live).
+// The map's texture coordinates of a point's normalised x and y.
+fn gnomon_uv(ndc: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+}
+
+// Whether the one-tap lookup of `view` at p is sure to be right. The 3x3 texels around the
+// one it reads must give the same answer, each with its stored depth clear of p's: within the
+// constant bias nearer the light, or half of it farther, a caster or the surface itself lies
+// where acne and peter-panning live. Outside the map, or within a texel and a half of its
+// border, the lookup reads the border's texels (clamped): it is sure only where they hold
+// nothing that reaches p, since a map's setup holds every caster over its receivers.
 fn gnomon_lookup_sure(view: GnomonMapView, p: vec3<f32>) -> bool {
     let at = gnomon_map_point(view, p);
-    let uv = vec2<f32>(0.5 + 0.5 * at.ndc.x, 0.5 - 0.5 * at.ndc.y);
-    let texel = 1.0 / view.resolution;
-    if (!at.inside || any(uv < vec2<f32>(2.0 * texel)) || any(uv > vec2<f32>(1.0 - 2.0 * texel))) {
+    if (!at.inside) {
         return false;
     }
+    let uv = gnomon_uv(at.ndc);
+    let texel = 1.0 / view.resolution;
+    let inner = clamp(uv, vec2<f32>(1.5 * texel), vec2<f32>(1.0 - 1.5 * texel));
+    let near_border = any(inner != uv);
     var lit = 0;
     for (var y = -1; y <= 1; y++) {
         for (var x = -1; x <= 1; x++) {
             let stored = textureSampleLevel(
                 gnomon_raw, gnomon_nearest,
-                gnomon_layer_uv(view, uv + vec2<f32>(f32(x), f32(y)) * texel), view.layer, 0.0).r;
+                gnomon_layer_uv(view, inner + vec2<f32>(f32(x), f32(y)) * texel), view.layer, 0.0).r;
             let margin = stored - at.reference;
-            if (abs(margin) < view.constant_bias) {
+            if (margin > -view.constant_bias && margin < 0.5 * view.constant_bias) {
                 return false;
             }
             lit += select(0, 1, margin >= 0.0);
         }
     }
-    return lit == 0 || lit == 9;
+    return lit == 9 || (lit == 0 && !near_border);
 }
 
 // One texel of the object-ID map read by the object `object` at `reference` (`texel`: the
