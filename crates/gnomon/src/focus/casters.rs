@@ -214,21 +214,13 @@ pub(crate) fn walk_casters<I: CasterImages>(
     // Subtrees counted whole while the extents did not yet hold them in x and y (early in the
     // walk they are small), to be opened at the end if they still do not.
     let mut put_off = PutOff::new(&over);
-    let beside = |e: &Extents| outside(e, &over);
     loop {
         while let Some((node, active, open)) = stack.pop() {
             let Some(active) = cuts.crossed(&tree.nodes, node, active) else {
                 continue;
             };
-            // A node that cutting planes cross can only be culled whole (the map may tell
-            // whether its boxes' parts all lie outside); one that none crosses is culled,
-            // counted, put off or opened from its image, which holds its boxes'.
-            if !open && active != 0 {
-                if images.cut_node_outside(node, &over) == Some(true) {
-                    continue;
-                }
-            } else if !open {
-                match node_step(images.node(node), beside, &ext, &over) {
+            if !open {
+                match node_step(images, node, active, &ext, &over) {
                     NodeStep::Open => {}
                     NodeStep::Cull => continue,
                     NodeStep::Count => {
@@ -262,7 +254,7 @@ pub(crate) fn walk_casters<I: CasterImages>(
                         None => continue,
                     },
                 };
-                if beside(&box_ext) {
+                if outside(&box_ext, &over) {
                     continue;
                 }
                 relevant += 1;
@@ -329,16 +321,27 @@ enum NodeStep {
     Open,
 }
 
-/// The step for a node that no cutting plane crosses, from its `image`, against what is
-/// gathered so far (`ext`) and what matters of a caster (`over`).
+/// The step for node `n` (`active`: the cutting planes that cross it) against what is
+/// gathered so far (`ext`) and what matters of a caster (`over`). A node that cutting planes
+/// cross can only be culled whole, where the map tells that its boxes' parts all lie outside;
+/// one that none crosses is culled, counted, put off or opened from its image, which holds
+/// its boxes'.
 #[inline(always)]
-fn node_step(
-    image: Extents,
-    beside: impl Fn(&Extents) -> bool,
+fn node_step<I: CasterImages>(
+    images: &I,
+    n: usize,
+    active: u32,
     ext: &Extents,
     over: &Extents,
 ) -> NodeStep {
-    if beside(&image) {
+    if active != 0 {
+        return match images.cut_node_outside(n, over) {
+            Some(true) => NodeStep::Cull,
+            _ => NodeStep::Open,
+        };
+    }
+    let image = images.node(n);
+    if outside(&image, over) {
         NodeStep::Cull
     } else if ext.contains(&image.clamped_to(over)) {
         NodeStep::Count
