@@ -416,13 +416,17 @@ fn gnomon_map_point(view: GnomonMapView, p: vec3<f32>) -> GnomonMapPoint {
     return out;
 }
 
+// The map's texture coordinates of a point's normalised x and y.
+fn gnomon_uv(ndc: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+}
+
 fn gnomon_lookup_view(view: GnomonMapView, p: vec3<f32>, filter_mode: u32) -> f32 {
     let at = gnomon_map_point(view, p);
     if (!at.inside) {
         return 1.0;
     }
-    let ndc = at.ndc;
-    let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+    let uv = gnomon_uv(at.ndc);
     let reference = at.reference;
     if (filter_mode == GNOMON_FILTER_HARDWARE_2X2) {
         return textureSampleCompareLevel(
@@ -439,11 +443,6 @@ fn gnomon_lookup_view(view: GnomonMapView, p: vec3<f32>, filter_mode: u32) -> f3
         return sum / 25.0;
     }
     return gnomon_tap(view, uv, reference);
-}
-
-// The map's texture coordinates of a point's normalised x and y.
-fn gnomon_uv(ndc: vec2<f32>) -> vec2<f32> {
-    return vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
 }
 
 // Whether the one-tap lookup of `view` at p is sure to be right. The 3x3 texels around the
@@ -506,7 +505,7 @@ fn gnomon_lookup_ids(view: GnomonMapView, p: vec3<f32>, object: u32, read: u32, 
     if (!at.inside) {
         return 1.0;
     }
-    let uv = vec2<f32>(0.5 + 0.5 * at.ndc.x, 0.5 - 0.5 * at.ndc.y);
+    let uv = gnomon_uv(at.ndc);
     // Texel centres at whole numbers.
     let texel = uv * view.resolution - 0.5;
     if (filter_mode == GNOMON_FILTER_HARDWARE_2X2) {
@@ -675,8 +674,7 @@ fn gnomon_lookup_pcss(light: u32, view: GnomonMapView, p: vec3<f32>, n_geo: vec3
     var blocker_depth = 0.0;
     for (var i = 0; i < GNOMON_PCSS_SEARCH_TAPS; i++) {
         let offset = jacobian * (search * gnomon_vogel(i, GNOMON_PCSS_SEARCH_TAPS));
-        let ndc = at.ndc + offset;
-        let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+        let uv = gnomon_uv(at.ndc + offset);
         let stored = textureSampleLevel(
             gnomon_raw, gnomon_nearest, gnomon_layer_uv(view, uv), view.layer, 0.0).r;
         if (stored < at.reference + dot(depth_per_ndc, offset)) {
@@ -699,8 +697,7 @@ fn gnomon_lookup_pcss(light: u32, view: GnomonMapView, p: vec3<f32>, n_geo: vec3
     var lit = 0.0;
     for (var i = 0; i < GNOMON_PCSS_FILTER_TAPS; i++) {
         let offset = jacobian * (radius * gnomon_vogel(i, GNOMON_PCSS_FILTER_TAPS));
-        let ndc = at.ndc + offset;
-        let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+        let uv = gnomon_uv(at.ndc + offset);
         lit += textureSampleCompareLevel(gnomon_depth, gnomon_compare, gnomon_layer_uv(view, uv),
             view.layer, at.reference + dot(depth_per_ndc, offset));
     }
